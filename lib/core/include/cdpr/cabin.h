@@ -1,0 +1,68 @@
+/// @file cabin.h
+/// The cabin: a rigid body driven by the cable forces (MODEL.md §4).
+///
+/// State block (13 components): p (3) world position of the body origin [m], q (4) unit
+/// quaternion body -> world (w, x, y, z), v (3) world velocity of the body origin [m/s],
+/// w (3) angular velocity in body axes [rad/s].
+///
+/// The combined body is the cabin plus point masses (the node-0 masses of the cables, MODEL §2)
+/// at body-frame points; its mass properties are computed by cdpr_cabin_init.
+/// Memory: caller-owned, fixed size, no resources. Work: O(1) per evaluation.
+#ifndef CDPR_CABIN_H
+#define CDPR_CABIN_H
+
+#include "cdpr/config.h"
+#include "cdpr/status.h"
+#include "cdpr/vec3.h"
+
+/// Offsets inside the cabin's 13-component state block.
+enum { CDPR_CABIN_P = 0, CDPR_CABIN_Q = 3, CDPR_CABIN_V = 7, CDPR_CABIN_W = 10 };
+
+/// Cabin rigid-body parameters (inputs).
+typedef struct {
+    cdpr_real_t mass_kg;           ///< cabin mass M [kg] (> 0); default 40
+    cdpr_vec3_t com_body_m;        ///< centre of mass c in body axes [m]; default 0
+    cdpr_mat3_t inertia_com_kg_m2; ///< inertia about c, body axes [kg m^2] (symmetric, > 0)
+} cdpr_cabin_params_t;
+
+/// Combined mass properties (outputs of init; read-only).
+typedef struct {
+    cdpr_cabin_params_t p;     ///< the cabin alone
+    cdpr_real_t mass_kg;       ///< combined mass [kg]
+    cdpr_vec3_t com_body_m;    ///< combined centre of mass, body axes [m]
+    cdpr_mat3_t inertia_kg_m2; ///< combined inertia about the combined CoM, body axes
+    cdpr_mat3_t inv_inertia;   ///< its inverse [1/(kg m^2)]
+} cdpr_cabin_t;
+
+/// Pose and motion of the cabin (input to the prescribed mode, output of conversions).
+typedef struct {
+    cdpr_vec3_t p_m;         ///< body origin, world [m]
+    cdpr_quat_t q;           ///< body -> world
+    cdpr_vec3_t v_m_per_s;   ///< body-origin velocity, world [m/s]
+    cdpr_vec3_t w_rad_per_s; ///< angular velocity, body axes [rad/s]
+} cdpr_cabin_motion_t;
+
+/// Defaults: PARAMETERS.md set A (40 kg, CoM at origin, diag(45, 45, 90) kg m^2).
+void cdpr_cabin_params_default(cdpr_cabin_params_t *p);
+
+/// Check every field: finite, mass > 0, inertia symmetric and positive definite.
+cdpr_status_t cdpr_cabin_params_validate(const cdpr_cabin_params_t *p, cdpr_diag_t *diag);
+
+/// Combine the cabin with `n_points` point masses `m_kg[i]` at body points `b_m[i]`.
+/// Validates first; on error `cab` is not written. Work O(n_points).
+cdpr_status_t cdpr_cabin_init(cdpr_cabin_t *cab, const cdpr_cabin_params_t *p, int n_points,
+                              const cdpr_real_t *m_kg, const cdpr_vec3_t *b_m, cdpr_diag_t *diag);
+
+/// Read the motion out of a 13-component state block.
+void cdpr_cabin_get_motion(const cdpr_real_t *y, cdpr_cabin_motion_t *m);
+
+/// Write a motion into a 13-component state block.
+void cdpr_cabin_set_motion(const cdpr_cabin_motion_t *m, cdpr_real_t *y);
+
+/// Rigid-body RHS (MODEL §4). `force_world_N`: sum of all forces on the combined body except
+/// gravity (cables, external); `torque_body_Nm`: their moment about the combined CoM in body
+/// axes. Writes d/dt of the 13-component block. O(1), no allocation.
+void cdpr_cabin_rhs(const cdpr_cabin_t *cab, const cdpr_real_t *y, cdpr_vec3_t force_world_N,
+                    cdpr_vec3_t torque_body_Nm, cdpr_real_t g_m_per_s2, cdpr_real_t *dydt);
+
+#endif /* CDPR_CABIN_H */

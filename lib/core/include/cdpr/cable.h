@@ -1,0 +1,117 @@
+/// @file cable.h
+/// One cable discretised by the lumped-mass method (MODEL.md §2, paper §3.1).
+///
+/// Nodes i = 0..n: node 0 moves with the cabin attachment, node n is the pulley exit point
+/// (fixed in space). Segment k joins nodes k and k+1 and has unstretched length lu[k]. Forces
+/// per segment: elastic tension with slack (never compressive) and strain-rate damping; per
+/// node: gravity and half the aerodynamic drag of each adjacent segment.
+///
+/// State block of one cable inside a state vector (all [SI]):
+///   y[0]                      lu[n-1], unstretched length of the pulley-side segment [m]
+///   y[1 .. 3(n-1)]            positions r_1..r_{n-1} of the free nodes, xyz interleaved [m]
+///   y[1+3(n-1) .. 6(n-1)]     velocities v_1..v_{n-1} [m/s]
+/// Only the pulley-side segment changes length continuously (d lu[n-1]/dt = payout rate u);
+/// the other lu[k] change only at node events (winch module) and live in the cable object.
+///
+/// Memory: the object is caller-owned, sizeof(cdpr_cable_t) grows with CDPR_MAX_SEGMENTS.
+/// Nothing allocates; the object holds no resources (no deinit). Reentrant across objects.
+#ifndef CDPR_CABLE_H
+#define CDPR_CABLE_H
+
+#include "cdpr/config.h"
+#include "cdpr/status.h"
+#include "cdpr/vec3.h"
+
+/// Physical parameters of one cable (inputs). Defaults from cdpr_cable_params_default().
+typedef struct {
+    cdpr_real_t d0_m;              ///< unstretched diameter [m] (> 0); default 0.006
+    cdpr_real_t rho_kg_per_m;      ///< mass per unstretched length [kg/m] (> 0); default 0.14
+    cdpr_real_t ea_N;              ///< axial stiffness EA [N] (> 0); default 2e6
+    cdpr_real_t damping_Ns;        ///< strain-rate damping c [N s] (>= 0); default 170
+    cdpr_real_t cd;                ///< normal drag coefficient Cd [-] (>= 0); default 1.2
+    cdpr_real_t cm;                ///< tangential factor Cm [-] (>= 0), paper pi*C_F = Cm*Cd; 0.03
+    cdpr_real_t rho_air_kg_per_m3; ///< air density [kg/m^3] (>= 0); default 1.225
+} cdpr_cable_params_t;
+
+/// One cable's discretisation (internal fields maintained by the core; read-only for users).
+typedef struct {
+    cdpr_cable_params_t p;                 ///< copy of the validated parameters
+    int n;                                 ///< active segments, 1..CDPR_MAX_SEGMENTS
+    cdpr_real_t delta_m;                   ///< nominal segment length Delta [m] (MODEL §3)
+    cdpr_real_t lu_m[CDPR_MAX_SEGMENTS];   ///< unstretched lengths; lu_m[n-1] mirrors the state
+    cdpr_real_t inv_lu[CDPR_MAX_SEGMENTS]; ///< 1/lu_m[k] for k < n-1 [1/m]
+    cdpr_real_t inv_m[CDPR_MAX_SEGMENTS];  ///< 1/m_i for free nodes i = 1..n-2 [1/kg]
+    cdpr_real_t drag_k;                    ///< 0.5 rho_air d0 Cd [kg/m^2]
+} cdpr_cable_t;
+
+/// Motion of the two end nodes and the environment, for one RHS evaluation (inputs).
+typedef struct {
+    cdpr_vec3_t r0_m;           ///< node 0 position (cabin attachment) [m]
+    cdpr_vec3_t v0_m_per_s;     ///< node 0 velocity [m/s]
+    cdpr_vec3_t rn_m;           ///< node n position (pulley exit point, fixed) [m]
+    cdpr_vec3_t wind_m_per_s;   ///< uniform wind velocity J [m/s]
+    cdpr_real_t payout_m_per_s; ///< winch payout rate u = d lu[n-1]/dt [m/s], + = pay out
+    cdpr_real_t g_m_per_s2;     ///< gravity magnitude [m/s^2], acting along -z
+} cdpr_cable_bc_t;
+
+/// What the cable does to its ends (outputs of one RHS evaluation).
+typedef struct {
+    cdpr_vec3_t force_on_cabin_N; ///< T_0 t_0 + F_0/2: elastic + half segment-0 drag [N]
+    cdpr_real_t tension_cabin_N;  ///< T_0, cabin-end tension [N]
+    cdpr_real_t tension_winch_N;  ///< T_{n-1}, winch-end tension [N]
+} cdpr_cable_out_t;
+
+/// Forces of one segment (output of cdpr_cable_segment_eval).
+typedef struct {
+    cdpr_real_t length_m;  ///< stretched length l [m]
+    cdpr_real_t strain;    ///< l/lu - 1 [-]
+    cdpr_real_t tension_N; ///< T >= 0 [N]
+    cdpr_vec3_t tangent;   ///< unit vector from node k to node k+1 (zero if l = 0)
+    cdpr_vec3_t drag_N;    ///< aerodynamic force on the whole segment F_k [N]
+} cdpr_segment_t;
+
+/// Fill `p` with the documented defaults (the 50 m model's 6 mm wire rope).
+void cdpr_cable_params_default(cdpr_cable_params_t *p);
+
+/// Check every field; on error fill `diag` (may be NULL) with the first bad field.
+cdpr_status_t cdpr_cable_params_validate(const cdpr_cable_params_t *p, cdpr_diag_t *diag);
+
+/// Initialise a cable of `n_segments` equal segments and total unstretched length
+/// `length_m` [m]. Validates everything first; on error `c` is not written.
+cdpr_status_t cdpr_cable_init(cdpr_cable_t *c, const cdpr_cable_params_t *p, int n_segments,
+                              cdpr_real_t length_m, cdpr_diag_t *diag);
+
+/// Number of state components of the cable's current block: 1 + 6 (n - 1).
+int cdpr_cable_state_dim(const cdpr_cable_t *c);
+
+/// Total unstretched length sum(lu) [m]; `y` is the cable's state block (for lu[n-1]).
+cdpr_real_t cdpr_cable_total_length(const cdpr_cable_t *c, const cdpr_real_t *y);
+
+/// Recompute the cached reciprocals after lu_m[] changed (node events).
+void cdpr_cable_refresh(cdpr_cable_t *c);
+
+/// Write the state block for nodes on the straight line r0 -> rn at their unstretched
+/// arclength fractions, at rest. Work O(n).
+void cdpr_cable_place_straight(const cdpr_cable_t *c, cdpr_vec3_t r0_m, cdpr_vec3_t rn_m,
+                               cdpr_real_t *y);
+
+/// Node force model of one segment (MODEL.md §2): tension with slack and strain-rate damping,
+/// drag split in normal and tangential parts relative to the wind.
+/// `lu_rate_m_per_s` is d lu/dt of this segment. Pure function; O(1).
+void cdpr_cable_segment_eval(const cdpr_cable_params_t *p, cdpr_vec3_t ra, cdpr_vec3_t va,
+                             cdpr_vec3_t rb, cdpr_vec3_t vb, cdpr_real_t lu_m,
+                             cdpr_real_t lu_rate_m_per_s, cdpr_vec3_t wind_m_per_s,
+                             cdpr_segment_t *out);
+
+/// Right-hand side of one cable: writes d/dt of the cable's state block `y` into `dydt`
+/// (same layout) and, if `out` is not NULL, the end forces. Paper eqs. (3.1)-(3.4).
+/// Work: O(n), 3 square roots per segment (2 without drag); allocation: none.
+void cdpr_cable_rhs(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cable_bc_t *bc,
+                    cdpr_real_t *dydt, cdpr_cable_out_t *out);
+
+/// End forces only (segments 0 and n-1), without the node accelerations: what the cabin
+/// feels and what the winch measures. Same values as cdpr_cable_rhs's `out`. Work O(1).
+void cdpr_cable_end_forces(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cable_bc_t *bc,
+                           cdpr_cable_out_t *out);
+
+#endif /* CDPR_CABLE_H */

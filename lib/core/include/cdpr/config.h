@@ -1,0 +1,72 @@
+/// @file config.h
+/// Compile-time configuration of the cdpr core: the real type and the capacities.
+///
+/// Every capacity is an overridable macro with a range check. Objects declared by the caller
+/// (`cdpr_robot_t`, ...) are sized by these macros; nothing is allocated at run time.
+#ifndef CDPR_CONFIG_H
+#define CDPR_CONFIG_H
+
+/// Real type of the whole core. `double` by default; define CDPR_REAL_IS_FLOAT for `float`
+/// (single-precision FPUs such as the Cortex-M4). Literals go through CDPR_R() so a float
+/// build never promotes to double silently (-Wdouble-promotion stays clean).
+#ifdef CDPR_REAL_IS_FLOAT
+typedef float cdpr_real_t;
+#define CDPR_R(x)  (x##f)
+#define CDPR_SQRT  sqrtf
+#define CDPR_FABS  fabsf
+#define CDPR_POW   powf
+#define CDPR_SIN   sinf
+#define CDPR_COS   cosf
+#define CDPR_ATAN2 atan2f
+#define CDPR_ASIN  asinf
+#define CDPR_LOG   logf
+#define CDPR_EXP   expf
+#define CDPR_SINH  sinhf
+#define CDPR_COSH  coshf
+#define CDPR_ASINH asinhf
+#define CDPR_EPS   (1.1920929e-07f)
+#else
+typedef double cdpr_real_t;
+#define CDPR_R(x)  (x)
+#define CDPR_SQRT  sqrt
+#define CDPR_FABS  fabs
+#define CDPR_POW   pow
+#define CDPR_SIN   sin
+#define CDPR_COS   cos
+#define CDPR_ATAN2 atan2
+#define CDPR_ASIN  asin
+#define CDPR_LOG   log
+#define CDPR_EXP   exp
+#define CDPR_SINH  sinh
+#define CDPR_COSH  cosh
+#define CDPR_ASINH asinh
+#define CDPR_EPS   (2.220446049250313e-16)
+#endif
+
+/// Maximum number of cables of one robot.
+#ifndef CDPR_MAX_CABLES
+#define CDPR_MAX_CABLES 6
+#endif
+#if (CDPR_MAX_CABLES < 1) || (CDPR_MAX_CABLES > 16)
+#error "CDPR_MAX_CABLES must be in [1, 16]"
+#endif
+
+/// Maximum number of segments of one cable (nodes = segments + 1).
+#ifndef CDPR_MAX_SEGMENTS
+#define CDPR_MAX_SEGMENTS 64
+#endif
+#if (CDPR_MAX_SEGMENTS < 2) || (CDPR_MAX_SEGMENTS > 4096)
+#error "CDPR_MAX_SEGMENTS must be in [2, 4096]"
+#endif
+
+/// State components of one cable at capacity: payout length + positions and velocities of the
+/// free nodes 1..n-1.
+#define CDPR_CABLE_STATE_MAX (1 + 6 * (CDPR_MAX_SEGMENTS - 1))
+
+/// State components of the cabin: position (3), quaternion (4), velocity (3), body rate (3).
+#define CDPR_CABIN_STATE_DIM 13
+
+/// Maximum dimension of the robot state vector.
+#define CDPR_ROBOT_STATE_MAX (CDPR_CABIN_STATE_DIM + CDPR_MAX_CABLES * CDPR_CABLE_STATE_MAX)
+
+#endif /* CDPR_CONFIG_H */

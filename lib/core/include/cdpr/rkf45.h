@@ -1,0 +1,97 @@
+/// @file rkf45.h
+/// Adaptive Runge-Kutta-Fehlberg 4(5) integrator over a generic f(t, y, dydt, ctx).
+///
+/// Propagates the 5th-order solution (local extrapolation, as GSL's rkf45 does) and controls
+/// the step with the embedded 4th-order estimate: a step is accepted when
+///   max_i |err_i| / (atol_i + rtol * max(|y_i|, |ynew_i|)) <= 1.
+/// Memory: the caller provides the workspace (CDPR_RKF45_WORK_PER_DIM * dim_max reals) and,
+/// optionally, the per-component absolute tolerances; both pointers are kept (they must outlive
+/// the solver). Nothing allocates. Transactional: when a call fails, y and t are unchanged.
+/// Reentrant across solver objects.
+#ifndef CDPR_RKF45_H
+#define CDPR_RKF45_H
+
+#include "cdpr/config.h"
+#include "cdpr/status.h"
+
+/// Workspace reals needed per state component: k1..k6, trial state, new state, backup.
+#define CDPR_RKF45_WORK_PER_DIM 9
+
+/// Right-hand side: write dy/dt at (t, y) into dydt. Return CDPR_OK, or a negative status to
+/// refuse (the step is then undone and the call returns CDPR_E_RHS).
+typedef cdpr_status_t (*cdpr_rhs_fn)(cdpr_real_t t, const cdpr_real_t *y, cdpr_real_t *dydt,
+                                     void *ctx);
+
+/// Integrator settings (inputs). Defaults from cdpr_rkf45_params_default().
+typedef struct {
+    cdpr_real_t rtol;            ///< relative tolerance (>= 0); default 1e-6
+    cdpr_real_t atol;            ///< absolute tolerance used when atol_vec is NULL (> 0); 1e-8
+    const cdpr_real_t *atol_vec; ///< optional per-component absolute tolerances (each > 0)
+    cdpr_real_t h_init_s;        ///< first step [s] (> 0); default 1e-4
+    cdpr_real_t h_min_s;         ///< smallest step before CDPR_E_STEP_TOO_SMALL [s] (> 0); 1e-12
+    cdpr_real_t h_max_s;         ///< largest step [s] (>= h_min_s); default 1.0
+    cdpr_real_t safety;          ///< step-size safety factor in (0, 1); default 0.9
+    cdpr_real_t shrink_min;      ///< smallest step ratio after a rejection, in (0, 1); default 0.2
+    cdpr_real_t grow_max;        ///< largest step ratio after an acceptance (> 1); default 5
+} cdpr_rkf45_params_t;
+
+/// Counters (plain fields, read-only for users; reset by cdpr_rkf45_init).
+typedef struct {
+    unsigned long steps_accepted;     ///< accepted steps
+    unsigned long steps_rejected;     ///< trials rejected by the error test
+    unsigned long nonfinite_rejected; ///< trials rejected because they produced NaN/Inf
+    unsigned long rhs_evals;          ///< calls of f
+    unsigned long forced_steps;       ///< steps accepted without meeting the tolerance (advance)
+    unsigned long substep_limit_hits; ///< advance calls that hit their substep bound
+    unsigned long failures;           ///< calls that returned an error (state restored)
+} cdpr_rkf45_stats_t;
+
+/// Solver object (caller-owned).
+typedef struct {
+    cdpr_rkf45_params_t p; ///< validated copy
+    cdpr_real_t *work;     ///< caller workspace
+    int dim_max;           ///< capacity of the workspace in state components
+    int dim;               ///< current dimension (<= dim_max)
+    cdpr_real_t h_s;       ///< step size to try next [s]
+    cdpr_real_t last_err;  ///< error norm of the last trial (<= 1 means accepted)
+    cdpr_rkf45_stats_t stats;
+} cdpr_rkf45_t;
+
+/// Documented defaults.
+void cdpr_rkf45_params_default(cdpr_rkf45_params_t *p);
+
+/// Validate the settings against `dim` (atol_vec entries are checked when given).
+cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, cdpr_diag_t *diag);
+
+/// Initialise with a caller workspace of `work_len` reals for states up to `dim_max`
+/// components (work_len >= CDPR_RKF45_WORK_PER_DIM * dim_max), current dimension `dim`.
+cdpr_status_t cdpr_rkf45_init(cdpr_rkf45_t *s, const cdpr_rkf45_params_t *p, cdpr_real_t *work,
+                              int work_len, int dim_max, int dim, cdpr_diag_t *diag);
+
+/// Change the state dimension (after node insertion/removal). The next step restarts from
+/// min(h, h_init) since the error history no longer describes the new system.
+cdpr_status_t cdpr_rkf45_set_dim(cdpr_rkf45_t *s, int dim);
+
+/// One RKF45 trial of size h from (t, y) without step-size control: writes the 5th-order
+/// solution into y_out and returns the weighted error norm in *err (may be NULL). 6 calls of f.
+/// Used by benchmarks and tests; y is not modified (y_out may not alias y).
+cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t t,
+                               const cdpr_real_t *y, cdpr_real_t h, cdpr_real_t *y_out,
+                               cdpr_real_t *err);
+
+/// One accepted adaptive step from *t, never past t_end: retries rejected trials with smaller
+/// h (each retry is bounded below by h_min). On success y and *t advance.
+/// Errors (y, *t unchanged): CDPR_E_STATE_NOT_FINITE (y or f(t,y) not finite),
+/// CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS.
+cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
+                              cdpr_real_t *y, cdpr_real_t t_end);
+
+/// Advance by exactly dt: *t becomes *t + dt using at most `max_trials` trials (each 6 calls
+/// of f, so the work is bounded by 6 * max_trials RHS evaluations). When the adaptive steps
+/// would not fit in the budget, the remainder is covered by equal steps accepted without the
+/// error test; the call then returns CDPR_WARN_SUBSTEP_LIMIT (state valid, tolerance not met)
+/// and counts it. On error nothing changes (y, *t bit-identical).
+cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
+                                 cdpr_real_t *y, cdpr_real_t dt, int max_trials);
+
+#endif /* CDPR_RKF45_H */

@@ -1,0 +1,119 @@
+/// @file robot.h
+/// The cable robot: up to CDPR_MAX_CABLES lumped-mass cables between fixed pulley exit points
+/// and a rigid cabin (MODEL.md §1, §2, §4).
+///
+/// State vector layout (dimension cdpr_robot_state_dim()):
+///   y[0..12]                 cabin block (cabin.h: p, q, v, w)
+///   y[offset[j] ..]          cable j's block (cable.h: lu[n-1], node positions, velocities)
+/// The layout changes only when a node is inserted or removed (winch module, between steps).
+///
+/// Memory: caller-owned, fixed size (see docs/api.md for sizeof at several capacities); the
+/// object holds no resources. cdpr_robot_rhs makes no allocation and does O(total segments)
+/// work. Inputs (payout rates, wind, external loads, prescribed motion) are plain fields of
+/// `in` that the caller may change between steps.
+#ifndef CDPR_ROBOT_H
+#define CDPR_ROBOT_H
+
+#include "cdpr/cabin.h"
+#include "cdpr/cable.h"
+#include "cdpr/config.h"
+#include "cdpr/status.h"
+#include "cdpr/vec3.h"
+
+/// How the cabin moves.
+typedef enum {
+    CDPR_CABIN_DYNAMIC = 0,   ///< rigid body driven by the cables (forward dynamics)
+    CDPR_CABIN_PRESCRIBED = 1 ///< pose imposed by in.motion_fn (inverse dynamics), or held
+} cdpr_cabin_mode_t;
+
+/// Prescribed cabin motion at time t [s] (MODEL §4, the paper's inverse dynamic formulation).
+typedef void (*cdpr_motion_fn)(cdpr_real_t t_s, void *ctx, cdpr_cabin_motion_t *m);
+
+/// One cable of the robot (inputs).
+typedef struct {
+    cdpr_cable_params_t cable; ///< physical cable parameters
+    cdpr_vec3_t exit_point_m;  ///< pulley exit point A_j, world [m]
+    cdpr_vec3_t attach_body_m; ///< attachment b_j on the cabin, body axes [m]
+    int n_segments;            ///< initial segment count, 1..CDPR_MAX_SEGMENTS
+    cdpr_real_t length_m;      ///< initial unstretched length [m] (> 0)
+} cdpr_robot_cable_params_t;
+
+/// Robot parameters (inputs), validated by cdpr_robot_init.
+typedef struct {
+    int n_cables;                                      ///< 1..CDPR_MAX_CABLES
+    cdpr_robot_cable_params_t cables[CDPR_MAX_CABLES]; ///< per cable
+    cdpr_cabin_params_t cabin;                         ///< cabin rigid body
+    cdpr_real_t g_m_per_s2;                            ///< gravity [m/s^2] (> 0); 9.80665
+    cdpr_cabin_mode_t mode;                            ///< dynamic or prescribed
+} cdpr_robot_params_t;
+
+/// Inputs that may change between steps.
+typedef struct {
+    cdpr_real_t payout_m_per_s[CDPR_MAX_CABLES]; ///< winch payout rates u_j [m/s], + = out
+    cdpr_vec3_t wind_m_per_s;                    ///< uniform wind J [m/s]
+    cdpr_vec3_t ext_force_world_N;               ///< external force on the cabin CoM [N]
+    cdpr_vec3_t ext_torque_body_Nm;              ///< external torque, body axes [N m]
+    cdpr_motion_fn motion_fn; ///< prescribed mode: motion source; NULL holds the state's pose
+    void *motion_ctx;         ///< passed to motion_fn
+} cdpr_robot_inputs_t;
+
+/// Forces and tensions at one instant (outputs).
+typedef struct {
+    cdpr_vec3_t force_on_cabin_N[CDPR_MAX_CABLES]; ///< F_j on the cabin, world [N]
+    cdpr_real_t tension_cabin_N[CDPR_MAX_CABLES];  ///< T_0 of cable j [N]
+    cdpr_real_t tension_winch_N[CDPR_MAX_CABLES];  ///< T_{n-1} of cable j [N]
+    cdpr_vec3_t total_force_N;                     ///< sum of cable forces, world [N]
+    cdpr_vec3_t total_torque_Nm; ///< their moment about the combined CoM, body axes [N m]
+} cdpr_robot_out_t;
+
+/// The robot (caller-owned).
+typedef struct {
+    cdpr_robot_params_t p;               ///< validated copy
+    cdpr_cable_t cable[CDPR_MAX_CABLES]; ///< discretised cables (internal)
+    cdpr_cabin_t cabin;                  ///< combined cabin (internal)
+    cdpr_robot_inputs_t in;              ///< inputs, caller-writable between steps
+    int offset[CDPR_MAX_CABLES];         ///< state offset of each cable block
+    int dim;                             ///< current state dimension
+} cdpr_robot_t;
+
+/// Defaults: one cable of default parameters, default cabin, standard gravity, dynamic mode.
+void cdpr_robot_params_default(cdpr_robot_params_t *p);
+
+/// Validate every field and initialise (inputs zeroed). On error `r` is not written and
+/// `diag` names the first bad field (index = cable number where it applies).
+cdpr_status_t cdpr_robot_init(cdpr_robot_t *r, const cdpr_robot_params_t *p, cdpr_diag_t *diag);
+
+/// Current state dimension.
+int cdpr_robot_state_dim(const cdpr_robot_t *r);
+
+/// World position and velocity of attachment j for the cabin state block `y`.
+void cdpr_robot_attachment(const cdpr_robot_t *r, int j, const cdpr_cabin_motion_t *m,
+                           cdpr_vec3_t *pos_m, cdpr_vec3_t *vel_m_per_s);
+
+/// Write a full state: the cabin at motion `m`, every cable straight from its attachment to its
+/// exit point with nodes at their unstretched fractions, at rest. CDPR_E_GEOMETRY if an
+/// attachment coincides with its exit point (y untouched then). Work O(total nodes).
+cdpr_status_t cdpr_robot_place_straight(const cdpr_robot_t *r, const cdpr_cabin_motion_t *m,
+                                        cdpr_real_t *y);
+
+/// Full right-hand side, usable by cdpr_rkf45 and by GSL (ctx is the cdpr_robot_t *).
+/// Always returns CDPR_OK for a robot that passed init. Work O(total segments).
+cdpr_status_t cdpr_robot_rhs(cdpr_real_t t_s, const cdpr_real_t *y, cdpr_real_t *dydt, void *ctx);
+
+/// Cable forces on the cabin and the end tensions at (t, y). Work O(cables).
+void cdpr_robot_outputs(const cdpr_robot_t *r, cdpr_real_t t_s, const cdpr_real_t *y,
+                        cdpr_robot_out_t *out);
+
+/// Prescribed mode: write the prescribed motion at t into the cabin block of y (call after
+/// each accepted step so outputs show the imposed pose). No-op in dynamic mode.
+void cdpr_robot_sync_prescribed(const cdpr_robot_t *r, cdpr_real_t t_s, cdpr_real_t *y);
+
+/// Renormalise the cabin quaternion of y (after each accepted step, MODEL §4).
+void cdpr_robot_normalize(const cdpr_robot_t *r, cdpr_real_t *y);
+
+/// Per-component absolute tolerances for cdpr_rkf45: positions and lengths [m], velocities
+/// [m/s], quaternion components [-], body rates [rad/s]. Writes dim entries.
+void cdpr_robot_fill_atol(const cdpr_robot_t *r, cdpr_real_t pos_m, cdpr_real_t vel_m_per_s,
+                          cdpr_real_t quat, cdpr_real_t rate_rad_per_s, cdpr_real_t *atol);
+
+#endif /* CDPR_ROBOT_H */

@@ -1,0 +1,40 @@
+/// @file status.h
+/// One status enum for the whole core, and the diagnostic that names the first bad field.
+///
+/// Zero is success, positive is success with a caveat (a warning: the result is valid but an
+/// accuracy or capacity bound was hit), negative is an error (nothing was changed).
+#ifndef CDPR_STATUS_H
+#define CDPR_STATUS_H
+
+typedef enum {
+    CDPR_OK = 0,
+    CDPR_WARN_SUBSTEP_LIMIT = 1,  ///< advance reached t+dt, but some substeps missed the tolerance
+    CDPR_WARN_CAPACITY = 2,       ///< node capacity reached: last segment keeps growing
+    CDPR_WARN_MIN_LENGTH = 3,     ///< a winch reached its minimum cable length and stopped
+    CDPR_E_INVALID_ARG = -1,      ///< NULL pointer or argument outside its domain
+    CDPR_E_NOT_FINITE = -2,       ///< a parameter or input is NaN or infinite
+    CDPR_E_NOT_POSITIVE = -3,     ///< a physical quantity that must be > 0 is not
+    CDPR_E_OUT_OF_RANGE = -4,     ///< a value outside its documented range
+    CDPR_E_CAPACITY = -5,         ///< a count exceeds a compile-time capacity
+    CDPR_E_GEOMETRY = -6,         ///< inconsistent geometry (e.g. coincident end points)
+    CDPR_E_STATE_NOT_FINITE = -7, ///< NaN/Inf appeared in the state; step undone
+    CDPR_E_STEP_TOO_SMALL = -8,   ///< the step size fell below its lower bound; step undone
+    CDPR_E_RHS = -9,              ///< the right-hand side refused to evaluate; step undone
+    CDPR_E_NO_CONVERGENCE = -10,  ///< an iterative solver hit its iteration bound
+    CDPR_E_INFEASIBLE = -11       ///< no solution with all cables in tension
+} cdpr_status_t;
+
+/// Human-readable name of a status. Never NULL (unknown values give "CDPR_UNKNOWN").
+const char *cdpr_status_str(cdpr_status_t st);
+
+/// Diagnostic filled by validation: the first offending field and its index.
+typedef struct {
+    cdpr_status_t status; ///< same value the function returned
+    const char *field;    ///< static string naming the field ("ea_N", "exit_point"), or ""
+    int index;            ///< array index / cable number of the field, or -1
+} cdpr_diag_t;
+
+/// Write a diagnostic if `diag` is not NULL; returns `st` for tail calls.
+cdpr_status_t cdpr_diag_set(cdpr_diag_t *diag, cdpr_status_t st, const char *field, int index);
+
+#endif /* CDPR_STATUS_H */

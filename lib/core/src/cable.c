@@ -1,0 +1,330 @@
+/// @file cable.c
+/// Lumped-mass cable: node forces and the right-hand side of one cable (MODEL.md §2).
+#include "cdpr/cable.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "check.h"
+
+void cdpr_cable_params_default(cdpr_cable_params_t *p)
+{
+    /* PARAMETERS.md set A: 6 mm steel wire rope of the 50 m model. */
+    p->d0_m = CDPR_R(0.006);
+    p->rho_kg_per_m = CDPR_R(0.14);
+    p->ea_N = CDPR_R(2.0e6);
+    p->damping_Ns = CDPR_R(170.0);
+    p->cd = CDPR_R(1.2);
+    p->cm = CDPR_R(0.03);
+    p->rho_air_kg_per_m3 = CDPR_R(1.225);
+}
+
+cdpr_status_t cdpr_cable_params_validate(const cdpr_cable_params_t *p, cdpr_diag_t *diag)
+{
+    if (p == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "params", -1);
+    }
+    CDPR_TRY(check_positive(p->d0_m, "d0_m", -1, diag));
+    CDPR_TRY(check_positive(p->rho_kg_per_m, "rho_kg_per_m", -1, diag));
+    CDPR_TRY(check_positive(p->ea_N, "ea_N", -1, diag));
+    CDPR_TRY(check_nonnegative(p->damping_Ns, "damping_Ns", -1, diag));
+    CDPR_TRY(check_nonnegative(p->cd, "cd", -1, diag));
+    CDPR_TRY(check_nonnegative(p->cm, "cm", -1, diag));
+    CDPR_TRY(check_nonnegative(p->rho_air_kg_per_m3, "rho_air_kg_per_m3", -1, diag));
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_status_t cdpr_cable_init(cdpr_cable_t *c, const cdpr_cable_params_t *p, int n_segments,
+                              cdpr_real_t length_m, cdpr_diag_t *diag)
+{
+    if (c == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "cable", -1);
+    }
+    CDPR_TRY(cdpr_cable_params_validate(p, diag));
+    if ((n_segments < 1) || (n_segments > CDPR_MAX_SEGMENTS)) {
+        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "n_segments", n_segments);
+    }
+    CDPR_TRY(check_positive(length_m, "length_m", -1, diag));
+
+    c->p = *p;
+    c->n = n_segments;
+    c->delta_m = length_m / (cdpr_real_t)n_segments;
+    for (int k = 0; k < CDPR_MAX_SEGMENTS; ++k) {
+        c->lu_m[k] = (k < n_segments) ? c->delta_m : CDPR_R(0.0);
+    }
+    cdpr_cable_refresh(c);
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+void cdpr_cable_refresh(cdpr_cable_t *c)
+{
+    const int n = c->n;
+    for (int k = 0; k < CDPR_MAX_SEGMENTS; ++k) {
+        c->inv_lu[k] = (k < n - 1) ? CDPR_R(1.0) / c->lu_m[k] : CDPR_R(0.0);
+        c->inv_m[k] = CDPR_R(0.0);
+    }
+    /* MODEL §2, paper eq. (3.1): m_i = rho (lu_{i-1} + lu_i) / 2 for free nodes. Node n-1
+     * touches the pulley-side segment whose length is a state: computed in the RHS. */
+    for (int i = 1; i < n - 1; ++i) {
+        c->inv_m[i] = CDPR_R(2.0) / (c->p.rho_kg_per_m * (c->lu_m[i - 1] + c->lu_m[i]));
+    }
+    c->drag_k = CDPR_R(0.5) * c->p.rho_air_kg_per_m3 * c->p.d0_m * c->p.cd;
+}
+
+int cdpr_cable_state_dim(const cdpr_cable_t *c)
+{
+    return 1 + 6 * (c->n - 1);
+}
+
+cdpr_real_t cdpr_cable_total_length(const cdpr_cable_t *c, const cdpr_real_t *y)
+{
+    cdpr_real_t sum = CDPR_R(0.0);
+    for (int k = 0; k < c->n - 1; ++k) {
+        sum += c->lu_m[k];
+    }
+    return sum + y[0];
+}
+
+void cdpr_cable_place_straight(const cdpr_cable_t *c, cdpr_vec3_t r0_m, cdpr_vec3_t rn_m,
+                               cdpr_real_t *y)
+{
+    const int n = c->n;
+    const cdpr_real_t total = cdpr_cable_total_length(c, &c->lu_m[n - 1]);
+    cdpr_real_t *pos = y + 1;
+    cdpr_real_t *vel = y + 1 + 3 * (n - 1);
+    cdpr_real_t s = CDPR_R(0.0);
+    y[0] = c->lu_m[n - 1];
+    for (int i = 1; i < n; ++i) {
+        s += c->lu_m[i - 1];
+        const cdpr_real_t f = s / total;
+        pos[3 * (i - 1) + 0] = r0_m.x + f * (rn_m.x - r0_m.x);
+        pos[3 * (i - 1) + 1] = r0_m.y + f * (rn_m.y - r0_m.y);
+        pos[3 * (i - 1) + 2] = r0_m.z + f * (rn_m.z - r0_m.z);
+        vel[3 * (i - 1) + 0] = CDPR_R(0.0);
+        vel[3 * (i - 1) + 1] = CDPR_R(0.0);
+        vel[3 * (i - 1) + 2] = CDPR_R(0.0);
+    }
+}
+
+/* Result of one segment inside the RHS: elastic force vector S = T t, drag F, tension T. */
+typedef struct {
+    cdpr_real_t sx, sy, sz;
+    cdpr_real_t fx, fy, fz;
+    cdpr_real_t t;
+} seg_t;
+
+/* Constants of the segment model, hoisted out of the loop. */
+typedef struct {
+    cdpr_real_t ea, c, drag_k, cm, wx, wy, wz;
+} seg_k_t;
+
+/* MODEL.md §2 for one segment from node a to node b. Written on scalars so the compiler keeps
+ * everything in registers; this is the hot loop of the whole library. */
+static inline void seg_eval(const seg_k_t *k, const cdpr_real_t *ra, const cdpr_real_t *va,
+                            const cdpr_real_t *rb, const cdpr_real_t *vb, cdpr_real_t lu,
+                            cdpr_real_t inv_lu, cdpr_real_t lu_rate, seg_t *s)
+{
+    const cdpr_real_t dx = rb[0] - ra[0];
+    const cdpr_real_t dy = rb[1] - ra[1];
+    const cdpr_real_t dz = rb[2] - ra[2];
+    const cdpr_real_t l = CDPR_SQRT(dx * dx + dy * dy + dz * dz);
+    /* Coincident nodes have no direction: no elastic force, no tangential split. */
+    const cdpr_real_t inv_l = (l > CDPR_R(0.0)) ? CDPR_R(1.0) / l : CDPR_R(0.0);
+    const cdpr_real_t tx = dx * inv_l;
+    const cdpr_real_t ty = dy * inv_l;
+    const cdpr_real_t tz = dz * inv_l;
+    const cdpr_real_t ratio = l * inv_lu; /* l / lu = 1 + strain */
+    const cdpr_real_t mvx = CDPR_R(0.5) * (va[0] + vb[0]);
+    const cdpr_real_t mvy = CDPR_R(0.5) * (va[1] + vb[1]);
+    const cdpr_real_t mvz = CDPR_R(0.5) * (va[2] + vb[2]);
+
+    /* Tension: T = max(0, EA eps + c eps_dot) if eps > 0, else 0 (a cable never pushes).
+     * eps_dot = t.(v_b - v_a)/lu - (l/lu^2) d lu/dt. */
+    cdpr_real_t tension = CDPR_R(0.0);
+    if (ratio > CDPR_R(1.0)) {
+        const cdpr_real_t rel = tx * (vb[0] - va[0]) + ty * (vb[1] - va[1]) + tz * (vb[2] - va[2]);
+        const cdpr_real_t eps_dot = (rel - ratio * lu_rate) * inv_lu;
+        tension = k->ea * (ratio - CDPR_R(1.0)) + k->c * eps_dot;
+        if (tension < CDPR_R(0.0)) {
+            tension = CDPR_R(0.0);
+        }
+    }
+    s->t = tension;
+    s->sx = tension * tx;
+    s->sy = tension * ty;
+    s->sz = tension * tz;
+
+    /* Drag: F = -1/2 rho_a d0 sqrt(l/lu) lu (Cd |mu_n| mu_n + Cm Cd |mu_t| mu_t), with
+     * mu = mean segment velocity - wind; drag_k = 1/2 rho_a d0 Cd and sqrt(l/lu) lu = sqrt(l lu).
+     */
+    if (k->drag_k > CDPR_R(0.0)) {
+        const cdpr_real_t mux = mvx - k->wx;
+        const cdpr_real_t muy = mvy - k->wy;
+        const cdpr_real_t muz = mvz - k->wz;
+        const cdpr_real_t mt = mux * tx + muy * ty + muz * tz;
+        const cdpr_real_t nx = mux - mt * tx;
+        const cdpr_real_t ny = muy - mt * ty;
+        const cdpr_real_t nz = muz - mt * tz;
+        const cdpr_real_t mn = CDPR_SQRT(nx * nx + ny * ny + nz * nz);
+        const cdpr_real_t area = k->drag_k * CDPR_SQRT(l * lu);
+        const cdpr_real_t ct = k->cm * CDPR_FABS(mt) * mt;
+        s->fx = -area * (mn * nx + ct * tx);
+        s->fy = -area * (mn * ny + ct * ty);
+        s->fz = -area * (mn * nz + ct * tz);
+    } else {
+        s->fx = CDPR_R(0.0);
+        s->fy = CDPR_R(0.0);
+        s->fz = CDPR_R(0.0);
+    }
+}
+
+void cdpr_cable_segment_eval(const cdpr_cable_params_t *p, cdpr_vec3_t ra, cdpr_vec3_t va,
+                             cdpr_vec3_t rb, cdpr_vec3_t vb, cdpr_real_t lu_m,
+                             cdpr_real_t lu_rate_m_per_s, cdpr_vec3_t wind_m_per_s,
+                             cdpr_segment_t *out)
+{
+    seg_k_t k;
+    k.ea = p->ea_N;
+    k.c = p->damping_Ns;
+    k.drag_k = CDPR_R(0.5) * p->rho_air_kg_per_m3 * p->d0_m * p->cd;
+    k.cm = p->cm;
+    k.wx = wind_m_per_s.x;
+    k.wy = wind_m_per_s.y;
+    k.wz = wind_m_per_s.z;
+    const cdpr_real_t a_r[3] = {ra.x, ra.y, ra.z};
+    const cdpr_real_t a_v[3] = {va.x, va.y, va.z};
+    const cdpr_real_t b_r[3] = {rb.x, rb.y, rb.z};
+    const cdpr_real_t b_v[3] = {vb.x, vb.y, vb.z};
+    seg_t s;
+    seg_eval(&k, a_r, a_v, b_r, b_v, lu_m, CDPR_R(1.0) / lu_m, lu_rate_m_per_s, &s);
+    const cdpr_vec3_t d = cdpr_v3_sub(rb, ra);
+    out->length_m = cdpr_v3_norm(d);
+    out->strain = out->length_m / lu_m - CDPR_R(1.0);
+    out->tension_N = s.t;
+    out->tangent = (s.t > CDPR_R(0.0)) ? cdpr_v3_scale(cdpr_v3(s.sx, s.sy, s.sz), CDPR_R(1.0) / s.t)
+                   : (out->length_m > CDPR_R(0.0)) ? cdpr_v3_scale(d, CDPR_R(1.0) / out->length_m)
+                                                   : cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    out->drag_N = cdpr_v3(s.fx, s.fy, s.fz);
+}
+
+/* Acceleration of free node i from its two segments (paper eqs. 3.1-3.4):
+ * a = (T_i t_i - T_{i-1} t_{i-1} + (F_{i-1} + F_i)/2) / m_i - g z. */
+static inline void node_accel(const seg_t *prev, const seg_t *cur, cdpr_real_t inv_m, cdpr_real_t g,
+                              cdpr_real_t *acc)
+{
+    acc[0] = inv_m * (cur->sx - prev->sx + CDPR_R(0.5) * (prev->fx + cur->fx));
+    acc[1] = inv_m * (cur->sy - prev->sy + CDPR_R(0.5) * (prev->fy + cur->fy));
+    acc[2] = inv_m * (cur->sz - prev->sz + CDPR_R(0.5) * (prev->fz + cur->fz)) - g;
+}
+
+void cdpr_cable_rhs(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cable_bc_t *bc,
+                    cdpr_real_t *dydt, cdpr_cable_out_t *out)
+{
+    const int n = c->n;
+    const int nf = n - 1; /* free nodes */
+    const cdpr_real_t lu_last = y[0];
+    const cdpr_real_t inv_lu_last = CDPR_R(1.0) / lu_last;
+    const cdpr_real_t u = bc->payout_m_per_s;
+    const cdpr_real_t g = bc->g_m_per_s2;
+    const cdpr_real_t *pos = y + 1;
+    const cdpr_real_t *vel = y + 1 + 3 * nf;
+    cdpr_real_t *dpos = dydt + 1;
+    cdpr_real_t *dvel = dydt + 1 + 3 * nf;
+    const cdpr_real_t r0[3] = {bc->r0_m.x, bc->r0_m.y, bc->r0_m.z};
+    const cdpr_real_t v0[3] = {bc->v0_m_per_s.x, bc->v0_m_per_s.y, bc->v0_m_per_s.z};
+    const cdpr_real_t rn[3] = {bc->rn_m.x, bc->rn_m.y, bc->rn_m.z};
+    const cdpr_real_t vn[3] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+    seg_k_t k;
+    k.ea = c->p.ea_N;
+    k.c = c->p.damping_Ns;
+    k.drag_k = c->drag_k;
+    k.cm = c->p.cm;
+    k.wx = bc->wind_m_per_s.x;
+    k.wy = bc->wind_m_per_s.y;
+    k.wz = bc->wind_m_per_s.z;
+
+    dydt[0] = u; /* MODEL §3: d lu[n-1]/dt = u */
+    for (int i = 0; i < 3 * nf; ++i) {
+        dpos[i] = vel[i];
+    }
+
+    seg_t prev;
+    seg_t cur;
+    if (nf == 0) {
+        /* One segment straight from the cabin to the pulley. */
+        seg_eval(&k, r0, v0, rn, vn, lu_last, inv_lu_last, u, &cur);
+        if (out != NULL) {
+            out->force_on_cabin_N =
+                cdpr_v3(cur.sx + CDPR_R(0.5) * cur.fx, cur.sy + CDPR_R(0.5) * cur.fy,
+                        cur.sz + CDPR_R(0.5) * cur.fz);
+            out->tension_cabin_N = cur.t;
+            out->tension_winch_N = cur.t;
+        }
+        return;
+    }
+
+    /* Segment 0: cabin attachment -> node 1. */
+    seg_eval(&k, r0, v0, pos, vel, c->lu_m[0], c->inv_lu[0], CDPR_R(0.0), &prev);
+    if (out != NULL) {
+        out->force_on_cabin_N =
+            cdpr_v3(prev.sx + CDPR_R(0.5) * prev.fx, prev.sy + CDPR_R(0.5) * prev.fy,
+                    prev.sz + CDPR_R(0.5) * prev.fz);
+        out->tension_cabin_N = prev.t;
+    }
+    /* Interior segments k = 1..n-2 join free nodes k and k+1; each closes node k. */
+    for (int s = 1; s < nf; ++s) {
+        const int a = 3 * (s - 1);
+        seg_eval(&k, pos + a, vel + a, pos + a + 3, vel + a + 3, c->lu_m[s], c->inv_lu[s],
+                 CDPR_R(0.0), &cur);
+        node_accel(&prev, &cur, c->inv_m[s], g, dvel + a);
+        prev = cur;
+    }
+    /* Pulley-side segment n-1: node n-1 -> fixed exit point; its length is the state y[0]. */
+    {
+        const int a = 3 * (nf - 1);
+        seg_eval(&k, pos + a, vel + a, rn, vn, lu_last, inv_lu_last, u, &cur);
+        const cdpr_real_t lu_prev = (nf >= 1) ? c->lu_m[nf - 1] : CDPR_R(0.0);
+        const cdpr_real_t inv_m = CDPR_R(2.0) / (c->p.rho_kg_per_m * (lu_prev + lu_last));
+        node_accel(&prev, &cur, inv_m, g, dvel + a);
+    }
+    if (out != NULL) {
+        out->tension_winch_N = cur.t;
+    }
+}
+
+void cdpr_cable_end_forces(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cable_bc_t *bc,
+                           cdpr_cable_out_t *out)
+{
+    const int nf = c->n - 1;
+    const cdpr_real_t lu_last = y[0];
+    const cdpr_real_t *pos = y + 1;
+    const cdpr_real_t *vel = y + 1 + 3 * nf;
+    const cdpr_real_t r0[3] = {bc->r0_m.x, bc->r0_m.y, bc->r0_m.z};
+    const cdpr_real_t v0[3] = {bc->v0_m_per_s.x, bc->v0_m_per_s.y, bc->v0_m_per_s.z};
+    const cdpr_real_t rn[3] = {bc->rn_m.x, bc->rn_m.y, bc->rn_m.z};
+    const cdpr_real_t vn[3] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+    seg_k_t k;
+    k.ea = c->p.ea_N;
+    k.c = c->p.damping_Ns;
+    k.drag_k = c->drag_k;
+    k.cm = c->p.cm;
+    k.wx = bc->wind_m_per_s.x;
+    k.wy = bc->wind_m_per_s.y;
+    k.wz = bc->wind_m_per_s.z;
+    seg_t first;
+    seg_t last;
+    if (nf == 0) {
+        seg_eval(&k, r0, v0, rn, vn, lu_last, CDPR_R(1.0) / lu_last, bc->payout_m_per_s, &first);
+        last = first;
+    } else {
+        seg_eval(&k, r0, v0, pos, vel, c->lu_m[0], c->inv_lu[0], CDPR_R(0.0), &first);
+        const int a = 3 * (nf - 1);
+        seg_eval(&k, pos + a, vel + a, rn, vn, lu_last, CDPR_R(1.0) / lu_last, bc->payout_m_per_s,
+                 &last);
+    }
+    out->force_on_cabin_N =
+        cdpr_v3(first.sx + CDPR_R(0.5) * first.fx, first.sy + CDPR_R(0.5) * first.fy,
+                first.sz + CDPR_R(0.5) * first.fz);
+    out->tension_cabin_N = first.t;
+    out->tension_winch_N = last.t;
+}

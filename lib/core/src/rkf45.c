@@ -1,0 +1,397 @@
+/// @file rkf45.c
+/// Runge-Kutta-Fehlberg 4(5) with step control (MODEL.md §6).
+///
+/// Coefficients: E. Fehlberg, NASA TR R-315 (1969), table III, as exact rationals.
+#include "cdpr/rkf45.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "check.h"
+
+/* Nodes c_i and the Butcher tableau a_ij. */
+#define C2  CDPR_R(1.0) / CDPR_R(4.0)
+#define C3  CDPR_R(3.0) / CDPR_R(8.0)
+#define C4  CDPR_R(12.0) / CDPR_R(13.0)
+#define C5  CDPR_R(1.0)
+#define C6  CDPR_R(1.0) / CDPR_R(2.0)
+#define A21 (CDPR_R(1.0) / CDPR_R(4.0))
+#define A31 (CDPR_R(3.0) / CDPR_R(32.0))
+#define A32 (CDPR_R(9.0) / CDPR_R(32.0))
+#define A41 (CDPR_R(1932.0) / CDPR_R(2197.0))
+#define A42 (CDPR_R(-7200.0) / CDPR_R(2197.0))
+#define A43 (CDPR_R(7296.0) / CDPR_R(2197.0))
+#define A51 (CDPR_R(439.0) / CDPR_R(216.0))
+#define A52 CDPR_R(-8.0)
+#define A53 (CDPR_R(3680.0) / CDPR_R(513.0))
+#define A54 (CDPR_R(-845.0) / CDPR_R(4104.0))
+#define A61 (CDPR_R(-8.0) / CDPR_R(27.0))
+#define A62 CDPR_R(2.0)
+#define A63 (CDPR_R(-3544.0) / CDPR_R(2565.0))
+#define A64 (CDPR_R(1859.0) / CDPR_R(4104.0))
+#define A65 (CDPR_R(-11.0) / CDPR_R(40.0))
+/* 5th-order weights (propagated). */
+#define B1 (CDPR_R(16.0) / CDPR_R(135.0))
+#define B3 (CDPR_R(6656.0) / CDPR_R(12825.0))
+#define B4 (CDPR_R(28561.0) / CDPR_R(56430.0))
+#define B5 (CDPR_R(-9.0) / CDPR_R(50.0))
+#define B6 (CDPR_R(2.0) / CDPR_R(55.0))
+/* Error weights: 5th-order minus 4th-order (25/216, 0, 1408/2565, 2197/4104, -1/5, 0). */
+#define E1 (CDPR_R(1.0) / CDPR_R(360.0))
+#define E3 (CDPR_R(-128.0) / CDPR_R(4275.0))
+#define E4 (CDPR_R(-2197.0) / CDPR_R(75240.0))
+#define E5 (CDPR_R(1.0) / CDPR_R(50.0))
+#define E6 (CDPR_R(2.0) / CDPR_R(55.0))
+
+/* Workspace slots. */
+enum { K1 = 0, K2, K3, K4, K5, K6, YTMP, YNEW, YBAK };
+
+static cdpr_real_t *slot(const cdpr_rkf45_t *s, int k)
+{
+    return s->work + (size_t)k * (size_t)s->dim_max;
+}
+
+void cdpr_rkf45_params_default(cdpr_rkf45_params_t *p)
+{
+    p->rtol = CDPR_R(1e-6);
+    p->atol = CDPR_R(1e-8);
+    p->atol_vec = NULL;
+    p->h_init_s = CDPR_R(1e-4);
+    p->h_min_s = CDPR_R(1e-12);
+    p->h_max_s = CDPR_R(1.0);
+    p->safety = CDPR_R(0.9);
+    p->shrink_min = CDPR_R(0.2);
+    p->grow_max = CDPR_R(5.0);
+}
+
+cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, cdpr_diag_t *diag)
+{
+    if (p == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "rkf45", -1);
+    }
+    CDPR_TRY(check_nonnegative(p->rtol, "rtol", -1, diag));
+    CDPR_TRY(check_positive(p->atol, "atol", -1, diag));
+    if (p->atol_vec != NULL) {
+        for (int i = 0; i < dim; ++i) {
+            CDPR_TRY(check_positive(p->atol_vec[i], "atol_vec", i, diag));
+        }
+    }
+    CDPR_TRY(check_positive(p->h_init_s, "h_init_s", -1, diag));
+    CDPR_TRY(check_positive(p->h_min_s, "h_min_s", -1, diag));
+    CDPR_TRY(check_positive(p->h_max_s, "h_max_s", -1, diag));
+    if (p->h_max_s < p->h_min_s) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "h_max_s", -1);
+    }
+    CDPR_TRY(check_positive(p->safety, "safety", -1, diag));
+    if (!(p->safety < CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "safety", -1);
+    }
+    CDPR_TRY(check_positive(p->shrink_min, "shrink_min", -1, diag));
+    if (!(p->shrink_min < CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "shrink_min", -1);
+    }
+    CDPR_TRY(check_finite(p->grow_max, "grow_max", -1, diag));
+    if (!(p->grow_max > CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "grow_max", -1);
+    }
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_status_t cdpr_rkf45_init(cdpr_rkf45_t *s, const cdpr_rkf45_params_t *p, cdpr_real_t *work,
+                              int work_len, int dim_max, int dim, cdpr_diag_t *diag)
+{
+    if (s == NULL || work == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, (s == NULL) ? "solver" : "work", -1);
+    }
+    if (dim_max < 1) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "dim_max", dim_max);
+    }
+    if (dim < 1 || dim > dim_max) {
+        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "dim", dim);
+    }
+    if ((long)work_len < (long)CDPR_RKF45_WORK_PER_DIM * (long)dim_max) {
+        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "work_len", work_len);
+    }
+    CDPR_TRY(cdpr_rkf45_params_validate(p, dim, diag));
+    s->p = *p;
+    s->work = work;
+    s->dim_max = dim_max;
+    s->dim = dim;
+    s->h_s = (p->h_init_s < p->h_max_s) ? p->h_init_s : p->h_max_s;
+    s->last_err = CDPR_R(0.0);
+    s->stats.steps_accepted = 0;
+    s->stats.steps_rejected = 0;
+    s->stats.nonfinite_rejected = 0;
+    s->stats.rhs_evals = 0;
+    s->stats.forced_steps = 0;
+    s->stats.substep_limit_hits = 0;
+    s->stats.failures = 0;
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_status_t cdpr_rkf45_set_dim(cdpr_rkf45_t *s, int dim)
+{
+    if (s == NULL || dim < 1 || dim > s->dim_max) {
+        return CDPR_E_CAPACITY;
+    }
+    s->dim = dim;
+    if (s->h_s > s->p.h_init_s) {
+        s->h_s = s->p.h_init_s;
+    }
+    return CDPR_OK;
+}
+
+/* One counted call of f. */
+static cdpr_status_t eval(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t t,
+                          const cdpr_real_t *y, cdpr_real_t *dydt)
+{
+    s->stats.rhs_evals++;
+    return (f(t, y, dydt, ctx) < 0) ? CDPR_E_RHS : CDPR_OK;
+}
+
+cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t t,
+                               const cdpr_real_t *y, cdpr_real_t h, cdpr_real_t *y_out,
+                               cdpr_real_t *err)
+{
+    const int n = s->dim;
+    cdpr_real_t *k1 = slot(s, K1);
+    cdpr_real_t *k2 = slot(s, K2);
+    cdpr_real_t *k3 = slot(s, K3);
+    cdpr_real_t *k4 = slot(s, K4);
+    cdpr_real_t *k5 = slot(s, K5);
+    cdpr_real_t *k6 = slot(s, K6);
+    cdpr_real_t *yt = slot(s, YTMP);
+
+    CDPR_TRY(eval(s, f, ctx, t, y, k1));
+    for (int i = 0; i < n; ++i) {
+        yt[i] = y[i] + h * (A21 * k1[i]);
+    }
+    CDPR_TRY(eval(s, f, ctx, t + C2 * h, yt, k2));
+    for (int i = 0; i < n; ++i) {
+        yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i]);
+    }
+    CDPR_TRY(eval(s, f, ctx, t + C3 * h, yt, k3));
+    for (int i = 0; i < n; ++i) {
+        yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]);
+    }
+    CDPR_TRY(eval(s, f, ctx, t + C4 * h, yt, k4));
+    for (int i = 0; i < n; ++i) {
+        yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]);
+    }
+    CDPR_TRY(eval(s, f, ctx, t + C5 * h, yt, k5));
+    for (int i = 0; i < n; ++i) {
+        yt[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
+    }
+    CDPR_TRY(eval(s, f, ctx, t + C6 * h, yt, k6));
+
+    /* New state, error estimate, weighted max-norm and finiteness in one pass. */
+    const cdpr_real_t rtol = s->p.rtol;
+    const cdpr_real_t *av = s->p.atol_vec;
+    const cdpr_real_t atol = s->p.atol;
+    cdpr_real_t emax = CDPR_R(0.0);
+    int bad = 0;
+    for (int i = 0; i < n; ++i) {
+        const cdpr_real_t yn =
+            y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
+        const cdpr_real_t e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i]);
+        const cdpr_real_t ay = CDPR_FABS(y[i]);
+        const cdpr_real_t an = CDPR_FABS(yn);
+        const cdpr_real_t sc = ((av != NULL) ? av[i] : atol) + rtol * ((ay > an) ? ay : an);
+        const cdpr_real_t r = CDPR_FABS(e) / sc;
+        bad |= !isfinite(yn);
+        if (!(r <= emax)) {
+            emax = r; /* also propagates NaN */
+        }
+        y_out[i] = yn;
+    }
+    if (bad != 0 || !isfinite(emax)) {
+        emax = (cdpr_real_t)INFINITY;
+    }
+    s->last_err = emax;
+    if (err != NULL) {
+        *err = emax;
+    }
+    return CDPR_OK;
+}
+
+static int all_finite(const cdpr_real_t *v, int n)
+{
+    for (int i = 0; i < n; ++i) {
+        if (!isfinite(v[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static cdpr_real_t clamp(cdpr_real_t x, cdpr_real_t lo, cdpr_real_t hi)
+{
+    return (x < lo) ? lo : ((x > hi) ? hi : x);
+}
+
+/* Step-size factor from the error norm (error ~ h^5 for the embedded 4th-order estimate). */
+static cdpr_real_t step_factor(const cdpr_rkf45_t *s, cdpr_real_t err)
+{
+    if (!(err > CDPR_R(0.0))) {
+        return s->p.grow_max;
+    }
+    const cdpr_real_t fac = s->p.safety * CDPR_POW(err, CDPR_R(-0.2));
+    return clamp(fac, s->p.shrink_min, s->p.grow_max);
+}
+
+/* Classify a trial that produced NaN/Inf: if the starting point itself is not finite (or
+ * f(t, y) is not), no smaller step can help. */
+static int start_is_bad(const cdpr_rkf45_t *s, const cdpr_real_t *y)
+{
+    return (all_finite(y, s->dim) == 0) || (all_finite(slot(s, K1), s->dim) == 0);
+}
+
+static void copy(cdpr_real_t *dst, const cdpr_real_t *src, int n)
+{
+    for (int i = 0; i < n; ++i) {
+        dst[i] = src[i];
+    }
+}
+
+cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
+                              cdpr_real_t *y, cdpr_real_t t_end)
+{
+    if (s == NULL || f == NULL || t == NULL || y == NULL || !isfinite(*t) || !isfinite(t_end) ||
+        !(t_end > *t)) {
+        return CDPR_E_INVALID_ARG;
+    }
+    cdpr_real_t *yn = slot(s, YNEW);
+    /* Bounded: every rejection multiplies h by at most `safety` < 1, and h_min ends it. */
+    for (;;) {
+        const cdpr_real_t remaining = t_end - *t;
+        cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        const int last = (h >= remaining) ? 1 : 0;
+        if (last != 0) {
+            h = remaining;
+        }
+        cdpr_real_t err = CDPR_R(0.0);
+        if (cdpr_rkf45_trial(s, f, ctx, *t, y, h, yn, &err) != CDPR_OK) {
+            s->stats.failures++;
+            return CDPR_E_RHS;
+        }
+        if (!isfinite(err)) {
+            if (start_is_bad(s, y) != 0) {
+                s->stats.failures++;
+                return CDPR_E_STATE_NOT_FINITE;
+            }
+            s->stats.nonfinite_rejected++;
+            s->h_s = h * s->p.shrink_min;
+        } else if (err <= CDPR_R(1.0)) {
+            copy(y, yn, s->dim);
+            *t = (last != 0) ? t_end : *t + h;
+            s->stats.steps_accepted++;
+            const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            /* A step clipped to reach t_end says little about the natural step size. */
+            s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
+            return CDPR_OK;
+        } else {
+            s->stats.steps_rejected++;
+            s->h_s = h * step_factor(s, err);
+        }
+        if (s->h_s < s->p.h_min_s) {
+            s->h_s = s->p.h_min_s;
+            if (h <= s->p.h_min_s) {
+                s->stats.failures++;
+                return CDPR_E_STEP_TOO_SMALL;
+            }
+        }
+    }
+}
+
+cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
+                                 cdpr_real_t *y, cdpr_real_t dt, int max_trials)
+{
+    if (s == NULL || f == NULL || t == NULL || y == NULL || !isfinite(*t) || !isfinite(dt) ||
+        !(dt > CDPR_R(0.0)) || max_trials < 1) {
+        return CDPR_E_INVALID_ARG;
+    }
+    const int n = s->dim;
+    if (all_finite(y, n) == 0) {
+        s->stats.failures++;
+        return CDPR_E_STATE_NOT_FINITE;
+    }
+    cdpr_real_t *yn = slot(s, YNEW);
+    cdpr_real_t *bak = slot(s, YBAK);
+    const cdpr_real_t t0 = *t;
+    const cdpr_real_t t_end = t0 + dt;
+    const cdpr_real_t h_saved = s->h_s;
+    copy(bak, y, n);
+
+    cdpr_real_t tc = t0;
+    int trials = 0;
+    int forced = 0;
+    int missed = 0;
+    cdpr_status_t st = CDPR_OK;
+    while (tc < t_end) {
+        const cdpr_real_t remaining = t_end - tc;
+        const int budget = max_trials - trials;
+        cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        if (forced == 0 && (budget == 1 || remaining > h * (cdpr_real_t)budget)) {
+            forced = 1; /* the adaptive steps no longer fit: equal steps over the rest */
+        }
+        if (forced != 0) {
+            h = remaining / (cdpr_real_t)budget;
+        }
+        /* Do not leave a sliver much shorter than the step: take the rest now. */
+        const int last = (h >= remaining * CDPR_R(0.999)) ? 1 : 0;
+        if (last != 0) {
+            h = remaining;
+        }
+        cdpr_real_t err = CDPR_R(0.0);
+        trials++;
+        if (cdpr_rkf45_trial(s, f, ctx, tc, y, h, yn, &err) != CDPR_OK) {
+            st = CDPR_E_RHS;
+            break;
+        }
+        if (!isfinite(err)) {
+            if (forced != 0 || start_is_bad(s, y) != 0) {
+                st = CDPR_E_STATE_NOT_FINITE;
+                break;
+            }
+            s->stats.nonfinite_rejected++;
+            s->h_s = h * s->p.shrink_min;
+        } else if (forced != 0 || err <= CDPR_R(1.0)) {
+            copy(y, yn, n);
+            tc = (last != 0) ? t_end : tc + h;
+            s->stats.steps_accepted++;
+            if (err > CDPR_R(1.0)) {
+                s->stats.forced_steps++;
+                missed++;
+            }
+            const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
+        } else {
+            s->stats.steps_rejected++;
+            s->h_s = h * step_factor(s, err);
+        }
+        if (s->h_s < s->p.h_min_s) {
+            if (h <= s->p.h_min_s) {
+                st = CDPR_E_STEP_TOO_SMALL;
+                break;
+            }
+            s->h_s = s->p.h_min_s;
+        }
+        if (tc < t_end && trials >= max_trials) {
+            st = CDPR_E_STEP_TOO_SMALL; /* unreachable: forced steps always finish */
+            break;
+        }
+    }
+    if (st < 0) {
+        copy(y, bak, n);
+        *t = t0;
+        s->h_s = (s->h_s < h_saved) ? s->h_s : h_saved;
+        s->stats.failures++;
+        return st;
+    }
+    *t = t_end;
+    if (missed != 0) {
+        s->stats.substep_limit_hits++;
+        return CDPR_WARN_SUBSTEP_LIMIT;
+    }
+    return CDPR_OK;
+}
