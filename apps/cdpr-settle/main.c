@@ -1,0 +1,389 @@
+/// @file main.c
+/// cdpr-settle: a single cable released from the straight line between two fixed points,
+/// settled to rest by the lumped-mass dynamics, compared with Irvine's elastic catenary.
+///
+/// This is the validation case of the foundation (docs/validation.md): it prints, for a sweep
+/// of segment counts, the settled mid-span sag and end tensions next to the closed form and
+/// writes the node positions as CSV.
+#define _GNU_SOURCE /* getopt_long, clock_gettime */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "cdpr/catenary.h"
+#include "cdpr/robot.h"
+#include "cdpr/rkf45.h"
+#include "cdpr/settle.h"
+
+typedef struct {
+    double length_m;
+    double span_m;
+    double height_m;
+    double ea_N;
+    double rho_kg_per_m;
+    const char *out_dir;
+    int segments[8];
+    int n_runs;
+} options_t;
+
+/* Results of one settled run. */
+typedef struct {
+    int n;
+    long steps;
+    long resets;
+    double sim_time_s;
+    double wall_s;
+    double sag_m;     /* mid-span sag below the chord (interpolated at x = l/2) */
+    double t_a_N;     /* support force magnitude at A (node 0, the "cabin" end) */
+    double t_b_N;     /* support force magnitude at B (node n, the "winch" end) */
+    double max_dev_m; /* max node distance from the catenary at the same arclength */
+} result_t;
+
+static cdpr_robot_t robot;
+static cdpr_real_t y[CDPR_ROBOT_STATE_MAX];
+static cdpr_real_t scratch[CDPR_ROBOT_STATE_MAX];
+static cdpr_real_t work[CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX];
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: cdpr-settle [options]\n"
+               "Release one cable from the straight line between two fixed points, let it\n"
+               "settle under gravity, and compare with the elastic catenary (Irvine).\n\n"
+               "  --out DIR         write CSV files to DIR (default out/settle)\n"
+               "  --length L        unstretched length [m] (default 100)\n"
+               "  --span S          horizontal span [m] (default 80)\n"
+               "  --height H        height of the far end above the near end [m] (default 10)\n"
+               "  --ea EA           axial stiffness [N] (default 2e4: ~0.5 %% strain)\n"
+               "  --rho RHO         mass per length [kg/m] (default 0.14)\n"
+               "  --segments LIST   comma-separated segment counts (default 8,16,32,64)\n"
+               "  --help            this text\n");
+}
+
+static int parse_double(const char *s, const char *name, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    const double v = strtod(s, &end);
+    if (errno != 0 || end == s || *end != '\0' || !isfinite(v)) {
+        fprintf(stderr, "cdpr-settle: --%s: not a finite number: '%s'\n", name, s);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int parse_segments(const char *s, options_t *o)
+{
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s", s);
+    o->n_runs = 0;
+    for (char *tok = strtok(buf, ","); tok != NULL; tok = strtok(NULL, ",")) {
+        char *end = NULL;
+        const long v = strtol(tok, &end, 10);
+        if (*end != '\0' || v < 1 || v > CDPR_MAX_SEGMENTS || o->n_runs >= 8) {
+            fprintf(stderr, "cdpr-settle: --segments: '%s' is not in [1, %d] (max 8 values)\n", tok,
+                    CDPR_MAX_SEGMENTS);
+            return -1;
+        }
+        o->segments[o->n_runs++] = (int)v;
+    }
+    return (o->n_runs > 0) ? 0 : -1;
+}
+
+static int parse(int argc, char **argv, options_t *o)
+{
+    static const struct option longopts[] = {{"out", required_argument, NULL, 'o'},
+                                             {"length", required_argument, NULL, 'L'},
+                                             {"span", required_argument, NULL, 's'},
+                                             {"height", required_argument, NULL, 'H'},
+                                             {"ea", required_argument, NULL, 'e'},
+                                             {"rho", required_argument, NULL, 'r'},
+                                             {"segments", required_argument, NULL, 'n'},
+                                             {"help", no_argument, NULL, 'h'},
+                                             {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        int rc = 0;
+        switch (c) {
+        case 'o':
+            o->out_dir = optarg;
+            break;
+        case 'L':
+            rc = parse_double(optarg, "length", &o->length_m);
+            break;
+        case 's':
+            rc = parse_double(optarg, "span", &o->span_m);
+            break;
+        case 'H':
+            rc = parse_double(optarg, "height", &o->height_m);
+            break;
+        case 'e':
+            rc = parse_double(optarg, "ea", &o->ea_N);
+            break;
+        case 'r':
+            rc = parse_double(optarg, "rho", &o->rho_kg_per_m);
+            break;
+        case 'n':
+            rc = parse_segments(optarg, o);
+            break;
+        case 'h':
+            usage(stdout);
+            exit(0);
+        default:
+            usage(stderr);
+            return -1;
+        }
+        if (rc != 0) {
+            return -1;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "cdpr-settle: unexpected argument '%s'\n", argv[optind]);
+        return -1;
+    }
+    return 0;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int mkdir_p(const char *dir)
+{
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (char *p = buf + 1; *p != '\0'; ++p) {
+        if (*p == '/') {
+            *p = '\0';
+            if (mkdir(buf, 0775) != 0 && errno != EEXIST) {
+                return -1;
+            }
+            *p = '/';
+        }
+    }
+    return (mkdir(buf, 0775) != 0 && errno != EEXIST) ? -1 : 0;
+}
+
+/* Build the robot: one cable from the held "cabin" point A = origin to the fixed point B. */
+static int build(const options_t *o, int n, cdpr_diag_t *d)
+{
+    cdpr_robot_params_t p;
+    cdpr_robot_params_default(&p);
+    p.mode = CDPR_CABIN_PRESCRIBED; /* motion_fn NULL: the cabin (end A) is held */
+    p.n_cables = 1;
+    p.cables[0].cable.ea_N = o->ea_N;
+    p.cables[0].cable.rho_kg_per_m = o->rho_kg_per_m;
+    p.cables[0].exit_point_m = cdpr_v3(o->span_m, 0.0, o->height_m);
+    p.cables[0].attach_body_m = cdpr_v3(0.0, 0.0, 0.0);
+    p.cables[0].n_segments = n;
+    p.cables[0].length_m = o->length_m;
+    return cdpr_robot_init(&robot, &p, d);
+}
+
+static int run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, double H, double va,
+               result_t *res, FILE *csv)
+{
+    cdpr_diag_t d;
+    if (build(o, n, &d) != CDPR_OK) {
+        fprintf(stderr, "cdpr-settle: invalid parameter %s: %s\n", d.field,
+                cdpr_status_str(d.status));
+        return -1;
+    }
+    cdpr_cabin_motion_t m;
+    memset(&m, 0, sizeof m);
+    m.q.w = 1.0;
+    if (cdpr_robot_place_straight(&robot, &m, y) != CDPR_OK) {
+        fprintf(stderr, "cdpr-settle: the two end points coincide\n");
+        return -1;
+    }
+    const int dim = cdpr_robot_state_dim(&robot);
+    cdpr_rkf45_params_t sp;
+    cdpr_rkf45_params_default(&sp);
+    sp.rtol = 1e-7;
+    sp.atol = 1e-9;
+    cdpr_rkf45_t solver;
+    if (cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),
+                        CDPR_ROBOT_STATE_MAX, dim, &d) != CDPR_OK) {
+        fprintf(stderr, "cdpr-settle: solver: %s (%s)\n", cdpr_status_str(d.status), d.field);
+        return -1;
+    }
+    cdpr_settle_t cfg;
+    cdpr_settle_default(&cfg);
+    cfg.acc_tol_m_per_s2 = 1e-6;
+    const double t0 = now_s();
+    const cdpr_status_t st = cdpr_robot_settle(&robot, &solver, y, scratch, &cfg);
+    res->wall_s = now_s() - t0;
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-settle: N=%d did not settle: %s (max acceleration %.3g m/s^2)\n", n,
+                cdpr_status_str(st), cfg.max_acc_m_per_s2);
+        return -1;
+    }
+    res->n = n;
+    res->steps = cfg.steps;
+    res->resets = cfg.resets;
+    res->sim_time_s = cfg.time_s;
+
+    /* Node positions (A = node 0 at the origin, B = node n), arclengths and deviations. */
+    const cdpr_cable_t *c = &robot.cable[0];
+    const cdpr_real_t *pos = y + robot.offset[0] + 1;
+    static double xs[CDPR_MAX_SEGMENTS + 1];
+    static double zs[CDPR_MAX_SEGMENTS + 1];
+    double s = 0.0;
+    double max_dev = 0.0;
+    const double l = o->span_m;
+    const double h = o->height_m;
+    for (int i = 0; i <= n; ++i) {
+        xs[i] = (i == 0) ? 0.0 : (i == n) ? l : pos[3 * (i - 1)];
+        zs[i] = (i == 0) ? 0.0 : (i == n) ? h : pos[3 * (i - 1) + 2];
+        if (i > 0) {
+            s += (i == n) ? y[robot.offset[0]] : c->lu_m[i - 1];
+        }
+        double xc;
+        double zc;
+        cdpr_catenary_point(cat, H, va, s, &xc, &zc);
+        const double dev = hypot(xs[i] - xc, zs[i] - zc);
+        max_dev = (dev > max_dev) ? dev : max_dev;
+        if (csv != NULL) {
+            fprintf(csv, "%d,%d,%.9f,%.9f,%.9f,%.9f,%.9f\n", n, i, s, xs[i], zs[i], xc, zc);
+        }
+    }
+    /* Mid-span sag: quadratic (Lagrange) interpolation of z(x) through the three nodes
+     * nearest x = l/2, so the interpolation error (O(Delta^3)) stays below the model's own
+     * O(Delta^2) discretisation error. */
+    int im = 1;
+    for (int i = 1; i < n; ++i) {
+        if (fabs(xs[i] - 0.5 * l) < fabs(xs[im] - 0.5 * l)) {
+            im = i;
+        }
+    }
+    if (n < 2) {
+        im = 0;
+    }
+    double sag = NAN;
+    if (n >= 2) {
+        const int a = (im > 0) ? im - 1 : 0;
+        const double x0 = xs[a], x1 = xs[a + 1], x2 = xs[a + 2];
+        const double xm = 0.5 * l;
+        const double zi = zs[a] * (xm - x1) * (xm - x2) / ((x0 - x1) * (x0 - x2)) +
+                          zs[a + 1] * (xm - x0) * (xm - x2) / ((x1 - x0) * (x1 - x2)) +
+                          zs[a + 2] * (xm - x0) * (xm - x1) / ((x2 - x0) * (x2 - x1));
+        sag = 0.5 * h - zi;
+    }
+    res->sag_m = sag;
+    res->max_dev_m = max_dev;
+
+    /* Support forces. At A the support carries segment 0's pull plus node 0's own weight
+     * (that lumped mass rests on the support); at B likewise with node n. */
+    cdpr_robot_out_t out;
+    cdpr_robot_outputs(&robot, 0.0, y, &out);
+    const double g = robot.p.g_m_per_s2;
+    const double wa = 0.5 * c->p.rho_kg_per_m * c->lu_m[0] * g;
+    const double wb = 0.5 * c->p.rho_kg_per_m * y[robot.offset[0]] * g;
+    const cdpr_vec3_t fa = out.force_on_cabin_N[0];
+    res->t_a_N = sqrt(fa.x * fa.x + fa.y * fa.y + (fa.z - wa) * (fa.z - wa));
+    /* Winch end: T_{n-1} along the last segment, plus node n's weight. */
+    {
+        const double *pn = (n > 1) ? &pos[3 * (n - 2)] : NULL;
+        const double ax = (pn != NULL) ? pn[0] : 0.0;
+        const double az = (pn != NULL) ? pn[2] : 0.0;
+        const double dx = l - ax;
+        const double dz = h - az;
+        const double len = hypot(dx, dz);
+        const double T = out.tension_winch_N[0];
+        const double fx = -T * dx / len;
+        const double fz = -T * dz / len - wb;
+        res->t_b_N = hypot(fx, fz);
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    options_t o = {100.0, 80.0, 10.0, 2.0e4, 0.14, "out/settle", {8, 16, 32, 64}, 4};
+    if (parse(argc, argv, &o) != 0) {
+        return 2;
+    }
+    if (mkdir_p(o.out_dir) != 0) {
+        fprintf(stderr, "cdpr-settle: cannot create '%s': %s\n", o.out_dir, strerror(errno));
+        return 1;
+    }
+    /* The closed form: Irvine's elastic catenary through the same two points. */
+    const cdpr_catenary_cable_t cat = {o.rho_kg_per_m * 9.80665, o.ea_N};
+    cdpr_catenary_solver_t cs;
+    cdpr_catenary_solver_default(&cs);
+    cdpr_real_t H = 0.0;
+    cdpr_real_t va = 0.0;
+    if (cdpr_catenary_solve(&cat, o.span_m, o.height_m, o.length_m, &cs, &H, &va) != CDPR_OK) {
+        fprintf(stderr, "cdpr-settle: catenary did not converge (residual %.3g m)\n",
+                cs.residual_m);
+        return 1;
+    }
+    const double vb = va + cat.w_N_per_m * o.length_m;
+    const double ta = hypot(H, va);
+    const double tb = hypot(H, vb);
+    /* Mid-span sag of the closed form: find s with x(s) = l/2 by bisection (x is monotonic). */
+    double lo = 0.0;
+    double hi = o.length_m;
+    for (int k = 0; k < 200; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        double x;
+        double z;
+        cdpr_catenary_point(&cat, H, va, mid, &x, &z);
+        if (x < 0.5 * o.span_m) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    double xm;
+    double zm;
+    cdpr_catenary_point(&cat, H, va, 0.5 * (lo + hi), &xm, &zm);
+    const double sag_cat = 0.5 * o.height_m - zm;
+
+    char path[600];
+    snprintf(path, sizeof path, "%s/nodes.csv", o.out_dir);
+    FILE *csv = fopen(path, "w");
+    if (csv == NULL) {
+        fprintf(stderr, "cdpr-settle: cannot write '%s': %s\n", path, strerror(errno));
+        return 1;
+    }
+    fprintf(csv, "segments,node,s_m,x_m,z_m,x_catenary_m,z_catenary_m\n");
+
+    printf("cdpr-settle: %.1f m cable, span %.1f m, height %.1f m, EA %.3g N, rho %.3g kg/m\n",
+           o.length_m, o.span_m, o.height_m, o.ea_N, o.rho_kg_per_m);
+    printf("released from the straight chord at rest; settled by kinetic damping\n\n");
+    printf("%8s %12s %12s %12s %12s %9s %9s %8s\n", "segments", "sag [m]", "T_A [N]", "T_B [N]",
+           "max dev [m]", "steps", "sim [s]", "wall [s]");
+    printf("%8s %12.6f %12.6f %12.6f %12s\n", "Irvine", sag_cat, ta, tb, "-");
+    int rc = 0;
+    result_t prev;
+    memset(&prev, 0, sizeof prev);
+    for (int k = 0; k < o.n_runs; ++k) {
+        result_t r;
+        if (run(&o, o.segments[k], &cat, H, va, &r, csv) != 0) {
+            rc = 1;
+            break;
+        }
+        printf("%8d %12.6f %12.6f %12.6f %12.3e %9ld %9.1f %8.2f\n", r.n, r.sag_m, r.t_a_N, r.t_b_N,
+               r.max_dev_m, r.steps, r.sim_time_s, r.wall_s);
+        prev = r;
+    }
+    fclose(csv);
+    if (rc == 0 && prev.n > 0) {
+        printf("\nfinest run (N=%d) vs closed form: sag %+.2e m (%.4f %%), T_A %+.2e N "
+               "(%.4f %%), T_B %+.2e N (%.4f %%)\n",
+               prev.n, prev.sag_m - sag_cat, 100.0 * (prev.sag_m - sag_cat) / sag_cat,
+               prev.t_a_N - ta, 100.0 * (prev.t_a_N - ta) / ta, prev.t_b_N - tb,
+               100.0 * (prev.t_b_N - tb) / tb);
+        printf("node positions: %s\n", path);
+    }
+    return rc;
+}

@@ -1,0 +1,45 @@
+/// @file settle.h
+/// Relaxation of a robot state to its discrete static equilibrium by kinetic damping
+/// (dynamic relaxation, Barnes 1977 / Cundall): integrate the true equations of motion and,
+/// each time the kinetic energy passes a peak, set every velocity to zero. Drag and
+/// strain-rate damping vanish at rest, so the state it converges to is the equilibrium of the
+/// lumped-mass model itself, independent of how the energy was removed.
+///
+/// Use: the "released and damped to rest" validation case and initial states at rest.
+/// Work: bounded by `max_steps` accepted steps (each step <= a bounded number of RHS calls);
+/// allocation: none. Host or target; not meant for the real-time loop.
+#ifndef CDPR_SETTLE_H
+#define CDPR_SETTLE_H
+
+#include "cdpr/config.h"
+#include "cdpr/rkf45.h"
+#include "cdpr/robot.h"
+#include "cdpr/status.h"
+
+/// Settings (inputs) and report (outputs).
+typedef struct {
+    long max_steps;               ///< bound on accepted integrator steps (> 0)
+    cdpr_real_t max_step_s;       ///< largest step handed to the integrator [s] (> 0)
+    cdpr_real_t acc_tol_m_per_s2; ///< converged when every node and cabin acceleration at
+                                  ///< rest is below this [m/s^2] (> 0)
+    /* outputs */
+    long steps;                   ///< accepted steps taken
+    long resets;                  ///< kinetic-energy peaks (velocity resets)
+    cdpr_real_t time_s;           ///< simulated time used [s]
+    cdpr_real_t max_acc_m_per_s2; ///< largest acceleration at the last check [m/s^2]
+} cdpr_settle_t;
+
+/// Defaults: 2e6 steps, 0.01 s, 1e-6 m/s^2 (double) / 1e-3 (float).
+void cdpr_settle_default(cdpr_settle_t *cfg);
+
+/// Kinetic energy of the state: cable nodes (lumped masses) plus the cabin in dynamic mode [J].
+cdpr_real_t cdpr_robot_kinetic_energy(const cdpr_robot_t *r, const cdpr_real_t *y);
+
+/// Relax y (dimension r->dim) to rest. `scratch` holds r->dim reals. The solver must have
+/// been initialised for r->dim. Returns CDPR_OK when converged (y at rest: velocities zero),
+/// CDPR_E_NO_CONVERGENCE when max_steps ran out (y is the last state, still valid), or an
+/// integrator error (y is the last good state).
+cdpr_status_t cdpr_robot_settle(const cdpr_robot_t *r, cdpr_rkf45_t *solver, cdpr_real_t *y,
+                                cdpr_real_t *scratch, cdpr_settle_t *cfg);
+
+#endif /* CDPR_SETTLE_H */
