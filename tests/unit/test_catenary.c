@@ -244,8 +244,8 @@ static void settle_chain(int n, double Hr, double var, settled_t *out)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_settle(&robot, &solver, y, scratch, &cfg));
 
     /* Node coordinates (x, z) with node 0 = A at the origin and node n = B. */
-    double xs[65];
-    double zs[65];
+    double xs[65] = {0.0};
+    double zs[65] = {0.0};
     const cdpr_real_t *pos = y + robot.offset[0] + 1;
     double s = 0.0;
     out->dev = 0.0;
