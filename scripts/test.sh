@@ -30,7 +30,15 @@ stage "debug: configure, build, ctest" build_and_test debug
 # Uses the debug tree's file list; fails when any file differs from .clang-format's style.
 stage "format-check" cmake --build --preset debug --target format-check
 stage "asan: configure, build, ctest" build_and_test asan
-# Later stages (cppcheck, clang-tidy, cross-build under QEMU) go here.
+
+# Static analysis of the library and app sources (tests are exercised dynamically instead).
+mapfile -t cdpr_sources < <(git ls-files 'lib/*.c' 'apps/*.c')
+stage "cppcheck" cppcheck --enable=warning,style,portability,performance --std=c99 \
+    --error-exitcode=1 --inline-suppr --quiet -I lib/core/include -I lib/gsl/include \
+    "${cdpr_sources[@]}"
+# .clang-tidy holds the check set and the reasons for each exclusion.
+stage "clang-tidy" clang-tidy --quiet -p build/debug "${cdpr_sources[@]}"
+# Later stages (cross-build and tests under QEMU, coverage) go here.
 
 echo
 echo "==== summary"

@@ -5,7 +5,6 @@
 /// This is the validation case of the foundation (docs/validation.md): it prints, for a sweep
 /// of segment counts, the settled mid-span sag and end tensions next to the closed form and
 /// writes the node positions as CSV.
-#define _GNU_SOURCE /* getopt_long, clock_gettime */
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>

@@ -38,7 +38,8 @@ typedef struct {
     cdpr_cable_params_t p;                 ///< copy of the validated parameters
     int n;                                 ///< active segments, 1..CDPR_MAX_SEGMENTS
     cdpr_real_t delta_m;                   ///< nominal segment length Delta [m] (MODEL §3)
-    cdpr_real_t lu_m[CDPR_MAX_SEGMENTS];   ///< unstretched lengths; lu_m[n-1] mirrors the state
+    cdpr_real_t lu_m[CDPR_MAX_SEGMENTS];   ///< unstretched lengths; for k = n-1 the state y[0] is
+                                           ///< authoritative (lu_m[n-1]: value at init/last event)
     cdpr_real_t inv_lu[CDPR_MAX_SEGMENTS]; ///< 1/lu_m[k] for k < n-1 [1/m]
     cdpr_real_t inv_m[CDPR_MAX_SEGMENTS];  ///< 1/m_i for free nodes i = 1..n-2 [1/kg]
     cdpr_real_t drag_k;                    ///< 0.5 rho_air d0 Cd [kg/m^2]
