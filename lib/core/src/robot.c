@@ -36,7 +36,7 @@ static cdpr_status_t combine_cabin(cdpr_cabin_t *cab, const cdpr_robot_params_t 
     return cdpr_cabin_init(cab, &p->cabin, p->n_cables, m, b, diag);
 }
 
-static void update_layout(cdpr_robot_t *r)
+void cdpr_robot_update_layout(cdpr_robot_t *r)
 {
     int off = CDPR_CABIN_STATE_DIM;
     for (int j = 0; j < r->p.n_cables; ++j) {
@@ -90,7 +90,7 @@ cdpr_status_t cdpr_robot_init(cdpr_robot_t *r, const cdpr_robot_params_t *p, cdp
     r->in.ext_torque_body_Nm = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     r->in.motion_fn = NULL;
     r->in.motion_ctx = NULL;
-    update_layout(r);
+    cdpr_robot_update_layout(r);
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -117,6 +117,17 @@ static void cabin_motion(const cdpr_robot_t *r, cdpr_real_t t, const cdpr_real_t
     cdpr_cabin_get_motion(y, m);
 }
 
+void cdpr_robot_cabin_motion(const cdpr_robot_t *r, cdpr_real_t t_s, const cdpr_real_t *y,
+                             cdpr_cabin_motion_t *m)
+{
+    cabin_motion(r, t_s, y, m);
+}
+
+cdpr_status_t cdpr_robot_refresh_cabin(cdpr_robot_t *r)
+{
+    return combine_cabin(&r->cabin, &r->p, r->cable, NULL);
+}
+
 /* Attachment position/velocity with a precomputed rotation. */
 static void attach(const cdpr_robot_t *r, int j, const cdpr_cabin_motion_t *m, const cdpr_mat3_t *R,
                    cdpr_vec3_t *pos, cdpr_vec3_t *vel)
@@ -138,6 +149,11 @@ void cdpr_robot_attachment(const cdpr_robot_t *r, int j, const cdpr_cabin_motion
 cdpr_status_t cdpr_robot_place_straight(const cdpr_robot_t *r, const cdpr_cabin_motion_t *m,
                                         cdpr_real_t *y)
 {
+    if (cdpr_v3_isfinite(m->p_m) == 0 || cdpr_v3_isfinite(m->v_m_per_s) == 0 ||
+        cdpr_v3_isfinite(m->w_rad_per_s) == 0 || !isfinite(m->q.w) || !isfinite(m->q.x) ||
+        !isfinite(m->q.y) || !isfinite(m->q.z)) {
+        return CDPR_E_NOT_FINITE;
+    }
     cdpr_mat3_t R;
     cdpr_quat_to_mat3(cdpr_quat_normalize(m->q), &R);
     for (int j = 0; j < r->p.n_cables; ++j) {

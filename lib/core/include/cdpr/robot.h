@@ -86,6 +86,17 @@ cdpr_status_t cdpr_robot_init(cdpr_robot_t *r, const cdpr_robot_params_t *p, cdp
 /// Current state dimension.
 int cdpr_robot_state_dim(const cdpr_robot_t *r);
 
+/// Cabin motion the cables see at (t, y): the state in dynamic mode, the prescription (or the
+/// held pose, at rest) in prescribed mode.
+void cdpr_robot_cabin_motion(const cdpr_robot_t *r, cdpr_real_t t_s, const cdpr_real_t *y,
+                             cdpr_cabin_motion_t *m);
+
+/// Recompute the combined cabin mass properties after a node-0 segment length changed.
+cdpr_status_t cdpr_robot_refresh_cabin(cdpr_robot_t *r);
+
+/// Recompute the state offsets after a cable's node count changed.
+void cdpr_robot_update_layout(cdpr_robot_t *r);
+
 /// World position and velocity of attachment j for the cabin state block `y`.
 void cdpr_robot_attachment(const cdpr_robot_t *r, int j, const cdpr_cabin_motion_t *m,
                            cdpr_vec3_t *pos_m, cdpr_vec3_t *vel_m_per_s);
