@@ -102,8 +102,9 @@ void cdpr_robot_attachment(const cdpr_robot_t *r, int j, const cdpr_cabin_motion
                            cdpr_vec3_t *pos_m, cdpr_vec3_t *vel_m_per_s);
 
 /// Write a full state: the cabin at motion `m`, every cable straight from its attachment to its
-/// exit point with nodes at their unstretched fractions, at rest. CDPR_E_GEOMETRY if an
-/// attachment coincides with its exit point (y untouched then). Work O(total nodes).
+/// exit point with nodes at their unstretched fractions, at rest. CDPR_E_NOT_FINITE for a
+/// NaN/Inf motion, CDPR_E_GEOMETRY if an attachment coincides with its exit point (y untouched
+/// in both cases). Work O(total nodes).
 cdpr_status_t cdpr_robot_place_straight(const cdpr_robot_t *r, const cdpr_cabin_motion_t *m,
                                         cdpr_real_t *y);
 
