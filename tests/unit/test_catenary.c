@@ -236,9 +236,9 @@ static void settle_chain(int n, double Hr, double var, settled_t *out)
     sp.rtol = 1e-7;
     sp.atol = 1e-9;
     cdpr_rkf45_t solver;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_init(&solver, &sp, work,
-                                                   (int)(sizeof work / sizeof work[0]),
-                                                   CDPR_ROBOT_STATE_MAX, robot.dim, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK,
+                          cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),
+                                          CDPR_ROBOT_STATE_MAX, robot.dim, NULL));
     cdpr_settle_t cfg;
     cdpr_settle_default(&cfg);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_settle(&robot, &solver, y, scratch, &cfg));

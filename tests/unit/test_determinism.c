@@ -58,10 +58,9 @@ static void init_sim(sim_t *s)
     cdpr_rkf45_params_default(&sp);
     sp.rtol = 1e-6;
     sp.atol_vec = s->atol;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK,
-                          cdpr_rkf45_init(&s->solver, &sp, s->work,
-                                          (int)(sizeof s->work / sizeof s->work[0]),
-                                          CDPR_ROBOT_STATE_MAX, s->robot.dim, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_init(&s->solver, &sp, s->work,
+                                                   (int)(sizeof s->work / sizeof s->work[0]),
+                                                   CDPR_ROBOT_STATE_MAX, s->robot.dim, NULL));
     s->t = 0.0;
 }
 
@@ -69,8 +68,8 @@ static void init_sim(sim_t *s)
 static void step_sim(sim_t *s)
 {
     for (int k = 0; k < 200; ++k) {
-        const cdpr_status_t st = cdpr_rkf45_advance(&s->solver, cdpr_robot_rhs, &s->robot, &s->t,
-                                                    s->y, 1e-3, 40);
+        const cdpr_status_t st =
+            cdpr_rkf45_advance(&s->solver, cdpr_robot_rhs, &s->robot, &s->t, s->y, 1e-3, 40);
         TEST_ASSERT_TRUE(st >= 0);
         cdpr_robot_normalize(&s->robot, s->y);
     }

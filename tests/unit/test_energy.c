@@ -117,9 +117,9 @@ static void run(double t_end, double rtol, double *drift, double *rise, double *
     sp.rtol = rtol;
     sp.atol_vec = atol_v;
     cdpr_rkf45_t s;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_init(&s, &sp, work,
-                                                   (int)(sizeof work / sizeof work[0]),
-                                                   CDPR_ROBOT_STATE_MAX, dim, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK,
+                          cdpr_rkf45_init(&s, &sp, work, (int)(sizeof work / sizeof work[0]),
+                                          CDPR_ROBOT_STATE_MAX, dim, NULL));
     const double e0 = energy(y);
     double eprev = e0;
     double kmax = kinetic(y);
@@ -186,7 +186,7 @@ static void test_energy_never_rises_with_damping_or_drag(void)
     run(5.0, 1e-7, &drift, &rise, &scale);
     TEST_ASSERT_TRUE(drift > 1e-3 * scale); /* damping does remove energy */
     TEST_ASSERT_TRUE(rise < 1e-5 * scale);  /* ... and never adds any (to integration error) */
-    build_single(1.2, 0.0); /* aerodynamic drag only, still air */
+    build_single(1.2, 0.0);                 /* aerodynamic drag only, still air */
     run(5.0, 1e-9, &drift, &rise, &scale);
     TEST_ASSERT_TRUE(drift > 1e-4 * scale);
     TEST_ASSERT_TRUE(rise < 1e-7 * scale);

@@ -59,9 +59,8 @@ cdpr_status_t cdpr_winch_update(cdpr_winch_t *w, cdpr_real_t length_m, cdpr_real
     if (w == NULL || !isfinite(length_m) || !(dt_s > CDPR_R(0.0)) || !isfinite(dt_s)) {
         return CDPR_E_INVALID_ARG;
     }
-    const cdpr_real_t target = (w->mode == CDPR_WINCH_LENGTH)
-                                   ? w->p.kp_per_s * (w->command - length_m)
-                                   : w->command;
+    const cdpr_real_t target =
+        (w->mode == CDPR_WINCH_LENGTH) ? w->p.kp_per_s * (w->command - length_m) : w->command;
     const cdpr_real_t du = w->p.a_max_m_per_s2 * dt_s;
     cdpr_real_t u = clampr(target, w->u_m_per_s - du, w->u_m_per_s + du);
     u = clampr(u, -w->p.u_max_m_per_s, w->p.u_max_m_per_s);
