@@ -1,0 +1,523 @@
+/// @file main.c
+/// cdpr-bench: cost of the core's right-hand side and of one RKF45 step, against GSL's rkf45
+/// on the identical RHS, state and step (docs/performance.md).
+///
+/// Prints three tables and the machine:
+///   (a) ns per segment per cdpr_robot_rhs evaluation, 1 and 6 cables x {8, 16, 32, 64}
+///       segments, on the 50 m model (PARAMETERS.md set A) with taut cables and small random
+///       node velocities (every branch of the segment model is taken);
+///   (b) one fixed-h RKF45 step: cdpr_rkf45_trial vs gsl_odeiv2_step_apply (both 6 RHS calls);
+///   (c) adaptive stepping as users call it: cdpr_rkf45_step vs gsl_odeiv2_evolve_apply, per
+///       accepted step, with the RHS calls per step each one made.
+/// Times are the best of N runs, each repeating the operation for at least T seconds
+/// (CLOCK_MONOTONIC). Our timed loops make no heap allocation; GSL's objects are allocated
+/// before timing (cdpr_gsl_stepper_init).
+///
+/// Host only: links cdpr_gsl, hence GSL (GPL-3).
+#ifndef _GNU_SOURCE
+#define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c99 */
+#endif
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <gsl/gsl_odeiv2.h>
+#include <gsl/gsl_version.h>
+
+#include "cdpr/gsl_ref.h"
+#include "cdpr/rkf45.h"
+#include "cdpr/robot.h"
+
+#define DEG_TO_RAD (3.14159265358979323846 / 180.0)
+
+typedef struct {
+    double min_time_s; /* each run repeats the operation for at least this long [s] */
+    int runs;          /* best of this many runs */
+} options_t;
+
+static cdpr_robot_t robot;
+static double y0s[CDPR_ROBOT_STATE_MAX];  /* the benchmark state */
+static double ys[CDPR_ROBOT_STATE_MAX];   /* working copy */
+static double yout[CDPR_ROBOT_STATE_MAX]; /* trial output */
+static double dydt[CDPR_ROBOT_STATE_MAX];
+static double work[CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX];
+static volatile double sink; /* keeps results observable */
+
+/* ------------------------------------------------------------------------------------------ */
+/* The benchmark robot                                                                         */
+
+/* Fixed-seed 64-bit LCG (Knuth's MMIX constants): repeatable "random" velocities. */
+static unsigned long long lcg_state = 0x2545F4914F6CDD1DULL;
+
+static double lcg_uniform(void) /* in [-1, 1) */
+{
+    lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(lcg_state >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+}
+
+/* PARAMETERS.md set A: exit points (25 cos th, 25 sin th, 30) m, th_j = (j-1) 60 deg; cabin at
+ * (0, 0, 9.135) m, level; attachments radius 2 m, z = -0.5 m, azimuths 25, 35, 145, 155, 265,
+ * 275 deg; default cable (6 mm, 0.14 kg/m, EA 2e6 N, c 170 N s). Unstretched length = straight
+ * distance / 1.002: every segment is stretched 0.2 % (taut, the tension branch is taken).
+ * Cables 1..n_cables of the six. Node velocities uniform in +-5 cm/s, cabin velocity +-1 cm/s
+ * and body rates +-0.01 rad/s, so the damping and drag terms are non-trivial. Returns 0 on
+ * success. */
+static int make_robot(int n_cables, int n_segments)
+{
+    static const double attach_az_deg[6] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
+    cdpr_robot_params_t p;
+    cdpr_robot_params_default(&p);
+    p.n_cables = n_cables;
+    p.mode = CDPR_CABIN_DYNAMIC;
+    const cdpr_vec3_t cabin = cdpr_v3(0.0, 0.0, 9.135);
+    for (int j = 0; j < n_cables; ++j) {
+        cdpr_robot_cable_params_t *c = &p.cables[j];
+        const double th = 60.0 * (double)j * DEG_TO_RAD;
+        const double az = attach_az_deg[j] * DEG_TO_RAD;
+        c->exit_point_m = cdpr_v3(25.0 * cos(th), 25.0 * sin(th), 30.0);
+        c->attach_body_m = cdpr_v3(2.0 * cos(az), 2.0 * sin(az), -0.5);
+        const cdpr_vec3_t a = cdpr_v3_add(cabin, c->attach_body_m); /* q = identity */
+        c->length_m = cdpr_v3_norm(cdpr_v3_sub(c->exit_point_m, a)) / 1.002;
+        c->n_segments = n_segments;
+    }
+    cdpr_diag_t diag;
+    cdpr_status_t st = cdpr_robot_init(&robot, &p, &diag);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-bench: robot init failed: %s (%s, %d)\n", cdpr_status_str(st),
+                diag.field, diag.index);
+        return -1;
+    }
+    cdpr_cabin_motion_t m;
+    m.p_m = cabin;
+    m.q.w = 1.0;
+    m.q.x = 0.0;
+    m.q.y = 0.0;
+    m.q.z = 0.0;
+    m.v_m_per_s = cdpr_v3(0.01 * lcg_uniform(), 0.01 * lcg_uniform(), 0.01 * lcg_uniform());
+    m.w_rad_per_s = cdpr_v3(0.01 * lcg_uniform(), 0.01 * lcg_uniform(), 0.01 * lcg_uniform());
+    st = cdpr_robot_place_straight(&robot, &m, y0s);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-bench: placement failed: %s\n", cdpr_status_str(st));
+        return -1;
+    }
+    for (int j = 0; j < n_cables; ++j) {
+        const int nf = robot.cable[j].n - 1;
+        double *vel = y0s + robot.offset[j] + 1 + 3 * nf;
+        for (int i = 0; i < 3 * nf; ++i) {
+            vel[i] = 0.05 * lcg_uniform();
+        }
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Timing                                                                                      */
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* One timed operation: `reps` repetitions; returns the units of work done (for per-unit
+ * times, e.g. accepted steps), or `reps` when each repetition is one unit. */
+typedef double (*bench_fn)(void *ctx, long reps);
+
+typedef struct {
+    double ns_per_unit; /* best run */
+    long reps;          /* repetitions per run */
+} timing_t;
+
+static timing_t measure(bench_fn fn, void *ctx, const options_t *o)
+{
+    /* Calibrate: grow reps until one run lasts min_time (the growth also warms caches). */
+    long reps = 1;
+    for (;;) {
+        const double t0 = now_s();
+        (void)fn(ctx, reps);
+        const double dt = now_s() - t0;
+        if (dt >= o->min_time_s) {
+            break;
+        }
+        const double grow = (dt > 0.0) ? 1.2 * o->min_time_s / dt : 10.0;
+        const double next = (double)reps * ((grow < 10.0) ? ((grow > 1.5) ? grow : 1.5) : 10.0);
+        reps = (long)next + 1;
+    }
+    timing_t r;
+    r.reps = reps;
+    r.ns_per_unit = INFINITY;
+    for (int k = 0; k < o->runs; ++k) {
+        const double t0 = now_s();
+        const double units = fn(ctx, reps);
+        const double ns = 1e9 * (now_s() - t0) / units;
+        if (ns < r.ns_per_unit) {
+            r.ns_per_unit = ns;
+        }
+    }
+    return r;
+}
+
+/* (a) one RHS evaluation. */
+static double bench_rhs(void *ctx, long reps)
+{
+    (void)ctx;
+    double acc = 0.0;
+    for (long k = 0; k < reps; ++k) {
+        (void)cdpr_robot_rhs(0.0, y0s, dydt, &robot);
+        acc += dydt[robot.dim - 1];
+    }
+    sink = acc;
+    return (double)reps;
+}
+
+/* (b) fixed-h single steps. Both loops restore the working state first (GSL steps in place),
+ * so both carry the same copy of dim doubles. */
+typedef struct {
+    cdpr_rkf45_t ours;
+    cdpr_gsl_stepper_t gsl;
+    double h_s;
+    int dim;
+} step_ctx_t;
+
+static void restore(int dim)
+{
+    memcpy(ys, y0s, (size_t)dim * sizeof(double));
+}
+
+static double bench_ours_trial(void *ctx, long reps)
+{
+    step_ctx_t *c = (step_ctx_t *)ctx;
+    double err = 0.0;
+    double acc = 0.0;
+    for (long k = 0; k < reps; ++k) {
+        restore(c->dim);
+        (void)cdpr_rkf45_trial(&c->ours, cdpr_robot_rhs, &robot, 0.0, ys, c->h_s, yout, &err);
+        acc += err;
+    }
+    sink = acc + yout[c->dim - 1];
+    return (double)reps;
+}
+
+static double bench_gsl_apply(void *ctx, long reps)
+{
+    step_ctx_t *c = (step_ctx_t *)ctx;
+    for (long k = 0; k < reps; ++k) {
+        restore(c->dim);
+        (void)cdpr_gsl_stepper_apply(&c->gsl, 0.0, c->h_s, ys);
+    }
+    sink = ys[c->dim - 1] + c->gsl.yerr[c->dim - 1];
+    return (double)reps;
+}
+
+/* (c) adaptive stepping: each repetition restarts from the benchmark state and takes
+ * SEQ_STEPS accepted steps; the unit is one accepted step (rejected trials included). */
+#define SEQ_STEPS 50
+#define SEQ_H0_S  1e-4
+
+typedef struct {
+    cdpr_rkf45_t ours;
+    cdpr_rkf45_params_t ours_params;
+    cdpr_gsl_stepper_t gsl;
+    int dim;
+    unsigned long rhs_ours; /* RHS calls in the last run */
+    unsigned long rhs_gsl;
+    double t_reached_ours_s; /* simulated time covered by one sequence */
+    double t_reached_gsl_s;
+} seq_ctx_t;
+
+static double bench_ours_steps(void *ctx, long reps)
+{
+    seq_ctx_t *c = (seq_ctx_t *)ctx;
+    unsigned long evals = 0;
+    double t = 0.0;
+    for (long k = 0; k < reps; ++k) {
+        restore(c->dim);
+        /* Restart the step-size history and counters (O(1): atol_vec is NULL). */
+        (void)cdpr_rkf45_init(&c->ours, &c->ours_params, work, (int)(sizeof work / sizeof work[0]),
+                              CDPR_ROBOT_STATE_MAX, c->dim, NULL);
+        t = 0.0;
+        for (int i = 0; i < SEQ_STEPS; ++i) {
+            (void)cdpr_rkf45_step(&c->ours, cdpr_robot_rhs, &robot, &t, ys, 1.0);
+        }
+        evals += c->ours.stats.rhs_evals;
+    }
+    c->rhs_ours = evals;
+    c->t_reached_ours_s = t;
+    sink = ys[c->dim - 1];
+    return (double)reps * SEQ_STEPS;
+}
+
+static double bench_gsl_evolve(void *ctx, long reps)
+{
+    seq_ctx_t *c = (seq_ctx_t *)ctx;
+    const unsigned long e0 = c->gsl.adapter.rhs_evals;
+    double t = 0.0;
+    for (long k = 0; k < reps; ++k) {
+        restore(c->dim);
+        cdpr_gsl_stepper_reset(&c->gsl); /* y jumped back: drop GSL's cached dydt */
+        t = 0.0;
+        double h = SEQ_H0_S;
+        for (int i = 0; i < SEQ_STEPS; ++i) {
+            (void)cdpr_gsl_stepper_evolve(&c->gsl, &t, 1.0, &h, ys);
+        }
+    }
+    c->rhs_gsl = c->gsl.adapter.rhs_evals - e0;
+    c->t_reached_gsl_s = t;
+    sink = ys[c->dim - 1];
+    return (double)reps * SEQ_STEPS;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Tables                                                                                      */
+
+static int total_segments(void)
+{
+    int s = 0;
+    for (int j = 0; j < robot.p.n_cables; ++j) {
+        s += robot.cable[j].n;
+    }
+    return s;
+}
+
+static int table_rhs(const options_t *o)
+{
+    static const int cables[2] = {1, 6};
+    static const int segs[4] = {8, 16, 32, 64};
+    printf("(a) cdpr_robot_rhs, one evaluation (50 m model, taut cables, random node "
+           "velocities)\n");
+    printf("    %6s %10s %6s %8s %12s %14s\n", "cables", "segs/cable", "segs", "dim", "ns/eval",
+           "ns/segment");
+    for (int a = 0; a < 2; ++a) {
+        for (int b = 0; b < 4; ++b) {
+            if (make_robot(cables[a], segs[b]) != 0) {
+                return -1;
+            }
+            const timing_t t = measure(bench_rhs, NULL, o);
+            const int ns = total_segments();
+            printf("    %6d %10d %6d %8d %12.1f %14.2f\n", cables[a], segs[b], ns, robot.dim,
+                   t.ns_per_unit, t.ns_per_unit / (double)ns);
+        }
+    }
+    printf("\n");
+    return 0;
+}
+
+static int table_step(const options_t *o)
+{
+    static const int segs[3] = {16, 32, 64};
+    printf("(b) one RKF45 step, same RHS, state and h = 1e-4 s (each: 6 RHS evaluations)\n");
+    printf("    %6s %10s %8s %14s %18s %10s\n", "cables", "segs/cable", "dim", "ours trial us",
+           "GSL step_apply us", "ours/GSL");
+    for (int b = 0; b < 3; ++b) {
+        if (make_robot(6, segs[b]) != 0) {
+            return -1;
+        }
+        step_ctx_t c;
+        c.h_s = 1e-4;
+        c.dim = robot.dim;
+        cdpr_rkf45_params_t p;
+        cdpr_rkf45_params_default(&p);
+        cdpr_diag_t diag;
+        if (cdpr_rkf45_init(&c.ours, &p, work, (int)(sizeof work / sizeof work[0]),
+                            CDPR_ROBOT_STATE_MAX, robot.dim, &diag) != CDPR_OK ||
+            cdpr_gsl_stepper_init(&c.gsl, cdpr_robot_rhs, &robot, (size_t)robot.dim, p.rtol,
+                                  p.atol) != CDPR_OK) {
+            fprintf(stderr, "cdpr-bench: integrator init failed\n");
+            return -1;
+        }
+        const timing_t to = measure(bench_ours_trial, &c, o);
+        const timing_t tg = measure(bench_gsl_apply, &c, o);
+        printf("    %6d %10d %8d %14.2f %18.2f %10.3f\n", 6, segs[b], robot.dim,
+               1e-3 * to.ns_per_unit, 1e-3 * tg.ns_per_unit, to.ns_per_unit / tg.ns_per_unit);
+        cdpr_gsl_stepper_free(&c.gsl);
+    }
+    printf("\n");
+    return 0;
+}
+
+static int table_adaptive(const options_t *o)
+{
+    static const int segs[3] = {16, 32, 64};
+    printf("(c) adaptive stepping as users call it, rtol 1e-6, atol 1e-8, %d accepted steps from\n"
+           "    h0 = 1e-4 s: cdpr_rkf45_step vs gsl_odeiv2_evolve_apply (rejected trials "
+           "included)\n",
+           SEQ_STEPS);
+    printf("    %6s %10s %12s %9s %12s %9s %10s %12s\n", "cables", "segs/cable", "ours us/step",
+           "RHS/step", "GSL us/step", "RHS/step", "ours/GSL", "trial/evolve");
+    for (int b = 0; b < 3; ++b) {
+        if (make_robot(6, segs[b]) != 0) {
+            return -1;
+        }
+        seq_ctx_t c;
+        c.dim = robot.dim;
+        cdpr_rkf45_params_default(&c.ours_params);
+        c.ours_params.h_init_s = SEQ_H0_S;
+        cdpr_diag_t diag;
+        if (cdpr_rkf45_init(&c.ours, &c.ours_params, work, (int)(sizeof work / sizeof work[0]),
+                            CDPR_ROBOT_STATE_MAX, robot.dim, &diag) != CDPR_OK ||
+            cdpr_gsl_stepper_init(&c.gsl, cdpr_robot_rhs, &robot, (size_t)robot.dim,
+                                  c.ours_params.rtol, c.ours_params.atol) != CDPR_OK) {
+            fprintf(stderr, "cdpr-bench: integrator init failed\n");
+            return -1;
+        }
+        const timing_t to = measure(bench_ours_steps, &c, o);
+        const timing_t tg = measure(bench_gsl_evolve, &c, o);
+        /* A fixed-h trial on the same state, for the trial-vs-evolve column. */
+        step_ctx_t s;
+        s.h_s = 1e-4;
+        s.dim = robot.dim;
+        s.ours = c.ours;
+        const timing_t tt = measure(bench_ours_trial, &s, o);
+        const double steps_o = (double)to.reps * SEQ_STEPS;
+        const double steps_g = (double)tg.reps * SEQ_STEPS;
+        printf("    %6d %10d %12.2f %9.2f %12.2f %9.2f %10.3f %12.3f\n", 6, segs[b],
+               1e-3 * to.ns_per_unit, (double)c.rhs_ours / steps_o, 1e-3 * tg.ns_per_unit,
+               (double)c.rhs_gsl / steps_g, to.ns_per_unit / tg.ns_per_unit,
+               tt.ns_per_unit / tg.ns_per_unit);
+        printf("    %6s %10s   (%d steps cover %.2f ms ours, %.2f ms GSL)\n", "", "", SEQ_STEPS,
+               1e3 * c.t_reached_ours_s, 1e3 * c.t_reached_gsl_s);
+        cdpr_gsl_stepper_free(&c.gsl);
+    }
+    printf("\n");
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Machine                                                                                     */
+
+static void print_machine(const options_t *o)
+{
+    char model[256] = "unknown";
+    char mhz[64] = "?";
+    int cpus = 0;
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    if (f != NULL) {
+        char line[512];
+        while (fgets(line, (int)sizeof line, f) != NULL) {
+            const char *colon = strchr(line, ':');
+            if (colon == NULL) {
+                continue;
+            }
+            const char *val = colon + 1;
+            while (*val == ' ' || *val == '\t') {
+                ++val;
+            }
+            const size_t len = strcspn(val, "\n");
+            if (strncmp(line, "model name", 10) == 0) {
+                ++cpus;
+                if (cpus == 1 && len < sizeof model) {
+                    memcpy(model, val, len);
+                    model[len] = '\0';
+                }
+            } else if (strncmp(line, "cpu MHz", 7) == 0 && mhz[0] == '?' && len < sizeof mhz) {
+                memcpy(mhz, val, len);
+                mhz[len] = '\0';
+            }
+        }
+        fclose(f);
+    }
+    printf("machine : %s, %d logical CPUs, %s MHz (from /proc/cpuinfo)\n", model, cpus, mhz);
+#if defined(__clang__)
+    printf("compiler: clang %s\n", __VERSION__);
+#elif defined(__GNUC__)
+    printf("compiler: gcc %s\n", __VERSION__);
+#else
+    printf("compiler: %s\n", __VERSION__);
+#endif
+    /* The exact -O level is not visible to the preprocessor; these macros are. */
+    printf("build   : %s%s%s%s%s%s\n",
+#ifdef __OPTIMIZE__
+           "optimised (__OPTIMIZE__)",
+#else
+           "NOT optimised (-O0: use the release preset)",
+#endif
+#ifdef NDEBUG
+           ", NDEBUG",
+#else
+           ", assertions on",
+#endif
+#ifdef __FAST_MATH__
+           ", -ffast-math",
+#else
+           ", IEEE math (no -ffast-math)",
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+           ", AddressSanitizer",
+#else
+           "",
+#endif
+#if defined(__AVX2__)
+           ", AVX2",
+#elif defined(__AVX__)
+           ", AVX",
+#elif defined(__SSE2__)
+           ", SSE2 (baseline x86-64, no -march)",
+#else
+           "",
+#endif
+#if defined(__FMA__)
+           ", FMA available");
+#else
+           "");
+#endif
+    printf("GSL     : %s; cdpr_real_t = double; CDPR_MAX_SEGMENTS %d, CDPR_MAX_CABLES %d\n",
+           GSL_VERSION, CDPR_MAX_SEGMENTS, CDPR_MAX_CABLES);
+    printf("timing  : CLOCK_MONOTONIC, best of %d runs, each >= %.2f s\n\n", o->runs,
+           o->min_time_s);
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: cdpr-bench [--quick] [--help]\n"
+               "Time the cdpr core's RHS and RKF45 step against GSL's rkf45 on the same RHS.\n\n"
+               "  --quick   short runs (0.02 s, best of 2): a smoke test, numbers are noisy\n"
+               "  --help    this text\n\n"
+               "Default: best of 5 runs of >= 0.2 s per case (about a minute). Build with the\n"
+               "release preset; see docs/performance.md.\n");
+}
+
+int main(int argc, char **argv)
+{
+    options_t o;
+    o.min_time_s = 0.2;
+    o.runs = 5;
+    static const struct option long_opts[] = {
+        {"quick", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+    for (;;) {
+        const int c = getopt_long(argc, argv, "qh", long_opts, NULL);
+        if (c == -1) {
+            break;
+        }
+        switch (c) {
+        case 'q':
+            o.min_time_s = 0.02;
+            o.runs = 2;
+            break;
+        case 'h':
+            usage(stdout);
+            return 0;
+        default:
+            usage(stderr);
+            return 2;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "cdpr-bench: unexpected argument '%s'\n", argv[optind]);
+        usage(stderr);
+        return 2;
+    }
+
+    printf("cdpr-bench: the cdpr core's RHS and RKF45 step vs GSL rkf45 on the same RHS\n");
+    print_machine(&o);
+    if (table_rhs(&o) != 0 || table_step(&o) != 0 || table_adaptive(&o) != 0) {
+        return 1;
+    }
+    printf("Allocation: the timed loops of our side call only cdpr_core, which references no\n"
+           "allocator (core_symbols test); GSL's objects are allocated before timing.\n");
+    return 0;
+}
