@@ -207,14 +207,58 @@ void cdpr_cable_segment_eval(const cdpr_cable_params_t *p, cdpr_vec3_t ra, cdpr_
     out->drag_N = cdpr_v3(s.fx, s.fy, s.fz);
 }
 
-/* Acceleration of free node i from its two segments (paper eqs. 3.1-3.4):
- * a = (T_i t_i - T_{i-1} t_{i-1} + (F_{i-1} + F_i)/2) / m_i - g z. */
-static inline void node_accel(const seg_t *prev, const seg_t *cur, cdpr_real_t inv_m, cdpr_real_t g,
-                              cdpr_real_t *acc)
+/* Structure-of-arrays scratch for one RHS call (on the stack: 13 arrays of
+ * CDPR_MAX_SEGMENTS + 1 reals, 6.8 KB for 64 segments in double). */
+typedef struct {
+    cdpr_real_t x[CDPR_MAX_SEGMENTS + 1], y[CDPR_MAX_SEGMENTS + 1], z[CDPR_MAX_SEGMENTS + 1];
+    cdpr_real_t vx[CDPR_MAX_SEGMENTS + 1], vy[CDPR_MAX_SEGMENTS + 1], vz[CDPR_MAX_SEGMENTS + 1];
+    cdpr_real_t sx[CDPR_MAX_SEGMENTS], sy[CDPR_MAX_SEGMENTS], sz[CDPR_MAX_SEGMENTS];
+    cdpr_real_t fx[CDPR_MAX_SEGMENTS], fy[CDPR_MAX_SEGMENTS], fz[CDPR_MAX_SEGMENTS];
+    cdpr_real_t t[CDPR_MAX_SEGMENTS];
+} soa_t;
+
+/* Pass 1 over the fixed-length segments k = 0..m-1 (d lu/dt = 0): the same arithmetic as
+ * seg_eval, in the same order (so results are bit-identical), written branch-free on separate
+ * coordinate arrays so the compiler can vectorise it (docs/performance.md). */
+static void segments_soa(const seg_k_t *k, const cdpr_real_t *lu, const cdpr_real_t *inv_lu, int m,
+                         soa_t *w)
 {
-    acc[0] = inv_m * (cur->sx - prev->sx + CDPR_R(0.5) * (prev->fx + cur->fx));
-    acc[1] = inv_m * (cur->sy - prev->sy + CDPR_R(0.5) * (prev->fy + cur->fy));
-    acc[2] = inv_m * (cur->sz - prev->sz + CDPR_R(0.5) * (prev->fz + cur->fz)) - g;
+    for (int s = 0; s < m; ++s) {
+        const cdpr_real_t dx = w->x[s + 1] - w->x[s];
+        const cdpr_real_t dy = w->y[s + 1] - w->y[s];
+        const cdpr_real_t dz = w->z[s + 1] - w->z[s];
+        const cdpr_real_t l = CDPR_SQRT(dx * dx + dy * dy + dz * dz);
+        const cdpr_real_t inv_l = (l > CDPR_R(0.0)) ? CDPR_R(1.0) / l : CDPR_R(0.0);
+        const cdpr_real_t tx = dx * inv_l;
+        const cdpr_real_t ty = dy * inv_l;
+        const cdpr_real_t tz = dz * inv_l;
+        const cdpr_real_t ratio = l * inv_lu[s];
+        const cdpr_real_t mvx = CDPR_R(0.5) * (w->vx[s] + w->vx[s + 1]);
+        const cdpr_real_t mvy = CDPR_R(0.5) * (w->vy[s] + w->vy[s + 1]);
+        const cdpr_real_t mvz = CDPR_R(0.5) * (w->vz[s] + w->vz[s + 1]);
+        const cdpr_real_t rel = tx * (w->vx[s + 1] - w->vx[s]) + ty * (w->vy[s + 1] - w->vy[s]) +
+                                tz * (w->vz[s + 1] - w->vz[s]);
+        const cdpr_real_t eps_dot = rel * inv_lu[s];
+        const cdpr_real_t raw = k->ea * (ratio - CDPR_R(1.0)) + k->c * eps_dot;
+        const cdpr_real_t tension = (ratio > CDPR_R(1.0) && raw > CDPR_R(0.0)) ? raw : CDPR_R(0.0);
+        w->t[s] = tension;
+        w->sx[s] = tension * tx;
+        w->sy[s] = tension * ty;
+        w->sz[s] = tension * tz;
+        const cdpr_real_t mux = mvx - k->wx;
+        const cdpr_real_t muy = mvy - k->wy;
+        const cdpr_real_t muz = mvz - k->wz;
+        const cdpr_real_t mt = mux * tx + muy * ty + muz * tz;
+        const cdpr_real_t nx = mux - mt * tx;
+        const cdpr_real_t ny = muy - mt * ty;
+        const cdpr_real_t nz = muz - mt * tz;
+        const cdpr_real_t mn = CDPR_SQRT(nx * nx + ny * ny + nz * nz);
+        const cdpr_real_t area = k->drag_k * CDPR_SQRT(l * lu[s]);
+        const cdpr_real_t ct = k->cm * CDPR_FABS(mt) * mt;
+        w->fx[s] = -area * (mn * nx + ct * tx);
+        w->fy[s] = -area * (mn * ny + ct * ty);
+        w->fz[s] = -area * (mn * nz + ct * tz);
+    }
 }
 
 void cdpr_cable_rhs(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cable_bc_t *bc,
@@ -223,17 +267,12 @@ void cdpr_cable_rhs(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cabl
     const int n = c->n;
     const int nf = n - 1; /* free nodes */
     const cdpr_real_t lu_last = y[0];
-    const cdpr_real_t inv_lu_last = CDPR_R(1.0) / lu_last;
     const cdpr_real_t u = bc->payout_m_per_s;
     const cdpr_real_t g = bc->g_m_per_s2;
     const cdpr_real_t *pos = y + 1;
     const cdpr_real_t *vel = y + 1 + 3 * nf;
     cdpr_real_t *dpos = dydt + 1;
     cdpr_real_t *dvel = dydt + 1 + 3 * nf;
-    const cdpr_real_t r0[3] = {bc->r0_m.x, bc->r0_m.y, bc->r0_m.z};
-    const cdpr_real_t v0[3] = {bc->v0_m_per_s.x, bc->v0_m_per_s.y, bc->v0_m_per_s.z};
-    const cdpr_real_t rn[3] = {bc->rn_m.x, bc->rn_m.y, bc->rn_m.z};
-    const cdpr_real_t vn[3] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
     seg_k_t k;
     k.ea = c->p.ea_N;
     k.c = c->p.damping_Ns;
@@ -248,47 +287,71 @@ void cdpr_cable_rhs(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cabl
         dpos[i] = vel[i];
     }
 
-    seg_t prev;
-    seg_t cur;
-    if (nf == 0) {
-        /* One segment straight from the cabin to the pulley. */
-        seg_eval(&k, r0, v0, rn, vn, lu_last, inv_lu_last, u, &cur);
-        if (out != NULL) {
-            out->force_on_cabin_N =
-                cdpr_v3(cur.sx + CDPR_R(0.5) * cur.fx, cur.sy + CDPR_R(0.5) * cur.fy,
-                        cur.sz + CDPR_R(0.5) * cur.fz);
-            out->tension_cabin_N = cur.t;
-            out->tension_winch_N = cur.t;
-        }
-        return;
+    /* Nodes 0..n in coordinate arrays: cabin attachment, free nodes, fixed exit point. */
+    soa_t w;
+    w.x[0] = bc->r0_m.x;
+    w.y[0] = bc->r0_m.y;
+    w.z[0] = bc->r0_m.z;
+    w.vx[0] = bc->v0_m_per_s.x;
+    w.vy[0] = bc->v0_m_per_s.y;
+    w.vz[0] = bc->v0_m_per_s.z;
+    for (int i = 1; i <= nf; ++i) {
+        const int a = 3 * (i - 1);
+        w.x[i] = pos[a];
+        w.y[i] = pos[a + 1];
+        w.z[i] = pos[a + 2];
+        w.vx[i] = vel[a];
+        w.vy[i] = vel[a + 1];
+        w.vz[i] = vel[a + 2];
+    }
+    w.x[n] = bc->rn_m.x;
+    w.y[n] = bc->rn_m.y;
+    w.z[n] = bc->rn_m.z;
+    w.vx[n] = CDPR_R(0.0);
+    w.vy[n] = CDPR_R(0.0);
+    w.vz[n] = CDPR_R(0.0);
+
+    /* Segments 0..n-2 (fixed lengths) vectorised; the pulley-side segment n-1, whose length
+     * is the state y[0] and changes at rate u, with the scalar seg_eval. */
+    segments_soa(&k, c->lu_m, c->inv_lu, nf, &w);
+    {
+        const cdpr_real_t ra[3] = {w.x[nf], w.y[nf], w.z[nf]};
+        const cdpr_real_t va[3] = {w.vx[nf], w.vy[nf], w.vz[nf]};
+        const cdpr_real_t rb[3] = {w.x[n], w.y[n], w.z[n]};
+        const cdpr_real_t vb[3] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+        seg_t last;
+        seg_eval(&k, ra, va, rb, vb, lu_last, CDPR_R(1.0) / lu_last, u, &last);
+        w.t[nf] = last.t;
+        w.sx[nf] = last.sx;
+        w.sy[nf] = last.sy;
+        w.sz[nf] = last.sz;
+        w.fx[nf] = last.fx;
+        w.fy[nf] = last.fy;
+        w.fz[nf] = last.fz;
     }
 
-    /* Segment 0: cabin attachment -> node 1. */
-    seg_eval(&k, r0, v0, pos, vel, c->lu_m[0], c->inv_lu[0], CDPR_R(0.0), &prev);
+    /* Pass 2, paper eqs. (3.1)-(3.4): a_i = (S_i - S_{i-1} + (F_{i-1} + F_i)/2) / m_i - g z,
+     * free nodes 1..n-2 with cached masses, node n-1 with the state-dependent one. */
+    for (int i = 1; i < nf; ++i) {
+        const cdpr_real_t im = c->inv_m[i];
+        cdpr_real_t *acc = dvel + 3 * (i - 1);
+        acc[0] = im * (w.sx[i] - w.sx[i - 1] + CDPR_R(0.5) * (w.fx[i - 1] + w.fx[i]));
+        acc[1] = im * (w.sy[i] - w.sy[i - 1] + CDPR_R(0.5) * (w.fy[i - 1] + w.fy[i]));
+        acc[2] = im * (w.sz[i] - w.sz[i - 1] + CDPR_R(0.5) * (w.fz[i - 1] + w.fz[i])) - g;
+    }
+    if (nf >= 1) {
+        const cdpr_real_t im = CDPR_R(2.0) / (c->p.rho_kg_per_m * (c->lu_m[nf - 1] + lu_last));
+        cdpr_real_t *acc = dvel + 3 * (nf - 1);
+        acc[0] = im * (w.sx[nf] - w.sx[nf - 1] + CDPR_R(0.5) * (w.fx[nf - 1] + w.fx[nf]));
+        acc[1] = im * (w.sy[nf] - w.sy[nf - 1] + CDPR_R(0.5) * (w.fy[nf - 1] + w.fy[nf]));
+        acc[2] = im * (w.sz[nf] - w.sz[nf - 1] + CDPR_R(0.5) * (w.fz[nf - 1] + w.fz[nf])) - g;
+    }
     if (out != NULL) {
         out->force_on_cabin_N =
-            cdpr_v3(prev.sx + CDPR_R(0.5) * prev.fx, prev.sy + CDPR_R(0.5) * prev.fy,
-                    prev.sz + CDPR_R(0.5) * prev.fz);
-        out->tension_cabin_N = prev.t;
-    }
-    /* Interior segments k = 1..n-2 join free nodes k and k+1; each closes node k. */
-    for (int s = 1; s < nf; ++s) {
-        const int a = 3 * (s - 1);
-        seg_eval(&k, pos + a, vel + a, pos + a + 3, vel + a + 3, c->lu_m[s], c->inv_lu[s],
-                 CDPR_R(0.0), &cur);
-        node_accel(&prev, &cur, c->inv_m[s], g, dvel + a);
-        prev = cur;
-    }
-    /* Pulley-side segment n-1: node n-1 -> fixed exit point; its length is the state y[0]. */
-    {
-        const int a = 3 * (nf - 1);
-        seg_eval(&k, pos + a, vel + a, rn, vn, lu_last, inv_lu_last, u, &cur);
-        const cdpr_real_t lu_prev = (nf >= 1) ? c->lu_m[nf - 1] : CDPR_R(0.0);
-        const cdpr_real_t inv_m = CDPR_R(2.0) / (c->p.rho_kg_per_m * (lu_prev + lu_last));
-        node_accel(&prev, &cur, inv_m, g, dvel + a);
-    }
-    if (out != NULL) {
-        out->tension_winch_N = cur.t;
+            cdpr_v3(w.sx[0] + CDPR_R(0.5) * w.fx[0], w.sy[0] + CDPR_R(0.5) * w.fy[0],
+                    w.sz[0] + CDPR_R(0.5) * w.fz[0]);
+        out->tension_cabin_N = w.t[0];
+        out->tension_winch_N = w.t[nf];
     }
 }
 
