@@ -149,20 +149,24 @@ static cdpr_status_t eval(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t
     return (f(t, y, dydt, ctx) < 0) ? CDPR_E_RHS : CDPR_OK;
 }
 
-cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t t,
-                               const cdpr_real_t *y, cdpr_real_t h, cdpr_real_t *y_out,
-                               cdpr_real_t *err)
+/* One trial; `have_k1` says slot K1 already holds f(t, y) (a retry after a rejection from the
+ * same point), which saves one RHS call. The slots never alias each other or y/y_out. */
+static cdpr_status_t trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t t,
+                           const cdpr_real_t *restrict y, cdpr_real_t h,
+                           cdpr_real_t *restrict y_out, cdpr_real_t *err, int have_k1)
 {
     const int n = s->dim;
-    cdpr_real_t *k1 = slot(s, K1);
-    cdpr_real_t *k2 = slot(s, K2);
-    cdpr_real_t *k3 = slot(s, K3);
-    cdpr_real_t *k4 = slot(s, K4);
-    cdpr_real_t *k5 = slot(s, K5);
-    cdpr_real_t *k6 = slot(s, K6);
-    cdpr_real_t *yt = slot(s, YTMP);
+    cdpr_real_t *restrict k1 = slot(s, K1);
+    cdpr_real_t *restrict k2 = slot(s, K2);
+    cdpr_real_t *restrict k3 = slot(s, K3);
+    cdpr_real_t *restrict k4 = slot(s, K4);
+    cdpr_real_t *restrict k5 = slot(s, K5);
+    cdpr_real_t *restrict k6 = slot(s, K6);
+    cdpr_real_t *restrict yt = slot(s, YTMP);
 
-    CDPR_TRY(eval(s, f, ctx, t, y, k1));
+    if (have_k1 == 0) {
+        CDPR_TRY(eval(s, f, ctx, t, y, k1));
+    }
     for (int i = 0; i < n; ++i) {
         yt[i] = y[i] + h * (A21 * k1[i]);
     }
@@ -214,6 +218,13 @@ cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_r
     return CDPR_OK;
 }
 
+cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t t,
+                               const cdpr_real_t *y, cdpr_real_t h, cdpr_real_t *y_out,
+                               cdpr_real_t *err)
+{
+    return trial(s, f, ctx, t, y, h, y_out, err, 0);
+}
+
 static int all_finite(const cdpr_real_t *v, int n)
 {
     for (int i = 0; i < n; ++i) {
@@ -261,6 +272,7 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
         return CDPR_E_INVALID_ARG;
     }
     cdpr_real_t *yn = slot(s, YNEW);
+    int have_k1 = 0;
     /* Bounded: every rejection multiplies h by at most `safety` < 1, and h_min ends it. */
     for (;;) {
         const cdpr_real_t remaining = t_end - *t;
@@ -270,10 +282,11 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
             h = remaining;
         }
         cdpr_real_t err = CDPR_R(0.0);
-        if (cdpr_rkf45_trial(s, f, ctx, *t, y, h, yn, &err) != CDPR_OK) {
+        if (trial(s, f, ctx, *t, y, h, yn, &err, have_k1) != CDPR_OK) {
             s->stats.failures++;
             return CDPR_E_RHS;
         }
+        have_k1 = 1; /* a retry starts from the same (t, y) */
         if (!isfinite(err)) {
             if (start_is_bad(s, y) != 0) {
                 s->stats.failures++;
@@ -303,6 +316,25 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
     }
 }
 
+/* 1 if `budget` accepted steps starting at h, each growing by grow_max (capped at h_max),
+ * could cover `remaining`. The budget is spent on equal forced steps only when even this
+ * cannot reach t_end: a step size that collapsed at a kink of the RHS (a slack segment turning
+ * taut) recovers geometrically and is given the chance. O(budget), no RHS calls. */
+static int can_reach(const cdpr_rkf45_t *s, cdpr_real_t h, int budget, cdpr_real_t remaining)
+{
+    cdpr_real_t sum = CDPR_R(0.0);
+    cdpr_real_t hi = (h < s->p.h_max_s) ? h : s->p.h_max_s;
+    for (int i = 0; i < budget; ++i) {
+        sum += hi;
+        if (sum >= remaining) {
+            return 1;
+        }
+        hi *= s->p.grow_max;
+        hi = (hi < s->p.h_max_s) ? hi : s->p.h_max_s;
+    }
+    return 0;
+}
+
 cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                                  cdpr_real_t *y, cdpr_real_t dt, int max_trials)
 {
@@ -323,6 +355,7 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
     copy(bak, y, n);
 
     cdpr_real_t tc = t0;
+    int have_k1 = 0;
     int trials = 0;
     int forced = 0;
     int missed = 0;
@@ -331,7 +364,7 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
         const cdpr_real_t remaining = t_end - tc;
         const int budget = max_trials - trials;
         cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
-        if (forced == 0 && (budget == 1 || remaining > h * (cdpr_real_t)budget)) {
+        if (forced == 0 && (budget == 1 || can_reach(s, h, budget, remaining) == 0)) {
             forced = 1; /* the adaptive steps no longer fit: equal steps over the rest */
         }
         if (forced != 0) {
@@ -344,10 +377,11 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
         }
         cdpr_real_t err = CDPR_R(0.0);
         trials++;
-        if (cdpr_rkf45_trial(s, f, ctx, tc, y, h, yn, &err) != CDPR_OK) {
+        if (trial(s, f, ctx, tc, y, h, yn, &err, have_k1) != CDPR_OK) {
             st = CDPR_E_RHS;
             break;
         }
+        have_k1 = 1; /* until a step is accepted, the next trial starts from the same point */
         if (!isfinite(err)) {
             if (forced != 0 || start_is_bad(s, y) != 0) {
                 st = CDPR_E_STATE_NOT_FINITE;
@@ -357,6 +391,7 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
             s->h_s = h * s->p.shrink_min;
         } else if (forced != 0 || err <= CDPR_R(1.0)) {
             copy(y, yn, n);
+            have_k1 = 0;
             tc = (last != 0) ? t_end : tc + h;
             s->stats.steps_accepted++;
             if (err > CDPR_R(1.0)) {

@@ -80,17 +80,19 @@ cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_r
                                cdpr_real_t *err);
 
 /// One accepted adaptive step from *t, never past t_end: retries rejected trials with smaller
-/// h (each retry is bounded below by h_min). On success y and *t advance.
+/// h (each retry is bounded below by h_min; it reuses f(t, y), so costs 5 calls of f instead
+/// of 6). On success y and *t advance.
 /// Errors (y, *t unchanged): CDPR_E_STATE_NOT_FINITE (y or f(t,y) not finite),
 /// CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS.
 cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                               cdpr_real_t *y, cdpr_real_t t_end);
 
-/// Advance by exactly dt: *t becomes *t + dt using at most `max_trials` trials (each 6 calls
-/// of f, so the work is bounded by 6 * max_trials RHS evaluations). When the adaptive steps
-/// would not fit in the budget, the remainder is covered by equal steps accepted without the
-/// error test; the call then returns CDPR_WARN_SUBSTEP_LIMIT (state valid, tolerance not met)
-/// and counts it. On error nothing changes (y, *t bit-identical).
+/// Advance by exactly dt: *t becomes *t + dt using at most `max_trials` trials (each at most 6
+/// calls of f, so the work is bounded by 6 * max_trials RHS evaluations). When the adaptive
+/// steps could not fit in the remaining budget even growing at the maximum rate, the remainder
+/// is covered by equal steps accepted without the error test; the call then returns
+/// CDPR_WARN_SUBSTEP_LIMIT (state valid, tolerance not met) and counts it. On error nothing changes
+/// (y, *t bit-identical).
 cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                                  cdpr_real_t *y, cdpr_real_t dt, int max_trials);
 
