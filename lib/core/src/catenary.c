@@ -45,24 +45,46 @@ void cdpr_catenary_solver_default(cdpr_catenary_solver_t *s)
     s->residual_m = CDPR_R(0.0);
 }
 
-/* Residual (x(L0) - l, z(L0) - h) and its Jacobian with respect to (H, V_A). */
-static void residual(const cdpr_catenary_cable_t *c, cdpr_real_t H, cdpr_real_t va, cdpr_real_t L0,
-                     cdpr_real_t l, cdpr_real_t h, cdpr_real_t f[2], cdpr_real_t J[2][2])
+void cdpr_catenary_spans_jac(const cdpr_catenary_cable_t *c, cdpr_real_t H_N, cdpr_real_t va_N,
+                             cdpr_real_t L0_m, cdpr_real_t span[2], cdpr_real_t d_dH[2],
+                             cdpr_real_t d_dV[2], cdpr_real_t d_dL[2])
 {
     const cdpr_real_t w = c->w_N_per_m;
     const cdpr_real_t ea = c->ea_N;
+    const cdpr_real_t H = H_N;
+    const cdpr_real_t va = va_N;
+    const cdpr_real_t L0 = L0_m;
     const cdpr_real_t vb = va + w * L0;
     const cdpr_real_t ta = CDPR_SQRT(H * H + va * va);
     const cdpr_real_t tb = CDPR_SQRT(H * H + vb * vb);
     const cdpr_real_t asb = CDPR_ASINH(vb / H);
     const cdpr_real_t asa = CDPR_ASINH(va / H);
-    f[0] = H * L0 / ea + (H / w) * (asb - asa) - l;
-    f[1] = (va * L0 + CDPR_R(0.5) * w * L0 * L0) / ea + (tb - ta) / w - h;
-    /* d asinh(v/H)/dH = -v / (H T), d asinh(v/H)/dv = 1 / T. */
-    J[0][0] = L0 / ea + (asb - asa) / w + (H / w) * (-vb / (H * tb) + va / (H * ta));
-    J[0][1] = (H / w) * (CDPR_R(1.0) / tb - CDPR_R(1.0) / ta);
-    J[1][0] = (H / tb - H / ta) / w;
-    J[1][1] = L0 / ea + (vb / tb - va / ta) / w;
+    span[0] = H * L0 / ea + (H / w) * (asb - asa);
+    span[1] = (va * L0 + CDPR_R(0.5) * w * L0 * L0) / ea + (tb - ta) / w;
+    /* d asinh(v/H)/dH = -v / (H T), d asinh(v/H)/dv = 1 / T, d V_B / d L0 = w. */
+    d_dH[0] = L0 / ea + (asb - asa) / w + (H / w) * (-vb / (H * tb) + va / (H * ta));
+    d_dH[1] = (H / tb - H / ta) / w;
+    d_dV[0] = (H / w) * (CDPR_R(1.0) / tb - CDPR_R(1.0) / ta);
+    d_dV[1] = L0 / ea + (vb / tb - va / ta) / w;
+    d_dL[0] = H / ea + H / tb;
+    d_dL[1] = vb / ea + vb / tb;
+}
+
+/* Residual (x(L0) - l, z(L0) - h) and its Jacobian with respect to (H, V_A). */
+static void residual(const cdpr_catenary_cable_t *c, cdpr_real_t H, cdpr_real_t va, cdpr_real_t L0,
+                     cdpr_real_t l, cdpr_real_t h, cdpr_real_t f[2], cdpr_real_t J[2][2])
+{
+    cdpr_real_t span[2];
+    cdpr_real_t dH[2];
+    cdpr_real_t dV[2];
+    cdpr_real_t dL[2];
+    cdpr_catenary_spans_jac(c, H, va, L0, span, dH, dV, dL);
+    f[0] = span[0] - l;
+    f[1] = span[1] - h;
+    J[0][0] = dH[0];
+    J[0][1] = dV[0];
+    J[1][0] = dH[1];
+    J[1][1] = dV[1];
 }
 
 static cdpr_real_t norm2(const cdpr_real_t f[2])

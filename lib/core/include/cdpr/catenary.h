@@ -34,6 +34,12 @@ void cdpr_catenary_point(const cdpr_catenary_cable_t *c, cdpr_real_t H_N, cdpr_r
 cdpr_status_t cdpr_catenary_spans(const cdpr_catenary_cable_t *c, cdpr_real_t H_N, cdpr_real_t va_N,
                                   cdpr_real_t L0_m, cdpr_real_t *l_m, cdpr_real_t *h_m);
 
+/// Spans (l, h) and their partial derivatives with respect to H, V_A and L0 (for the
+/// Newton solvers here and in statics.h). Requires H > 0. O(1).
+void cdpr_catenary_spans_jac(const cdpr_catenary_cable_t *c, cdpr_real_t H_N, cdpr_real_t va_N,
+                             cdpr_real_t L0_m, cdpr_real_t span[2], cdpr_real_t d_dH[2],
+                             cdpr_real_t d_dV[2], cdpr_real_t d_dL[2]);
+
 /// Solver settings and report.
 typedef struct {
     int max_iter;           ///< iteration bound (> 0); default 50

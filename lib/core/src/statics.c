@@ -1,0 +1,597 @@
+/// @file statics.c
+/// Sag-aware statics and inverse kinematics (MODEL.md §5; see statics.h).
+#include "cdpr/statics.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "cdpr/catenary.h"
+#include "check.h"
+
+#define NC 6 /* the wrench has 6 components; the inverse problem needs exactly 6 cables */
+
+void cdpr_statics_opts_default(cdpr_statics_opts_t *o)
+{
+    o->max_iter = 50;
+#ifdef CDPR_REAL_IS_FLOAT
+    o->force_tol_N = CDPR_R(1e-2);
+    o->span_tol_m = CDPR_R(1e-5);
+#else
+    o->force_tol_N = CDPR_R(1e-7);
+    o->span_tol_m = CDPR_R(1e-10);
+#endif
+}
+
+/* Solve A x = b (n x n, n <= 6) by Gaussian elimination with partial pivoting; A and b are
+ * overwritten. Returns -1 if singular. */
+static int solve_linear(int n, cdpr_real_t A[NC][NC], cdpr_real_t b[NC], cdpr_real_t x[NC])
+{
+    for (int k = 0; k < n; ++k) {
+        int piv = k;
+        for (int i = k + 1; i < n; ++i) {
+            if (CDPR_FABS(A[i][k]) > CDPR_FABS(A[piv][k])) {
+                piv = i;
+            }
+        }
+        if (!(CDPR_FABS(A[piv][k]) > CDPR_R(0.0)) || !isfinite(A[piv][k])) {
+            return -1;
+        }
+        if (piv != k) {
+            for (int j = 0; j < n; ++j) {
+                const cdpr_real_t tmp = A[k][j];
+                A[k][j] = A[piv][j];
+                A[piv][j] = tmp;
+            }
+            const cdpr_real_t tb = b[k];
+            b[k] = b[piv];
+            b[piv] = tb;
+        }
+        for (int i = k + 1; i < n; ++i) {
+            const cdpr_real_t f = A[i][k] / A[k][k];
+            for (int j = k; j < n; ++j) {
+                A[i][j] -= f * A[k][j];
+            }
+            b[i] -= f * b[k];
+        }
+    }
+    for (int i = n - 1; i >= 0; --i) {
+        cdpr_real_t sum = b[i];
+        for (int j = i + 1; j < n; ++j) {
+            sum -= A[i][j] * x[j];
+        }
+        x[i] = sum / A[i][i];
+    }
+    return 0;
+}
+
+/* Geometry of cable j at a pose: attachment P, horizontal unit e toward the exit point,
+ * horizontal span l and rise h, lever arm R (b - c) about the cabin CoM. */
+typedef struct {
+    cdpr_vec3_t P;
+    cdpr_vec3_t e;
+    cdpr_vec3_t arm;
+    cdpr_real_t l;
+    cdpr_real_t h;
+} geom_t;
+
+static cdpr_status_t geometry(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose, geom_t *g)
+{
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(cdpr_quat_normalize(pose->q), &R);
+    for (int j = 0; j < r->p.n_cables; ++j) {
+        const cdpr_vec3_t b = r->p.cables[j].attach_body_m;
+        const cdpr_vec3_t rb = cdpr_m3_mul_v3(&R, b);
+        g[j].P = cdpr_v3_add(pose->p_m, rb);
+        g[j].arm = cdpr_m3_mul_v3(&R, cdpr_v3_sub(b, r->p.cabin.com_body_m));
+        const cdpr_vec3_t d = cdpr_v3_sub(r->p.cables[j].exit_point_m, g[j].P);
+        g[j].l = CDPR_SQRT(d.x * d.x + d.y * d.y);
+        g[j].h = d.z;
+        /* A vertical cable has no catenary plane (H = 0); not supported by this solver. */
+        if (!(g[j].l > CDPR_R(1e-9) * (CDPR_FABS(d.z) + CDPR_R(1.0)))) {
+            return CDPR_E_GEOMETRY;
+        }
+        g[j].e = cdpr_v3(d.x / g[j].l, d.y / g[j].l, CDPR_R(0.0));
+    }
+    return CDPR_OK;
+}
+
+static cdpr_catenary_cable_t cat_of(const cdpr_robot_t *r, int j)
+{
+    cdpr_catenary_cable_t c;
+    c.w_N_per_m = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
+    c.ea_N = r->p.cables[j].cable.ea_N;
+    return c;
+}
+
+/* Inner problem of one cable: given H, the (V, L) whose catenary spans (l, h); also dV/dH.
+ * Newton from (Vg, Lg) with backtracking (L kept positive). */
+static cdpr_status_t inner(const cdpr_catenary_cable_t *c, const geom_t *g, cdpr_real_t H,
+                           const cdpr_statics_opts_t *o, cdpr_real_t *V, cdpr_real_t *L,
+                           cdpr_real_t *dVdH)
+{
+    cdpr_real_t v = *V;
+    cdpr_real_t len = *L;
+    for (int it = 0; it <= o->max_iter; ++it) {
+        cdpr_real_t sp[2];
+        cdpr_real_t dH[2];
+        cdpr_real_t dV[2];
+        cdpr_real_t dL[2];
+        cdpr_catenary_spans_jac(c, H, v, len, sp, dH, dV, dL);
+        const cdpr_real_t f0 = sp[0] - g->l;
+        const cdpr_real_t f1 = sp[1] - g->h;
+        const cdpr_real_t det = dV[0] * dL[1] - dL[0] * dV[1];
+        if (!(CDPR_FABS(det) > CDPR_R(0.0)) || !isfinite(det)) {
+            return CDPR_E_NO_CONVERGENCE;
+        }
+        const cdpr_real_t fn = CDPR_FABS(f0) + CDPR_FABS(f1);
+        if (fn <= o->span_tol_m) {
+            *V = v;
+            *L = len;
+            /* Implicit function theorem: d(V, L)/dH = -J^-1 dG/dH. */
+            *dVdH = -(dL[1] * dH[0] - dL[0] * dH[1]) / det;
+            return CDPR_OK;
+        }
+        const cdpr_real_t sv = -(dL[1] * f0 - dL[0] * f1) / det;
+        const cdpr_real_t sl = -(-dV[1] * f0 + dV[0] * f1) / det;
+        cdpr_real_t a = CDPR_R(1.0);
+        int ok = 0;
+        for (int b = 0; b < 40; ++b) {
+            const cdpr_real_t vn = v + a * sv;
+            const cdpr_real_t ln = len + a * sl;
+            if (ln > CDPR_R(0.0)) {
+                cdpr_real_t x;
+                cdpr_real_t z;
+                cdpr_catenary_point(c, H, vn, ln, &x, &z);
+                if (CDPR_FABS(x - g->l) + CDPR_FABS(z - g->h) < fn) {
+                    v = vn;
+                    len = ln;
+                    ok = 1;
+                    break;
+                }
+            }
+            a *= CDPR_R(0.5);
+        }
+        if (ok == 0) {
+            return CDPR_E_NO_CONVERGENCE;
+        }
+    }
+    return CDPR_E_NO_CONVERGENCE;
+}
+
+/* Wrench residual for given H (and its Jacobian if J != NULL): force sum_j F_j - M g z and
+ * moment sum_j arm_j x F_j. Updates V, L (warm starts) and dV/dH per cable. */
+static cdpr_status_t wrench(const cdpr_robot_t *r, const geom_t *g, const cdpr_real_t *H,
+                            const cdpr_statics_opts_t *o, cdpr_real_t *V, cdpr_real_t *L,
+                            cdpr_real_t res[NC], cdpr_real_t J[NC][NC])
+{
+    cdpr_vec3_t f = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), -r->p.cabin.mass_kg * r->p.g_m_per_s2);
+    cdpr_vec3_t m = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    for (int j = 0; j < NC; ++j) {
+        const cdpr_catenary_cable_t c = cat_of(r, j);
+        cdpr_real_t dvdh = CDPR_R(0.0);
+        CDPR_TRY(inner(&c, &g[j], H[j], o, &V[j], &L[j], &dvdh));
+        const cdpr_vec3_t F = cdpr_v3(H[j] * g[j].e.x, H[j] * g[j].e.y, V[j]);
+        f = cdpr_v3_add(f, F);
+        m = cdpr_v3_add(m, cdpr_v3_cross(g[j].arm, F));
+        if (J != NULL) {
+            const cdpr_vec3_t dF = cdpr_v3(g[j].e.x, g[j].e.y, dvdh);
+            const cdpr_vec3_t dM = cdpr_v3_cross(g[j].arm, dF);
+            J[0][j] = dF.x;
+            J[1][j] = dF.y;
+            J[2][j] = dF.z;
+            J[3][j] = dM.x;
+            J[4][j] = dM.y;
+            J[5][j] = dM.z;
+        }
+    }
+    res[0] = f.x;
+    res[1] = f.y;
+    res[2] = f.z;
+    res[3] = m.x;
+    res[4] = m.y;
+    res[5] = m.z;
+    return CDPR_OK;
+}
+
+static cdpr_real_t norm6(const cdpr_real_t v[NC])
+{
+    cdpr_real_t s = CDPR_R(0.0);
+    for (int i = 0; i < NC; ++i) {
+        s += v[i] * v[i];
+    }
+    return CDPR_SQRT(s);
+}
+
+static cdpr_status_t check_pose(const cdpr_cabin_motion_t *pose)
+{
+    if (cdpr_v3_isfinite(pose->p_m) == 0 || !isfinite(pose->q.w) || !isfinite(pose->q.x) ||
+        !isfinite(pose->q.y) || !isfinite(pose->q.z)) {
+        return CDPR_E_NOT_FINITE;
+    }
+    return CDPR_OK;
+}
+
+/* Fill one cable's result from (H, V, L) and its geometry. */
+static void fill_cable(const cdpr_robot_t *r, int j, const geom_t *g, cdpr_real_t H, cdpr_real_t V,
+                       cdpr_real_t L, cdpr_statics_cable_t *out)
+{
+    const cdpr_real_t w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
+    const cdpr_real_t vb = V + w * L;
+    out->H_N = H;
+    out->v_cabin_N = V;
+    out->length_m = L;
+    out->tension_cabin_N = CDPR_SQRT(H * H + V * V);
+    out->tension_winch_N = CDPR_SQRT(H * H + vb * vb);
+    out->force_on_cabin_N = cdpr_v3(H * g->e.x, H * g->e.y, V);
+    out->attach_world_m = g->P;
+}
+
+cdpr_status_t cdpr_statics_ik_straight(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
+                                       cdpr_statics_result_t *res)
+{
+    if (r == NULL || pose == NULL || res == NULL || r->p.n_cables != NC) {
+        return CDPR_E_INVALID_ARG;
+    }
+    CDPR_TRY(check_pose(pose));
+    geom_t g[NC];
+    CDPR_TRY(geometry(r, pose, g));
+    cdpr_real_t A[NC][NC];
+    cdpr_real_t b[NC] = {CDPR_R(0.0), CDPR_R(0.0), r->p.cabin.mass_kg * r->p.g_m_per_s2,
+                         CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+    cdpr_real_t chord[NC];
+    for (int j = 0; j < NC; ++j) {
+        chord[j] = CDPR_SQRT(g[j].l * g[j].l + g[j].h * g[j].h);
+        const cdpr_vec3_t u =
+            cdpr_v3(g[j].l * g[j].e.x / chord[j], g[j].l * g[j].e.y / chord[j], g[j].h / chord[j]);
+        const cdpr_vec3_t mu = cdpr_v3_cross(g[j].arm, u);
+        A[0][j] = u.x;
+        A[1][j] = u.y;
+        A[2][j] = u.z;
+        A[3][j] = mu.x;
+        A[4][j] = mu.y;
+        A[5][j] = mu.z;
+    }
+    cdpr_real_t t[NC];
+    if (solve_linear(NC, A, b, t) != 0) {
+        return CDPR_E_INFEASIBLE; /* singular: the cables cannot span the wrench */
+    }
+    for (int j = 0; j < NC; ++j) {
+        if (!(t[j] > CDPR_R(0.0))) {
+            return CDPR_E_INFEASIBLE;
+        }
+    }
+    res->n_cables = NC;
+    for (int j = 0; j < NC; ++j) {
+        const cdpr_real_t H = t[j] * g[j].l / chord[j];
+        const cdpr_real_t V = t[j] * g[j].h / chord[j];
+        const cdpr_real_t L = chord[j] / (CDPR_R(1.0) + t[j] / r->p.cables[j].cable.ea_N);
+        fill_cable(r, j, &g[j], H, V, L, &res->cable[j]);
+        res->cable[j].tension_winch_N = t[j]; /* massless: same tension at both ends */
+    }
+    res->pose = *pose;
+    res->pose.v_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    res->pose.w_rad_per_s = res->pose.v_m_per_s;
+    res->iterations = 0;
+    res->residual = CDPR_R(0.0);
+    return CDPR_OK;
+}
+
+static cdpr_status_t check_opts(const cdpr_statics_opts_t *o)
+{
+    if (o == NULL || o->max_iter < 1) {
+        return CDPR_E_INVALID_ARG;
+    }
+    CDPR_TRY(check_positive(o->force_tol_N, "force_tol_N", -1, NULL));
+    CDPR_TRY(check_positive(o->span_tol_m, "span_tol_m", -1, NULL));
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
+                              const cdpr_statics_opts_t *o, cdpr_statics_result_t *res)
+{
+    if (r == NULL || pose == NULL || res == NULL || r->p.n_cables != NC) {
+        return CDPR_E_INVALID_ARG;
+    }
+    CDPR_TRY(check_opts(o));
+    CDPR_TRY(check_pose(pose));
+    geom_t g[NC];
+    CDPR_TRY(geometry(r, pose, g));
+    const cdpr_real_t weight = r->p.cabin.mass_kg * r->p.g_m_per_s2;
+    /* Tolerance: absolute, plus rounding of the wrench sum relative to the weight. */
+    const cdpr_real_t tol = o->force_tol_N + CDPR_R(1e3) * CDPR_EPS * weight;
+
+    /* Start from the massless solution where it exists, else an even share of the weight. */
+    cdpr_statics_result_t straight;
+    const int have_straight = (cdpr_statics_ik_straight(r, pose, &straight) == CDPR_OK) ? 1 : 0;
+    /* A sagging cable can pull its cabin end upward only if the exit point is above it
+     * (V(s) grows along the cable): with every exit point at or below its attachment the
+     * weight cannot be carried. */
+    int any_above = 0;
+    for (int j = 0; j < NC; ++j) {
+        any_above |= (g[j].h > CDPR_R(0.0)) ? 1 : 0;
+    }
+    if (any_above == 0) {
+        return CDPR_E_INFEASIBLE;
+    }
+    /* When Newton fails, it is reported as infeasible if the massless model has no
+     * all-pulling solution either (the two agree away from the boundary of the set). */
+    const cdpr_status_t fail = (have_straight != 0) ? CDPR_E_NO_CONVERGENCE : CDPR_E_INFEASIBLE;
+    cdpr_real_t H[NC];
+    cdpr_real_t V[NC];
+    cdpr_real_t L[NC];
+    for (int j = 0; j < NC; ++j) {
+        const cdpr_real_t chord = CDPR_SQRT(g[j].l * g[j].l + g[j].h * g[j].h);
+        const cdpr_real_t t =
+            (have_straight != 0) ? straight.cable[j].tension_winch_N : weight / (cdpr_real_t)NC;
+        const cdpr_real_t w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
+        H[j] = t * g[j].l / chord;
+        L[j] = chord / (CDPR_R(1.0) + t / r->p.cables[j].cable.ea_N);
+        V[j] = t * g[j].h / chord - CDPR_R(0.5) * w * L[j];
+    }
+
+    cdpr_real_t rv[NC];
+    cdpr_real_t J[NC][NC];
+    if (wrench(r, g, H, o, V, L, rv, J) != CDPR_OK) {
+        return fail;
+    }
+    cdpr_real_t rn = norm6(rv);
+    int it = 0;
+    int wants_push = 0; /* the last full Newton step would have made some H non-positive */
+    while (rn > tol) {
+        if (it >= o->max_iter) {
+            return (wants_push != 0) ? CDPR_E_INFEASIBLE : fail;
+        }
+        ++it;
+        cdpr_real_t b[NC];
+        for (int i = 0; i < NC; ++i) {
+            b[i] = -rv[i];
+        }
+        cdpr_real_t dH[NC];
+        if (solve_linear(NC, J, b, dH) != 0) {
+            return CDPR_E_INFEASIBLE;
+        }
+        wants_push = 0;
+        for (int j = 0; j < NC; ++j) {
+            wants_push |= (H[j] + dH[j] > CDPR_R(0.0)) ? 0 : 1;
+        }
+        /* Backtracking: keep every H positive and decrease the residual. */
+        cdpr_real_t a = CDPR_R(1.0);
+        int ok = 0;
+        for (int k = 0; k < 40; ++k) {
+            cdpr_real_t Hn[NC];
+            cdpr_real_t Vn[NC];
+            cdpr_real_t Ln[NC];
+            int positive = 1;
+            for (int j = 0; j < NC; ++j) {
+                Hn[j] = H[j] + a * dH[j];
+                Vn[j] = V[j];
+                Ln[j] = L[j];
+                positive &= (Hn[j] > CDPR_R(0.0)) ? 1 : 0;
+            }
+            if (positive != 0) {
+                cdpr_real_t rnew[NC];
+                cdpr_real_t Jn[NC][NC];
+                if (wrench(r, g, Hn, o, Vn, Ln, rnew, Jn) == CDPR_OK && norm6(rnew) < rn) {
+                    for (int j = 0; j < NC; ++j) {
+                        H[j] = Hn[j];
+                        V[j] = Vn[j];
+                        L[j] = Ln[j];
+                        rv[j] = rnew[j];
+                        for (int i = 0; i < NC; ++i) {
+                            J[i][j] = Jn[i][j];
+                        }
+                    }
+                    rn = norm6(rv);
+                    ok = 1;
+                    break;
+                }
+            }
+            a *= CDPR_R(0.5);
+        }
+        if (ok == 0) {
+            /* Stuck while the Newton step points through H = 0, or against it: the
+             * equilibrium would need a pushing cable. */
+            for (int j = 0; j < NC; ++j) {
+                wants_push |= (H[j] < CDPR_R(1e-6) * weight) ? 1 : 0;
+            }
+            return (wants_push != 0) ? CDPR_E_INFEASIBLE : fail;
+        }
+    }
+    res->n_cables = NC;
+    for (int j = 0; j < NC; ++j) {
+        fill_cable(r, j, &g[j], H[j], V[j], L[j], &res->cable[j]);
+    }
+    res->pose = *pose;
+    res->pose.v_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    res->pose.w_rad_per_s = res->pose.v_m_per_s;
+    res->iterations = it;
+    res->residual = rn;
+    return CDPR_OK;
+}
+
+/* Pose displaced from `base` by dx (position) and a rotation vector dth (world frame). */
+static void displace(const cdpr_cabin_motion_t *base, const cdpr_real_t d[NC],
+                     cdpr_cabin_motion_t *out)
+{
+    *out = *base;
+    out->p_m = cdpr_v3(base->p_m.x + d[0], base->p_m.y + d[1], base->p_m.z + d[2]);
+    const cdpr_real_t ang = CDPR_SQRT(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
+    cdpr_quat_t dq;
+    dq.w = CDPR_COS(CDPR_R(0.5) * ang);
+    const cdpr_real_t s = (ang > CDPR_R(0.0)) ? CDPR_SIN(CDPR_R(0.5) * ang) / ang : CDPR_R(0.5);
+    dq.x = s * d[3];
+    dq.y = s * d[4];
+    dq.z = s * d[5];
+    out->q = cdpr_quat_normalize(cdpr_quat_mul(dq, base->q));
+}
+
+/* Wrench residual at a pose for fixed unstretched lengths; fills (H, V) per cable. */
+static cdpr_status_t wrench_at_lengths(const cdpr_robot_t *r, const cdpr_real_t *Ls,
+                                       const cdpr_cabin_motion_t *pose,
+                                       const cdpr_statics_opts_t *o, cdpr_real_t res[NC],
+                                       cdpr_real_t H[NC], cdpr_real_t V[NC])
+{
+    geom_t g[NC];
+    CDPR_TRY(geometry(r, pose, g));
+    cdpr_vec3_t f = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), -r->p.cabin.mass_kg * r->p.g_m_per_s2);
+    cdpr_vec3_t m = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    for (int j = 0; j < NC; ++j) {
+        const cdpr_catenary_cable_t c = cat_of(r, j);
+        cdpr_catenary_solver_t s;
+        cdpr_catenary_solver_default(&s);
+        s.max_iter = o->max_iter;
+        s.tol_m = o->span_tol_m;
+        CDPR_TRY(cdpr_catenary_solve(&c, g[j].l, g[j].h, Ls[j], &s, &H[j], &V[j]));
+        const cdpr_vec3_t F = cdpr_v3(H[j] * g[j].e.x, H[j] * g[j].e.y, V[j]);
+        f = cdpr_v3_add(f, F);
+        m = cdpr_v3_add(m, cdpr_v3_cross(g[j].arm, F));
+    }
+    res[0] = f.x;
+    res[1] = f.y;
+    res[2] = f.z;
+    res[3] = m.x;
+    res[4] = m.y;
+    res[5] = m.z;
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_statics_forward(const cdpr_robot_t *r, const cdpr_real_t *length_m,
+                                   const cdpr_cabin_motion_t *guess, const cdpr_statics_opts_t *o,
+                                   cdpr_statics_result_t *res)
+{
+    if (r == NULL || length_m == NULL || guess == NULL || res == NULL || r->p.n_cables != NC) {
+        return CDPR_E_INVALID_ARG;
+    }
+    CDPR_TRY(check_opts(o));
+    CDPR_TRY(check_pose(guess));
+    for (int j = 0; j < NC; ++j) {
+        CDPR_TRY(check_positive(length_m[j], "length_m", j, NULL));
+    }
+    const cdpr_real_t weight = r->p.cabin.mass_kg * r->p.g_m_per_s2;
+    const cdpr_real_t tol = o->force_tol_N + CDPR_R(1e3) * CDPR_EPS * weight;
+#ifdef CDPR_REAL_IS_FLOAT
+    const cdpr_real_t delta = CDPR_R(1e-3);
+#else
+    const cdpr_real_t delta = CDPR_R(1e-6);
+#endif
+    cdpr_cabin_motion_t pose = *guess;
+    pose.q = cdpr_quat_normalize(guess->q);
+    cdpr_real_t rv[NC];
+    cdpr_real_t H[NC];
+    cdpr_real_t V[NC];
+    CDPR_TRY(wrench_at_lengths(r, length_m, &pose, o, rv, H, V));
+    cdpr_real_t rn = norm6(rv);
+    int it = 0;
+    while (rn > tol) {
+        if (it >= o->max_iter) {
+            return CDPR_E_NO_CONVERGENCE;
+        }
+        ++it;
+        /* Jacobian d(wrench)/d(pose) by central differences. */
+        cdpr_real_t J[NC][NC];
+        for (int k = 0; k < NC; ++k) {
+            cdpr_real_t d[NC] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0),
+                                 CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+            cdpr_real_t rp[NC];
+            cdpr_real_t rm[NC];
+            cdpr_real_t Ht[NC];
+            cdpr_real_t Vt[NC];
+            cdpr_cabin_motion_t pp;
+            d[k] = delta;
+            displace(&pose, d, &pp);
+            CDPR_TRY(wrench_at_lengths(r, length_m, &pp, o, rp, Ht, Vt));
+            d[k] = -delta;
+            displace(&pose, d, &pp);
+            CDPR_TRY(wrench_at_lengths(r, length_m, &pp, o, rm, Ht, Vt));
+            for (int i = 0; i < NC; ++i) {
+                J[i][k] = (rp[i] - rm[i]) / (CDPR_R(2.0) * delta);
+            }
+        }
+        cdpr_real_t b[NC];
+        for (int i = 0; i < NC; ++i) {
+            b[i] = -rv[i];
+        }
+        cdpr_real_t dx[NC];
+        if (solve_linear(NC, J, b, dx) != 0) {
+            return CDPR_E_INFEASIBLE; /* no static stiffness in some direction */
+        }
+        cdpr_real_t a = CDPR_R(1.0);
+        int ok = 0;
+        for (int k = 0; k < 40; ++k) {
+            cdpr_real_t ds[NC];
+            for (int i = 0; i < NC; ++i) {
+                ds[i] = a * dx[i];
+            }
+            cdpr_cabin_motion_t pn;
+            displace(&pose, ds, &pn);
+            cdpr_real_t rnew[NC];
+            cdpr_real_t Hn[NC];
+            cdpr_real_t Vn[NC];
+            if (wrench_at_lengths(r, length_m, &pn, o, rnew, Hn, Vn) == CDPR_OK &&
+                norm6(rnew) < rn) {
+                pose = pn;
+                for (int i = 0; i < NC; ++i) {
+                    rv[i] = rnew[i];
+                    H[i] = Hn[i];
+                    V[i] = Vn[i];
+                }
+                rn = norm6(rv);
+                ok = 1;
+                break;
+            }
+            a *= CDPR_R(0.5);
+        }
+        if (ok == 0) {
+            return CDPR_E_NO_CONVERGENCE;
+        }
+    }
+    geom_t g[NC];
+    CDPR_TRY(geometry(r, &pose, g));
+    res->n_cables = NC;
+    for (int j = 0; j < NC; ++j) {
+        fill_cable(r, j, &g[j], H[j], V[j], length_m[j], &res->cable[j]);
+    }
+    res->pose = pose;
+    res->pose.v_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    res->pose.w_rad_per_s = res->pose.v_m_per_s;
+    res->iterations = it;
+    res->residual = rn;
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_robot_place_catenary(const cdpr_robot_t *r, const cdpr_statics_result_t *res,
+                                        cdpr_real_t *y)
+{
+    if (r == NULL || res == NULL || y == NULL || res->n_cables != r->p.n_cables) {
+        return CDPR_E_INVALID_ARG;
+    }
+    CDPR_TRY(check_pose(&res->pose));
+    geom_t g[CDPR_MAX_CABLES];
+    if (r->p.n_cables == NC) {
+        CDPR_TRY(geometry(r, &res->pose, g));
+    } else {
+        return CDPR_E_INVALID_ARG;
+    }
+    cdpr_cabin_set_motion(&res->pose, y);
+    for (int j = 0; j < r->p.n_cables; ++j) {
+        const cdpr_cable_t *c = &r->cable[j];
+        const cdpr_catenary_cable_t cat = cat_of(r, j);
+        const int nf = c->n - 1;
+        cdpr_real_t *b = y + r->offset[j];
+        b[0] = c->lu_m[nf];
+        cdpr_real_t s = CDPR_R(0.0);
+        for (int i = 1; i <= nf; ++i) {
+            s += c->lu_m[i - 1];
+            cdpr_real_t x;
+            cdpr_real_t z;
+            cdpr_catenary_point(&cat, res->cable[j].H_N, res->cable[j].v_cabin_N, s, &x, &z);
+            b[1 + 3 * (i - 1) + 0] = g[j].P.x + x * g[j].e.x;
+            b[1 + 3 * (i - 1) + 1] = g[j].P.y + x * g[j].e.y;
+            b[1 + 3 * (i - 1) + 2] = g[j].P.z + z;
+            b[1 + 3 * nf + 3 * (i - 1) + 0] = CDPR_R(0.0);
+            b[1 + 3 * nf + 3 * (i - 1) + 1] = CDPR_R(0.0);
+            b[1 + 3 * nf + 3 * (i - 1) + 2] = CDPR_R(0.0);
+        }
+    }
+    return CDPR_OK;
+}
