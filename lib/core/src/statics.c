@@ -158,6 +158,51 @@ static cdpr_status_t inner(const cdpr_catenary_cable_t *c, const geom_t *g, cdpr
     return CDPR_E_NO_CONVERGENCE;
 }
 
+/* Inextensible catenary through (0, 0) and (l, h) with horizontal tension H (parameter
+ * a = H/w): z = a cosh((x - x0)/a) + const, h = 2 a sinh((l - 2 x0)/(2a)) sinh(l/(2a)).
+ * Gives V_A = -H sinh(x0/a) and L = a (sinh((l - x0)/a) + sinh(x0/a)): the starting point of
+ * the inner Newton when the warm start fails (e.g. small H, deep sag). 0 on success. */
+static int inextensible_guess(const cdpr_catenary_cable_t *c, const geom_t *g, cdpr_real_t H,
+                              cdpr_real_t *V, cdpr_real_t *L)
+{
+    const cdpr_real_t a = H / c->w_N_per_m;
+    const cdpr_real_t half = g->l / (CDPR_R(2.0) * a);
+    if (!(half < CDPR_R(300.0))) {
+        return -1; /* sinh would overflow: sag far beyond any robot configuration */
+    }
+    const cdpr_real_t x0 =
+        CDPR_R(0.5) * g->l - a * CDPR_ASINH(g->h / (CDPR_R(2.0) * a * CDPR_SINH(half)));
+    const cdpr_real_t len = a * (CDPR_SINH((g->l - x0) / a) + CDPR_SINH(x0 / a));
+    const cdpr_real_t v = -H * CDPR_SINH(x0 / a);
+    /* Elastic stretch at the mean tension shortens the unstretched length. */
+    const cdpr_real_t tm = CDPR_SQRT(H * H + (v + CDPR_R(0.5) * c->w_N_per_m * len) *
+                                                 (v + CDPR_R(0.5) * c->w_N_per_m * len));
+    *V = v;
+    *L = len / (CDPR_R(1.0) + tm / c->ea_N);
+    return (isfinite(*V) && isfinite(*L) && *L > CDPR_R(0.0)) ? 0 : -1;
+}
+
+/* Inner solve with a warm start, falling back to the inextensible catenary guess. */
+static cdpr_status_t inner_robust(const cdpr_catenary_cable_t *c, const geom_t *g, cdpr_real_t H,
+                                  const cdpr_statics_opts_t *o, cdpr_real_t *V, cdpr_real_t *L,
+                                  cdpr_real_t *dVdH)
+{
+    cdpr_real_t v = *V;
+    cdpr_real_t len = *L;
+    if (inner(c, g, H, o, &v, &len, dVdH) == CDPR_OK) {
+        *V = v;
+        *L = len;
+        return CDPR_OK;
+    }
+    if (inextensible_guess(c, g, H, &v, &len) != 0) {
+        return CDPR_E_NO_CONVERGENCE;
+    }
+    CDPR_TRY(inner(c, g, H, o, &v, &len, dVdH));
+    *V = v;
+    *L = len;
+    return CDPR_OK;
+}
+
 /* Wrench residual for given H (and its Jacobian if J != NULL): force sum_j F_j - M g z and
  * moment sum_j arm_j x F_j. Updates V, L (warm starts) and dV/dH per cable. */
 static cdpr_status_t wrench(const cdpr_robot_t *r, const geom_t *g, const cdpr_real_t *H,
@@ -169,7 +214,7 @@ static cdpr_status_t wrench(const cdpr_robot_t *r, const geom_t *g, const cdpr_r
     for (int j = 0; j < NC; ++j) {
         const cdpr_catenary_cable_t c = cat_of(r, j);
         cdpr_real_t dvdh = CDPR_R(0.0);
-        CDPR_TRY(inner(&c, &g[j], H[j], o, &V[j], &L[j], &dvdh));
+        CDPR_TRY(inner_robust(&c, &g[j], H[j], o, &V[j], &L[j], &dvdh));
         const cdpr_vec3_t F = cdpr_v3(H[j] * g[j].e.x, H[j] * g[j].e.y, V[j]);
         f = cdpr_v3_add(f, F);
         m = cdpr_v3_add(m, cdpr_v3_cross(g[j].arm, F));
@@ -325,6 +370,11 @@ cdpr_status_t cdpr_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion_t *
             (have_straight != 0) ? straight.cable[j].tension_winch_N : weight / (cdpr_real_t)NC;
         const cdpr_real_t w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
         H[j] = t * g[j].l / chord;
+        /* A massless tension near zero means a deep sag in reality: start no lower than the
+         * H of a catenary whose sag is about its span (H = w l / 8), where the inner problem
+         * is well conditioned; Newton moves it from there. */
+        const cdpr_real_t h_floor = w * g[j].l / CDPR_R(8.0);
+        H[j] = (H[j] > h_floor) ? H[j] : h_floor;
         L[j] = chord / (CDPR_R(1.0) + t / r->p.cables[j].cable.ea_N);
         V[j] = t * g[j].h / chord - CDPR_R(0.5) * w * L[j];
     }

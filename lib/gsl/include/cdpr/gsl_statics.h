@@ -1,0 +1,27 @@
+/// @file gsl_statics.h
+/// Reference solver for the sag-aware inverse kinematics with GSL's multidimensional root
+/// finder, as an independent check of cdpr_statics_ik (statics.h).
+///
+/// Formulation (different from the core's nested Newton): all 18 unknowns at once —
+/// (H_j, V_j, L_j) for the six cables — against 18 equations: the 6-component cabin wrench and,
+/// per cable, the two catenary span equations. Solved by gsl_multiroot_fsolver_hybrids (Powell's
+/// hybrid method with a finite-difference Jacobian). Host only; links GSL (GPL-3) and allocates.
+#ifndef CDPR_GSL_STATICS_H
+#define CDPR_GSL_STATICS_H
+
+#include "cdpr/robot.h"
+#include "cdpr/statics.h"
+#include "cdpr/status.h"
+
+#ifdef CDPR_REAL_IS_FLOAT
+#error "cdpr_gsl needs cdpr_real_t == double: build it without CDPR_REAL_IS_FLOAT"
+#endif
+
+/// Solve the inverse kinematics at `pose` (6 cables). The starting point is the massless
+/// solution. Fills res->cable[j] (H, V, L, tensions, force, attachment) and res->iterations.
+/// CDPR_E_NO_CONVERGENCE after `max_iter` iterations or when GSL stalls; CDPR_E_INFEASIBLE
+/// when the massless start does not exist or the root has a non-positive H.
+cdpr_status_t cdpr_gsl_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
+                                  int max_iter, cdpr_statics_result_t *res);
+
+#endif /* CDPR_GSL_STATICS_H */
