@@ -32,9 +32,9 @@ static int equations(const gsl_vector *x, void *params, gsl_vector *f)
     cdpr_vec3_t force = cdpr_v3(0.0, 0.0, -r->p.cabin.mass_kg * r->p.g_m_per_s2);
     cdpr_vec3_t moment = cdpr_v3(0.0, 0.0, 0.0);
     for (int j = 0; j < NCAB; ++j) {
-        const double H = gsl_vector_get(x, (size_t)(3 * j));
-        const double V = gsl_vector_get(x, (size_t)(3 * j + 1));
-        const double L = gsl_vector_get(x, (size_t)(3 * j + 2));
+        const double H = gsl_vector_get(x, 3u * (size_t)j);
+        const double V = gsl_vector_get(x, 3u * (size_t)j + 1u);
+        const double L = gsl_vector_get(x, 3u * (size_t)j + 2u);
         if (!(H > 0.0) || !(L > 0.0)) {
             return GSL_EDOM; /* the catenary needs H > 0 and L > 0; hybrids backs off */
         }
@@ -50,8 +50,8 @@ static int equations(const gsl_vector *x, void *params, gsl_vector *f)
             return GSL_EDOM;
         }
         const double span = sqrt(p->l[j] * p->l[j] + p->h[j] * p->h[j]);
-        gsl_vector_set(f, (size_t)(6 + 2 * j), (ls - p->l[j]) / span);
-        gsl_vector_set(f, (size_t)(6 + 2 * j + 1), (hs - p->h[j]) / span);
+        gsl_vector_set(f, 6u + 2u * (size_t)j, (ls - p->l[j]) / span);
+        gsl_vector_set(f, 6u + 2u * (size_t)j + 1u, (hs - p->h[j]) / span);
     }
     gsl_vector_set(f, 0, force.x / p->force_scale);
     gsl_vector_set(f, 1, force.y / p->force_scale);
@@ -99,11 +99,11 @@ cdpr_status_t cdpr_gsl_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion
     }
     for (int j = 0; j < NCAB; ++j) {
         const double w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
-        gsl_vector_set(x, (size_t)(3 * j), st.cable[j].H_N);
+        gsl_vector_set(x, 3u * (size_t)j, st.cable[j].H_N);
         /* The massless V plus half the cable weight hanging at the cabin end. */
-        gsl_vector_set(x, (size_t)(3 * j + 1),
+        gsl_vector_set(x, 3u * (size_t)j + 1u,
                        st.cable[j].v_cabin_N - 0.5 * w * st.cable[j].length_m);
-        gsl_vector_set(x, (size_t)(3 * j + 2), st.cable[j].length_m);
+        gsl_vector_set(x, 3u * (size_t)j + 2u, st.cable[j].length_m);
     }
     cdpr_status_t out = CDPR_E_NO_CONVERGENCE;
     if (gsl_multiroot_fsolver_set(s, &fn, x) == GSL_SUCCESS) {
@@ -130,9 +130,9 @@ cdpr_status_t cdpr_gsl_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion
         }
         res->residual = sqrt(r2) * p.force_scale;
         for (int j = 0; j < NCAB; ++j) {
-            const double H = gsl_vector_get(s->x, (size_t)(3 * j));
-            const double V = gsl_vector_get(s->x, (size_t)(3 * j + 1));
-            const double L = gsl_vector_get(s->x, (size_t)(3 * j + 2));
+            const double H = gsl_vector_get(s->x, 3u * (size_t)j);
+            const double V = gsl_vector_get(s->x, 3u * (size_t)j + 1u);
+            const double L = gsl_vector_get(s->x, 3u * (size_t)j + 2u);
             const double w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
             if (!(H > 0.0)) {
                 out = CDPR_E_INFEASIBLE;
