@@ -118,6 +118,18 @@ typedef struct {
     cdpr_real_t ea, c, drag_k, cm, wx, wy, wz;
 } seg_k_t;
 
+static void seg_constants(const cdpr_cable_params_t *p, cdpr_real_t drag_k, cdpr_vec3_t wind,
+                          seg_k_t *k)
+{
+    k->ea = p->ea_N;
+    k->c = p->damping_Ns;
+    k->drag_k = drag_k;
+    k->cm = p->cm;
+    k->wx = wind.x;
+    k->wy = wind.y;
+    k->wz = wind.z;
+}
+
 /* MODEL.md §2 for one segment from node a to node b. Written on scalars so the compiler keeps
  * everything in registers; this is the hot loop of the whole library. */
 static inline void seg_eval(const seg_k_t *k, const cdpr_real_t *ra, const cdpr_real_t *va,
@@ -184,13 +196,7 @@ void cdpr_cable_segment_eval(const cdpr_cable_params_t *p, cdpr_vec3_t ra, cdpr_
                              cdpr_segment_t *out)
 {
     seg_k_t k;
-    k.ea = p->ea_N;
-    k.c = p->damping_Ns;
-    k.drag_k = CDPR_R(0.5) * p->rho_air_kg_per_m3 * p->d0_m * p->cd;
-    k.cm = p->cm;
-    k.wx = wind_m_per_s.x;
-    k.wy = wind_m_per_s.y;
-    k.wz = wind_m_per_s.z;
+    seg_constants(p, CDPR_R(0.5) * p->rho_air_kg_per_m3 * p->d0_m * p->cd, wind_m_per_s, &k);
     const cdpr_real_t a_r[3] = {ra.x, ra.y, ra.z};
     const cdpr_real_t a_v[3] = {va.x, va.y, va.z};
     const cdpr_real_t b_r[3] = {rb.x, rb.y, rb.z};
@@ -274,13 +280,7 @@ void cdpr_cable_rhs(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cabl
     cdpr_real_t *dpos = dydt + 1;
     cdpr_real_t *dvel = dydt + 1 + 3 * nf;
     seg_k_t k;
-    k.ea = c->p.ea_N;
-    k.c = c->p.damping_Ns;
-    k.drag_k = c->drag_k;
-    k.cm = c->p.cm;
-    k.wx = bc->wind_m_per_s.x;
-    k.wy = bc->wind_m_per_s.y;
-    k.wz = bc->wind_m_per_s.z;
+    seg_constants(&c->p, c->drag_k, bc->wind_m_per_s, &k);
 
     dydt[0] = u; /* MODEL §3: d lu[n-1]/dt = u */
     for (int i = 0; i < 3 * nf; ++i) {
@@ -367,13 +367,7 @@ void cdpr_cable_end_forces(const cdpr_cable_t *c, const cdpr_real_t *y, const cd
     const cdpr_real_t rn[3] = {bc->rn_m.x, bc->rn_m.y, bc->rn_m.z};
     const cdpr_real_t vn[3] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
     seg_k_t k;
-    k.ea = c->p.ea_N;
-    k.c = c->p.damping_Ns;
-    k.drag_k = c->drag_k;
-    k.cm = c->p.cm;
-    k.wx = bc->wind_m_per_s.x;
-    k.wy = bc->wind_m_per_s.y;
-    k.wz = bc->wind_m_per_s.z;
+    seg_constants(&c->p, c->drag_k, bc->wind_m_per_s, &k);
     seg_t first;
     seg_t last;
     if (nf == 0) {
