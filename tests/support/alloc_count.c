@@ -131,3 +131,8 @@ int cdpr_alloc_counting_available(void)
     return 1;
 #endif
 }
+
+const char *cdpr_alloc_unavailable_reason(void)
+{
+    return "allocation counting is compiled out under AddressSanitizer";
+}

@@ -23,4 +23,8 @@ unsigned long cdpr_alloc_count_total(void);
 /// (then both counts stay 0 and tests should TEST_IGNORE_MESSAGE with that reason).
 int cdpr_alloc_counting_available(void);
 
+/// Why counting is unavailable (for TEST_IGNORE_MESSAGE): AddressSanitizer on the host, or a
+/// bare-metal target build (tests/target/alloc_count_target.c). Never NULL.
+const char *cdpr_alloc_unavailable_reason(void);
+
 #endif

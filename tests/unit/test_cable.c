@@ -12,15 +12,22 @@
 /// strain). The result is therefore within ~1e-14 relative of the exact value; 1e-12 relative
 /// leaves two orders of margin yet catches every modelling error (a wrong sign, factor 1/2,
 /// Cm or sqrt(1+eps) factor changes the result by >= 2 %).
+///
+/// Float build (tests/support/test_real.h): the same rounding argument with u_f = 6e-8 gives
+/// REL = 6e-4, which still catches every modelling error above; the largest input rounding
+/// amplification here (strain 0.03 in the node-count sweep: 2 u_f / 0.03 = 4e-6 relative on
+/// the tension) is far inside it. Exact copies are compared with the input rounded to
+/// cdpr_real_t, so they stay exact.
 #include "unity.h"
 
 #include "alloc_count.h"
 #include "cdpr/cable.h"
+#include "test_real.h"
 
 #include <math.h>
 #include <string.h>
 
-#define REL 1e-12 /* see the file comment */
+#define REL TOL(1e-12, 6e-4) /* see the file comment */
 
 void setUp(void) {}
 
@@ -179,7 +186,7 @@ static void test_exactly_unstretched_segment_has_zero_tension(void)
         cdpr_cable_segment_eval(&p, zero3(), zero3(), cdpr_v3(0.0, 0.0, lu),
                                 cdpr_v3(0.0, 0.0, 50.0), lu, 0.0, zero3(), &s);
         TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, s.tension_N);
-        TEST_ASSERT_DOUBLE_WITHIN(0.0, lu, s.length_m);
+        TEST_ASSERT_DOUBLE_WITHIN(0.0, (cdpr_real_t)lu, s.length_m);
     }
 }
 
@@ -426,7 +433,7 @@ static void check_three_segment_rhs(double lu_last, int last_slack)
     TEST_ASSERT_TRUE(s[1].T > 0.0);
     TEST_ASSERT_TRUE(last_slack ? !(s[2].T > 0.0) : (s[2].T > 0.0));
     /* d lu[n-1]/dt = payout and d pos/dt = vel: copies, exact. */
-    TEST_ASSERT_DOUBLE_WITHIN(0.0, u, dydt[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, (cdpr_real_t)u, dydt[0]);
     for (int i = 0; i < 6; ++i) {
         TEST_ASSERT_DOUBLE_WITHIN(0.0, y[7 + i], dydt[1 + i]);
     }
@@ -456,13 +463,15 @@ static void check_three_segment_rhs(double lu_last, int last_slack)
     TEST_ASSERT_DOUBLE_WITHIN(REL * (s[2].T + 1.0), s[2].T, out.tension_winch_N);
 
     /* cdpr_cable_end_forces: same values as the RHS's out (same formulas; only last-bit
-     * differences could be excused, 1e-14 relative). */
+     * differences could be excused, 1e-14 relative; float 6e-6, test_real.h). */
     cdpr_cable_out_t ef;
     cdpr_cable_end_forces(&c, y, &bc, &ef);
     const double fs = norm3(out.force_on_cabin_N);
-    ASSERT_V3(1e-14 * fs, out.force_on_cabin_N, ef.force_on_cabin_N);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-14 * out.tension_cabin_N, out.tension_cabin_N, ef.tension_cabin_N);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-14 * out.tension_winch_N, out.tension_winch_N, ef.tension_winch_N);
+    ASSERT_V3(TOL(1e-14, 6e-6) * fs, out.force_on_cabin_N, ef.force_on_cabin_N);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 6e-6) * out.tension_cabin_N, out.tension_cabin_N,
+                              ef.tension_cabin_N);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 6e-6) * out.tension_winch_N, out.tension_winch_N,
+                              ef.tension_winch_N);
 
     /* The RHS without `out` writes the same derivatives (bit-identical: same code path). */
     cdpr_real_t dydt2[13];
@@ -503,14 +512,14 @@ static void test_rhs_single_segment(void)
     bc.g_m_per_s2 = 9.80665;
     cdpr_cable_out_t out;
     cdpr_cable_rhs(&c, y, &bc, dydt, &out);
-    TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.4, dydt[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, CDPR_R(0.4), dydt[0]);
     ASSERT_REL(REL, 247.5, out.tension_cabin_N);
     ASSERT_REL(REL, 247.5, out.tension_winch_N);
     ASSERT_V3(REL * 247.5, vec_of(T_HAT, 247.5), out.force_on_cabin_N);
     cdpr_cable_out_t ef;
     cdpr_cable_end_forces(&c, y, &bc, &ef);
-    ASSERT_V3(1e-14 * 247.5, out.force_on_cabin_N, ef.force_on_cabin_N);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-14 * 247.5, out.tension_winch_N, ef.tension_winch_N);
+    ASSERT_V3(TOL(1e-14, 6e-6) * 247.5, out.force_on_cabin_N, ef.force_on_cabin_N);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 6e-6) * 247.5, out.tension_winch_N, ef.tension_winch_N);
 }
 
 static void check_hanging_chain(int n)
@@ -568,8 +577,10 @@ static void check_hanging_chain(int n)
      * away from the intended one, and the core's difference and sqrt add ~2 ulp(l): a segment
      * length is off by dl <= ulp(z_max) + 4 ulp(1.1 m), its tension by EA dl / lu_min, and a
      * node's acceleration by 2 EA dl / (lu_min m_min). Tolerance: 4x that bound (~1e-10 m/s^2
-     * for n = 8, ~1e-9 for n = 64), while one missing node weight would leave g = 9.8. */
-    const double dl = z[n] * 2.3e-16 + 4.0 * 2.3e-16 * 1.1;
+     * for n = 8, ~1e-9 for n = 64), while one missing node weight would leave g = 9.8.
+     * ulp(1) is 2.2e-16 in double and 1.2e-7 in float (float bound at n = 64: ~4 m/s^2 < g). */
+    const double ulp1 = TOL(2.3e-16, 1.2e-7);
+    const double dl = z[n] * ulp1 + 4.0 * ulp1 * 1.1;
     const double tol_t = 4.0 * p.ea_N * dl / lu_min;
     const double tol_a = 2.0 * tol_t / m_min;
     for (int i = 0; i < 3 * nf; ++i) {
@@ -640,7 +651,7 @@ static void check_rhs_general(int n)
     cdpr_cable_out_t out;
     cdpr_cable_rhs(&c, y, &bc, dydt, &out);
 
-    TEST_ASSERT_DOUBLE_WITHIN(0.0, u, dydt[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, (cdpr_real_t)u, dydt[0]);
     ref_seg_t prev = ref_segment(&p, r[0], v[0], r[1], v[1], lu[0], (n == 1) ? u : 0.0, wind);
     const ref_seg_t first = prev;
     int taut = 0;
@@ -655,7 +666,7 @@ static void check_rhs_general(int n)
             /* see check_three_segment_rhs for the tolerance */
             TEST_ASSERT_DOUBLE_WITHIN(REL * scale, f / m - ((a == 2) ? g : 0.0),
                                       dydt[1 + 3 * nf + 3 * (i - 1) + a]);
-            TEST_ASSERT_DOUBLE_WITHIN(0.0, v[i][a], dydt[1 + 3 * (i - 1) + a]);
+            TEST_ASSERT_DOUBLE_WITHIN(0.0, (cdpr_real_t)v[i][a], dydt[1 + 3 * (i - 1) + a]);
         }
         prev = cur;
     }
@@ -670,9 +681,9 @@ static void check_rhs_general(int n)
     }
     cdpr_cable_out_t ef;
     cdpr_cable_end_forces(&c, y, &bc, &ef);
-    ASSERT_V3(1e-14 * (norm3(out.force_on_cabin_N) + 1.0), out.force_on_cabin_N,
+    ASSERT_V3(TOL(1e-14, 6e-6) * (norm3(out.force_on_cabin_N) + 1.0), out.force_on_cabin_N,
               ef.force_on_cabin_N);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-14 * (out.tension_winch_N + 1.0), out.tension_winch_N,
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 6e-6) * (out.tension_winch_N + 1.0), out.tension_winch_N,
                               ef.tension_winch_N);
 }
 
@@ -748,7 +759,7 @@ static void test_init_rejects_bad_counts_and_leaves_cable_untouched(void)
 static void test_rhs_makes_no_allocation(void)
 {
     if (!cdpr_alloc_counting_available()) {
-        TEST_IGNORE_MESSAGE("allocation counting is compiled out under AddressSanitizer");
+        TEST_IGNORE_MESSAGE(cdpr_alloc_unavailable_reason());
     }
     const cdpr_cable_params_t p = params_rhs();
     static cdpr_cable_t c;

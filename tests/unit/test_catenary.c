@@ -9,6 +9,7 @@
 #include "cdpr/robot.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/settle.h"
+#include "test_real.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -77,6 +78,35 @@ static void ref_solve(double w, double ea, double l, double h, double L0, double
     *va = vc;
 }
 
+#ifdef CDPR_REAL_IS_FLOAT
+/* Error bound of an inverse solution that stops at span residual `tol` [m] when the spans are
+ * themselves evaluated in float: z(s) takes (T(s) - T(0)) / w, a difference of tensions of up
+ * to T_max, so each span evaluation carries ~4 u_f (T_max / w + L0) of rounding (1.7e-2 m for
+ * H = 2e5 N: a taut cable's V_A is poorly determined in float). Bound:
+ * 10 |J^-1| (r, r), r = tol + that rounding, J = d(l, h)/d(H, V_A) by central differences
+ * on the reference quadrature. */
+static void solve_error_bound(double w, double ea, double H, double va, double L0, double tol,
+                              double *bH, double *bV)
+{
+    const double dH = 1e-4 * H;
+    const double dv = 1e-4 * (fabs(va) + H);
+    double xp, zp, xm, zm, xvp, zvp, xvm, zvm;
+    ref_point(w, ea, H + dH, va, L0, &xp, &zp);
+    ref_point(w, ea, H - dH, va, L0, &xm, &zm);
+    ref_point(w, ea, H, va + dv, L0, &xvp, &zvp);
+    ref_point(w, ea, H, va - dv, L0, &xvm, &zvm);
+    const double a = (xp - xm) / (2.0 * dH);
+    const double b = (xvp - xvm) / (2.0 * dv);
+    const double c = (zp - zm) / (2.0 * dH);
+    const double d = (zvp - zvm) / (2.0 * dv);
+    const double det = a * d - b * c;
+    const double t_max = sqrt(H * H + fmax(va * va, (va + w * L0) * (va + w * L0)));
+    const double r = tol + 4.0 * U_REAL * (t_max / w + L0);
+    *bH = 10.0 * r * (fabs(d) + fabs(b)) / fabs(det);
+    *bV = 10.0 * r * (fabs(c) + fabs(a)) / fabs(det);
+}
+#endif
+
 /* ---- Closed form ------------------------------------------------------------------------ */
 
 static void test_closed_form_matches_quadrature(void)
@@ -86,15 +116,16 @@ static void test_closed_form_matches_quadrature(void)
     const double vas[] = {-80.0, -10.0, 0.0, 25.0};
     for (size_t i = 0; i < 3; ++i) {
         for (size_t j = 0; j < 4; ++j) {
-            double l;
-            double h;
+            cdpr_real_t l;
+            cdpr_real_t h;
             double lr;
             double hr;
             TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_catenary_spans(&c, Hs[i], vas[j], 100.0, &l, &h));
             ref_point(c.w_N_per_m, c.ea_N, Hs[i], vas[j], 100.0, &lr, &hr);
-            /* Simpson with 4000 panels on a smooth integrand: < 1e-9 m on a 100 m cable. */
-            TEST_ASSERT_DOUBLE_WITHIN(1e-8, lr, l);
-            TEST_ASSERT_DOUBLE_WITHIN(1e-8, hr, h);
+            /* Simpson with 4000 panels on a smooth integrand: < 1e-9 m on a 100 m cable.
+             * float: the closed form's ~30 roundings on lengths <= 100 m, 30 u_f 100 m. */
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-8, 2e-4), lr, l);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-8, 2e-4), hr, h);
         }
     }
 }
@@ -103,18 +134,19 @@ static void test_taut_limit_is_hooke(void)
 {
     /* Nearly weightless horizontal cable: l = L0 (1 + H/EA), i.e. H = EA * strain. */
     const cdpr_catenary_cable_t c = {1e-9, 1.0e5};
-    double l;
-    double h;
+    cdpr_real_t l;
+    cdpr_real_t h;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_catenary_spans(&c, 1000.0, -0.5e-9 * 10.0, 10.0, &l, &h));
-    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 10.0 * (1.0 + 1000.0 / 1.0e5), l);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 6e-4), 10.0 * (1.0 + 1000.0 / 1.0e5), l);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.0, h);
     /* And the inverse recovers EA * strain. */
     cdpr_catenary_solver_t s;
     cdpr_catenary_solver_default(&s);
-    double H;
-    double va;
+    cdpr_real_t H;
+    cdpr_real_t va;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_catenary_solve(&c, 10.1, 0.0, 10.0, &s, &H, &va));
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6 * 1000.0, 1000.0, H);
+    /* float: the solver's span tolerance 1e-4 m over dl/dH = L0/EA = 1e-4 m/N is 1 N. */
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-6, 2e-3) * 1000.0, 1000.0, H);
 }
 
 static void test_small_sag_is_parabola(void)
@@ -126,18 +158,23 @@ static void test_small_sag_is_parabola(void)
     const double L0 = 100.0 + 8.0 / 3.0 * pow(1.0 * l * l / (8.0 * H), 2) / l;
     cdpr_catenary_solver_t s;
     cdpr_catenary_solver_default(&s);
-    double Hs;
-    double va;
+    cdpr_real_t Hs;
+    cdpr_real_t va;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_catenary_solve(&c, l, 0.0, L0, &s, &Hs, &va));
     /* Parabolic length formula L = l + 8 d^2 / (3 l) has relative error O((d/l)^2) ~ 1e-5
-     * in the length excess, so H agrees to ~1e-3 relative. */
-    TEST_ASSERT_DOUBLE_WITHIN(5e-3 * H, H, Hs);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, -0.5 * L0, va); /* symmetric: V_A = -w L0 / 2 */
-    double x;
-    double z;
+     * in the length excess, so H agrees to ~1e-3 relative.
+     * float: the excess L0 - l = 1.7e-3 m is resolved only to the solver's span tolerance
+     * (1e-4 m, 6 % of it) and ulp(100 m) = 7.6e-6 m, so H and the sag to ~3 %: 4e-2. */
+    const double rel_par = TOL(5e-3, 4e-2);
+    TEST_ASSERT_DOUBLE_WITHIN(rel_par * H, H, Hs);
+    /* float: the solver stops at its span tolerance 1e-4 m; dh/dV_A ~ L0 / H = 0.02 m/N turns
+     * that into 5e-3 N on V_A, and x moves by about the span tolerance. */
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-9, 5e-3), -0.5 * L0, va); /* symmetric: V_A = -w L0 / 2 */
+    cdpr_real_t x;
+    cdpr_real_t z;
     cdpr_catenary_point(&c, Hs, va, 0.5 * L0, &x, &z);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.5 * l, x);
-    TEST_ASSERT_DOUBLE_WITHIN(5e-3 * l * l / (8.0 * H), -l * l / (8.0 * H), z);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-9, 2e-4), 0.5 * l, x);
+    TEST_ASSERT_DOUBLE_WITHIN(rel_par * l * l / (8.0 * H), -l * l / (8.0 * H), z);
 }
 
 static void test_inverse_of_forward_is_identity(void)
@@ -150,18 +187,29 @@ static void test_inverse_of_forward_is_identity(void)
         for (size_t j = 0; j < 5; ++j) {
             const double L0 = 30.0;
             const double va = fr[j] * c.w_N_per_m * L0;
-            double l;
-            double h;
+            cdpr_real_t l;
+            cdpr_real_t h;
             TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_catenary_spans(&c, Hs[i], va, L0, &l, &h));
             cdpr_catenary_solver_t s;
             cdpr_catenary_solver_default(&s);
-            double H2;
-            double va2;
+            cdpr_real_t H2;
+            cdpr_real_t va2;
             const cdpr_status_t st = cdpr_catenary_solve(&c, l, h, L0, &s, &H2, &va2);
             TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, st, "inverse did not converge");
+#ifdef CDPR_REAL_IS_FLOAT
+            /* float: the solver stops at a span residual of 1e-4 m (its float default) on
+             * spans that float evaluates with rounding; the nearly vertical and the taut cases
+             * turn that into large force errors. Bound from the conditioning (above). */
+            double bH;
+            double bV;
+            solve_error_bound(c.w_N_per_m, c.ea_N, Hs[i], va, L0, s.tol_m, &bH, &bV);
+            TEST_ASSERT_DOUBLE_WITHIN(bH, Hs[i], H2);
+            TEST_ASSERT_DOUBLE_WITHIN(bV, va, va2);
+#else
             /* Span tolerance 1e-9 m over a Jacobian ~ L0/EA..L0/H gives ~1e-6 relative. */
             TEST_ASSERT_DOUBLE_WITHIN(1e-6 * Hs[i], Hs[i], H2);
             TEST_ASSERT_DOUBLE_WITHIN(1e-6 * (Hs[i] + fabs(va)), va, va2);
+#endif
             TEST_ASSERT_TRUE(s.iterations <= s.max_iter);
             ++n;
         }
@@ -175,8 +223,8 @@ static void test_solver_reports_failure_and_bad_input(void)
     cdpr_catenary_solver_t s;
     cdpr_catenary_solver_default(&s);
     s.max_iter = 1;
-    double H = -1.0;
-    double va = -1.0;
+    cdpr_real_t H = -1.0;
+    cdpr_real_t va = -1.0;
     /* One Newton iteration cannot reach 1e-9 m from the heuristic start on a slack cable. */
     TEST_ASSERT_EQUAL_INT(CDPR_E_NO_CONVERGENCE,
                           cdpr_catenary_solve(&c, 80.0, 10.0, 100.0, &s, &H, &va));
@@ -188,8 +236,8 @@ static void test_solver_reports_failure_and_bad_input(void)
                           cdpr_catenary_solve(&c, 10.0, INFINITY, 5.0, &s, &H, &va));
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_POSITIVE,
                           cdpr_catenary_solve(&c, 10.0, 1.0, -5.0, &s, &H, &va));
-    double l;
-    double h;
+    cdpr_real_t l;
+    cdpr_real_t h;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_POSITIVE, cdpr_catenary_spans(&c, 0.0, 1.0, 5.0, &l, &h));
 }
 
@@ -296,6 +344,11 @@ static void settle_chain(int n, double Hr, double var, settled_t *out)
 
 static void test_settled_cable_matches_catenary_with_second_order_convergence(void)
 {
+    /* float: the node forces carry rounding of EA x 2 u_f = 2.4e-3 N, ~1e-2 m/s^2 on the
+     * 0.4 kg nodes of N = 32, an order above cdpr_settle_default's float tolerance (1e-3
+     * m/s^2): cdpr_robot_settle returns CDPR_E_NO_CONVERGENCE (measured). docs/firmware.md
+     * compares the float build's static results with the double build instead. */
+    SKIP_IN_FLOAT("settling to rest needs node forces below float rounding (test_catenary.c)");
     double Hr;
     double var;
     ref_solve(RHO * G, EA, SPAN, RISE, L0, &Hr, &var);

@@ -2,11 +2,17 @@
 /// Conservation laws: with no damping and no drag the lumped-mass model is conservative, so
 /// kinetic + gravitational + elastic energy (computed here independently of the core's RHS)
 /// stays constant; with damping or drag on it never increases.
+///
+/// Float build: rtol 1e-9 is far below what float can honour (u_f = 6e-8 per step on states of
+/// tens of metres), so the float runs ask for RTOL_TIGHT = 1e-6 and RTOL_MODERATE = 1e-5. The
+/// drift then follows the integrator's local error, as in double: measured 6.3e-5 (swinging
+/// cable) and 5.5e-5 (cabin) of the energy scale on the host float build.
 #include <math.h>
 #include <string.h>
 
 #include "cdpr/robot.h"
 #include "cdpr/rkf45.h"
+#include "test_real.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -125,7 +131,7 @@ static void run(double t_end, double rtol, double *drift, double *rise, double *
     double kmax = kinetic(y);
     *drift = 0.0;
     *rise = 0.0;
-    double t = 0.0;
+    cdpr_real_t t = 0.0;
     while (t < t_end) {
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_step(&s, cdpr_robot_rhs, &robot, &t, y, t_end));
         cdpr_robot_normalize(&robot, y);
@@ -137,6 +143,13 @@ static void run(double t_end, double rtol, double *drift, double *rise, double *
     }
     *scale = kmax;
 }
+
+/* Integrator tolerances (float: see the file comment). */
+#define RTOL_TIGHT    TOL(1e-9, 1e-6)
+#define RTOL_MODERATE TOL(1e-7, 1e-5)
+/* Energy drift bound, relative to the scale: 6x the measured drift (double 1.7e-7, float
+ * 6.3e-5), still >= 1000x tighter than a wrong force term (damping alone removes > 50 %). */
+#define DRIFT_REL TOL(1e-6, 4e-4)
 
 static void build_single(double cd, double damping)
 {
@@ -165,14 +178,14 @@ static void test_swinging_cable_conserves_energy(void)
     double drift;
     double rise;
     double scale;
-    run(10.0, 1e-9, &drift, &rise, &scale);
+    run(10.0, RTOL_TIGHT, &drift, &rise, &scale);
     /* The fall converts ~500 J of potential energy into motion (scale = peak kinetic energy).
      * RKF45 at rtol 1e-9 is not symplectic; its energy drift is the accumulated local error:
      * measured 1.7e-7 of the scale here (7.7e-8 for the cabin case below). The bound 1e-6
      * leaves a 6x margin and is 1e5x tighter than the energy a missing, mis-signed or
      * mis-massed force term produces over 10 s (damping alone removes > 50 %). */
     TEST_ASSERT_TRUE(scale > 100.0);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6 * scale, 0.0, drift);
+    TEST_ASSERT_DOUBLE_WITHIN(DRIFT_REL * scale, 0.0, drift);
 }
 
 static void test_energy_never_rises_with_damping_or_drag(void)
@@ -183,13 +196,15 @@ static void test_energy_never_rises_with_damping_or_drag(void)
     /* With damping the tension jumps when a slack segment turns taut with a stretching rate
      * (T = c eps_dot at eps = 0+): a discontinuous RHS, so a moderate tolerance. */
     build_single(0.0, 170.0); /* strain-rate damping only */
-    run(5.0, 1e-7, &drift, &rise, &scale);
+    run(5.0, RTOL_MODERATE, &drift, &rise, &scale);
     TEST_ASSERT_TRUE(drift > 1e-3 * scale); /* damping does remove energy */
     TEST_ASSERT_TRUE(rise < 1e-5 * scale);  /* ... and never adds any (to integration error) */
     build_single(1.2, 0.0);                 /* aerodynamic drag only, still air */
-    run(5.0, 1e-9, &drift, &rise, &scale);
+    run(5.0, RTOL_TIGHT, &drift, &rise, &scale);
     TEST_ASSERT_TRUE(drift > 1e-4 * scale);
-    TEST_ASSERT_TRUE(rise < 1e-7 * scale);
+    /* float: the energy evaluated from float states is itself uncertain by ~u_f times the
+     * potential energy (of the order of the scale), hence 1e-5 there. */
+    TEST_ASSERT_TRUE(rise < TOL(1e-7, 1e-5) * scale);
 }
 
 /* Three cables holding a cabin with an offset centre of mass, released from slightly slack
@@ -225,9 +240,9 @@ static void test_cabin_on_three_cables_conserves_energy(void)
     double drift;
     double rise;
     double scale;
-    run(10.0, 1e-9, &drift, &rise, &scale);
+    run(10.0, RTOL_TIGHT, &drift, &rise, &scale);
     TEST_ASSERT_TRUE(scale > 100.0);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6 * scale, 0.0, drift);
+    TEST_ASSERT_DOUBLE_WITHIN(DRIFT_REL * scale, 0.0, drift);
 }
 
 int main(void)

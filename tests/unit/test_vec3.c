@@ -4,17 +4,20 @@
 /// Every expectation is computed independently in the test: rotation matrices as explicit
 /// products Rz(gamma) Ry(beta) Rx(alpha) (MODEL.md §1), Rodrigues' formula for axis-angle
 /// rotations, integer arithmetic for the hand cases, vector identities for cross and dot.
-/// The tolerances assume the default double build (CDPR_REAL_IS_FLOAT unset).
+/// The tolerances are rounding bounds derived for double; the float build scales them as
+/// tests/support/test_real.h explains (TOL).
 #include "unity.h"
 
 #include "cdpr/status.h"
 #include "cdpr/vec3.h"
+#include "test_real.h"
 
 #include <math.h>
 #include <string.h>
 
-/* Unit round-off of IEEE double (2^-53). */
-#define U_DBL 1.1102230246251565e-16
+/* Slack on the angle ranges: atan2/asin of the real type may return pi (resp. pi/2) rounded
+ * to that type, which exceeds the exact value by up to half an ulp (float: 8.7e-8 at pi). */
+#define PI_SLACK TOL(1e-15, 2e-7)
 
 /* pi (PI_D is not C99). */
 #define PI_D 3.14159265358979323846
@@ -137,7 +140,7 @@ static void test_quat_from_euler_matches_explicit_matrix_product(void)
                 const mat_t expected = euler_matrix(a, b, g);
                 cdpr_mat3_t r;
                 cdpr_quat_to_mat3(cdpr_quat_from_euler(a, b, g), &r);
-                ASSERT_MAT_WITHIN(1e-14, &expected, &r);
+                ASSERT_MAT_WITHIN(TOL(1e-14, 6e-6), &expected, &r);
             }
         }
     }
@@ -151,7 +154,7 @@ static void test_quat_from_euler_is_unit(void)
             const cdpr_quat_t q =
                 cdpr_quat_from_euler(grid_ag[ia], grid_b[ib], grid_ag[N_AG - 1 - ia]);
             const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
-            TEST_ASSERT_DOUBLE_WITHIN(2e-15, 1.0, n2);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(2e-15, 2e-6), 1.0, n2);
         }
     }
 }
@@ -168,9 +171,9 @@ static void test_euler_round_trip_over_grid(void)
                 const double a = grid_ag[ia], b = grid_b[ib], g = grid_ag[ig];
                 cdpr_real_t a2 = 99.0, b2 = 99.0, g2 = 99.0;
                 cdpr_quat_to_euler(cdpr_quat_from_euler(a, b, g), &a2, &b2, &g2);
-                TEST_ASSERT_DOUBLE_WITHIN(1e-12, a, a2);
-                TEST_ASSERT_DOUBLE_WITHIN(1e-12, b, b2);
-                TEST_ASSERT_DOUBLE_WITHIN(1e-12, g, g2);
+                TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 6e-4), a, a2);
+                TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 6e-4), b, b2);
+                TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 6e-4), g, g2);
             }
         }
     }
@@ -191,13 +194,13 @@ static void test_quat_to_euler_to_quat_same_rotation(void)
         q.z = qs[i][3];
         cdpr_real_t a, b, g;
         cdpr_quat_to_euler(q, &a, &b, &g);
-        TEST_ASSERT_TRUE(a > -PI_D - 1e-15 && a <= PI_D + 1e-15);
-        TEST_ASSERT_TRUE(b >= -PI_D / 2.0 - 1e-15 && b <= PI_D / 2.0 + 1e-15);
-        TEST_ASSERT_TRUE(g > -PI_D - 1e-15 && g <= PI_D + 1e-15);
+        TEST_ASSERT_TRUE(a > -PI_D - PI_SLACK && a <= PI_D + PI_SLACK);
+        TEST_ASSERT_TRUE(b >= -PI_D / 2.0 - PI_SLACK && b <= PI_D / 2.0 + PI_SLACK);
+        TEST_ASSERT_TRUE(g > -PI_D - PI_SLACK && g <= PI_D + PI_SLACK);
         const mat_t expected = euler_matrix(a, b, g);
         cdpr_mat3_t r;
         cdpr_quat_to_mat3(cdpr_quat_normalize(q), &r);
-        ASSERT_MAT_WITHIN(1e-13, &expected, &r);
+        ASSERT_MAT_WITHIN(TOL(1e-13, 6e-5), &expected, &r);
     }
 }
 
@@ -219,7 +222,7 @@ static void test_quat_to_mat3_axis_angle_matches_rodrigues(void)
             const mat_t expected = rodrigues(axes[i][0], axes[i][1], axes[i][2], th);
             cdpr_mat3_t r;
             cdpr_quat_to_mat3(q, &r);
-            ASSERT_MAT_WITHIN(1e-14, &expected, &r);
+            ASSERT_MAT_WITHIN(TOL(1e-14, 6e-6), &expected, &r);
         }
     }
 }
@@ -237,7 +240,7 @@ static void test_quat_mul_composes_rotations(void)
     const mat_t ma = from_cdpr(&ra);
     const mat_t mb = from_cdpr(&rb);
     const mat_t expected = mat_mul(&ma, &mb);
-    ASSERT_MAT_WITHIN(1e-14, &expected, &rab);
+    ASSERT_MAT_WITHIN(TOL(1e-14, 6e-6), &expected, &rab);
 }
 
 static void test_quat_mul_hand_case(void)
@@ -278,10 +281,10 @@ static void test_quat_normalize(void)
      * fl(1/5): two roundings, <= 2 u relative on values <= 0.8, so within 4e-16. */
     const cdpr_quat_t q = {1.0, 2.0, 2.0, 4.0};
     const cdpr_quat_t n = cdpr_quat_normalize(q);
-    TEST_ASSERT_DOUBLE_WITHIN(4e-16, 0.2, n.w);
-    TEST_ASSERT_DOUBLE_WITHIN(4e-16, 0.4, n.x);
-    TEST_ASSERT_DOUBLE_WITHIN(4e-16, 0.4, n.y);
-    TEST_ASSERT_DOUBLE_WITHIN(4e-16, 0.8, n.z);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(4e-16, 3e-7), 0.2, n.w);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(4e-16, 3e-7), 0.4, n.x);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(4e-16, 3e-7), 0.4, n.y);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(4e-16, 3e-7), 0.8, n.z);
     /* A NaN norm fails the "n > 0" test like a zero norm does: the documented identity. */
     const cdpr_quat_t bad = {NAN, 0.0, 0.0, 0.0};
     const cdpr_quat_t nb = cdpr_quat_normalize(bad);
@@ -303,13 +306,13 @@ static void test_rotation_matrix_is_orthonormal(void)
                 for (int k = 0; k < 3; ++k) {
                     s += r.m[i][k] * r.m[j][k];
                 }
-                TEST_ASSERT_DOUBLE_WITHIN(1e-14, (i == j) ? 1.0 : 0.0, s);
+                TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 6e-6), (i == j) ? 1.0 : 0.0, s);
             }
         }
         const double det = r.m[0][0] * (r.m[1][1] * r.m[2][2] - r.m[1][2] * r.m[2][1]) -
                            r.m[0][1] * (r.m[1][0] * r.m[2][2] - r.m[1][2] * r.m[2][0]) +
                            r.m[0][2] * (r.m[1][0] * r.m[2][1] - r.m[1][1] * r.m[2][0]);
-        TEST_ASSERT_DOUBLE_WITHIN(1e-14, 1.0, det);
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 6e-6), 1.0, det);
     }
 }
 
@@ -360,19 +363,19 @@ static void test_cross_dot_identities(void)
             TEST_ASSERT_DOUBLE_WITHIN(0.0, -axb.z, bxa.z);
             /* a . (a x b) = 0 and b . (a x b) = 0: each term is |a|^2 |b| sized with a few
              * roundings; tolerance 8 u |a|^2 |b| (resp. |a| |b|^2). */
-            TEST_ASSERT_DOUBLE_WITHIN(8.0 * U_DBL * na * na * nb, 0.0, cdpr_v3_dot(a, axb));
-            TEST_ASSERT_DOUBLE_WITHIN(8.0 * U_DBL * na * nb * nb, 0.0, cdpr_v3_dot(b, axb));
+            TEST_ASSERT_DOUBLE_WITHIN(8.0 * U_REAL * na * na * nb, 0.0, cdpr_v3_dot(a, axb));
+            TEST_ASSERT_DOUBLE_WITHIN(8.0 * U_REAL * na * nb * nb, 0.0, cdpr_v3_dot(b, axb));
             /* Lagrange: |a x b|^2 = |a|^2 |b|^2 - (a.b)^2; both sides are |a|^2 |b|^2 sized
              * with ~10 roundings: tolerance 16 u |a|^2 |b|^2. */
             const double ab = cdpr_v3_dot(a, b);
             const double lhs = cdpr_v3_dot(axb, axb);
             const double rhs = na * na * nb * nb - ab * ab;
-            TEST_ASSERT_DOUBLE_WITHIN(16.0 * U_DBL * na * na * nb * nb, rhs, lhs);
+            TEST_ASSERT_DOUBLE_WITHIN(16.0 * U_REAL * na * na * nb * nb, rhs, lhs);
             /* BAC-CAB: a x (b x c) = b (a.c) - c (a.b); terms |a||b||c| sized: 16 u. */
             const cdpr_vec3_t l = cdpr_v3_cross(a, cdpr_v3_cross(b, c));
             const cdpr_vec3_t r = cdpr_v3_sub(cdpr_v3_scale(b, cdpr_v3_dot(a, c)),
                                               cdpr_v3_scale(c, cdpr_v3_dot(a, b)));
-            const double tol = 16.0 * U_DBL * na * nb * nc;
+            const double tol = 16.0 * U_REAL * na * nb * nc;
             TEST_ASSERT_DOUBLE_WITHIN(tol, r.x, l.x);
             TEST_ASSERT_DOUBLE_WITHIN(tol, r.y, l.y);
             TEST_ASSERT_DOUBLE_WITHIN(tol, r.z, l.z);
@@ -382,7 +385,8 @@ static void test_cross_dot_identities(void)
 
 static void test_v3_isfinite(void)
 {
-    TEST_ASSERT_EQUAL_INT(1, cdpr_v3_isfinite(cdpr_v3(1.0, -2.0, 1e300)));
+    /* A large finite value of the real type (1e300 overflows float). */
+    TEST_ASSERT_EQUAL_INT(1, cdpr_v3_isfinite(cdpr_v3(1.0, -2.0, TOL(1e300, 1e38))));
     TEST_ASSERT_EQUAL_INT(0, cdpr_v3_isfinite(cdpr_v3(NAN, 0.0, 0.0)));
     TEST_ASSERT_EQUAL_INT(0, cdpr_v3_isfinite(cdpr_v3(0.0, INFINITY, 0.0)));
     TEST_ASSERT_EQUAL_INT(0, cdpr_v3_isfinite(cdpr_v3(0.0, 0.0, -INFINITY)));
@@ -416,7 +420,7 @@ static void test_mat_inverse_hand_case(void)
                              {3.0 / 9.0, -6.0 / 9.0, 3.0 / 9.0}}};
     cdpr_mat3_t inv;
     TEST_ASSERT_EQUAL_INT(0, cdpr_m3_inverse(&m, 0.0, &inv));
-    ASSERT_MAT_WITHIN(1e-15, &expected, &inv);
+    ASSERT_MAT_WITHIN(TOL(1e-15, 6e-7), &expected, &inv);
     /* m * inv = I, independent of the adjugate above: 3-term sums of ~1e-15-accurate
      * products of size <= 10: 1e-13. */
     const mat_t mm = from_cdpr(&m);
@@ -424,7 +428,7 @@ static void test_mat_inverse_hand_case(void)
     const mat_t prod = mat_mul(&mm, &mi);
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            TEST_ASSERT_DOUBLE_WITHIN(1e-13, (i == j) ? 1.0 : 0.0, prod.m[i][j]);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-13, 6e-5), (i == j) ? 1.0 : 0.0, prod.m[i][j]);
         }
     }
 }
@@ -441,7 +445,7 @@ static void test_mat_inverse_general(void)
     /* Condition number ~2: s * inv = I within ~20 u * cond: 1e-14. */
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            TEST_ASSERT_DOUBLE_WITHIN(1e-14, (i == j) ? 1.0 : 0.0, prod.m[i][j]);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 6e-6), (i == j) ? 1.0 : 0.0, prod.m[i][j]);
         }
     }
     cdpr_mat3_t r;
@@ -450,7 +454,7 @@ static void test_mat_inverse_general(void)
     /* inverse of a rotation is its transpose: entries within ~20 u: 1e-14. */
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            TEST_ASSERT_DOUBLE_WITHIN(1e-14, r.m[j][i], inv.m[i][j]);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 6e-6), r.m[j][i], inv.m[i][j]);
         }
     }
 }

@@ -9,6 +9,7 @@
 #include "cdpr/rkf45.h"
 #include "cdpr/settle.h"
 #include "cdpr/winch.h"
+#include "test_real.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -44,8 +45,9 @@ static void build_with(int n, double length, double damping)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_place_straight(&robot, &m, y));
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
-    sp.rtol = 1e-7;
-    sp.atol = 1e-8;
+    /* float: requests float can honour on coordinates of ~20 m (u_f |y| = 1.2e-6). */
+    sp.rtol = TOL(1e-7, 1e-5);
+    sp.atol = TOL(1e-8, 1e-5);
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),
                                           CDPR_ROBOT_STATE_MAX, robot.dim, NULL));
@@ -103,7 +105,7 @@ static void run(double u, double seconds, cdpr_node_stats_t *ns, event_check_t *
 {
     robot.in.payout_m_per_s[0] = u;
     const int periods = (int)lround(seconds / 0.01);
-    double t = 0.0;
+    cdpr_real_t t = 0.0;
     for (int k = 0; k < periods; ++k) {
         const cdpr_status_t st =
             cdpr_rkf45_advance(&solver, cdpr_robot_rhs, &robot, &t, y, 0.01, 400);
@@ -149,8 +151,18 @@ static void settle(void)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_settle(&robot, &solver, y, scratch, &cfg));
 }
 
+/* Why the float build skips the two settled cases below: the node forces carry rounding of
+ * EA x 2 u_f = 2.4e-4 N per segment, ~1.4e-3 m/s^2 on 0.35 kg nodes (7e-3 on the 0.07 kg
+ * nodes of the capacity case), above cdpr_settle_default's float tolerance of 1e-3 m/s^2, so
+ * the settled start never converges (measured: CDPR_E_NO_CONVERGENCE). With a looser
+ * tolerance the round trip still cannot count events exactly: 20 m is exactly 8 Delta, and
+ * the payout integrated in float ends 3e-4 m short of the 8th insertion threshold. */
+#define SKIP_SETTLED_IN_FLOAT()                                                                    \
+    SKIP_IN_FLOAT("settling to rest needs node forces below float rounding (test_winch.c)")
+
 static void test_payout_and_haul_in_round_trip(void)
 {
+    SKIP_SETTLED_IN_FLOAT();
     build(N0, L0);
     const int dim0 = robot.dim;
     cdpr_node_stats_t ns;
@@ -195,6 +207,7 @@ static void test_payout_and_haul_in_round_trip(void)
 
 static void test_capacity_reached_keeps_running_with_warning(void)
 {
+    SKIP_SETTLED_IN_FLOAT();
     build(CDPR_MAX_SEGMENTS - 1, (CDPR_MAX_SEGMENTS - 1) * 0.5); /* Delta = 0.5 m */
     cdpr_node_stats_t ns;
     memset(&ns, 0, sizeof ns);
@@ -227,7 +240,10 @@ static void test_single_segment_cable_grows_from_the_cabin_node(void)
     run(-0.5, 44.0, &ns, &ec, &warn);
     TEST_ASSERT_EQUAL_INT(1, robot.cable[0].n);
     TEST_ASSERT_EQUAL_INT(CDPR_CABIN_STATE_DIM + 1, robot.dim);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 21.0, total_length());
+    /* d lu/dt = u is integrated exactly, but float rounds lu (<= 43 m: u_f lu = 2.6e-6) once
+     * per accepted step: bound (accepted steps) x 2 u_f x 43 m (test_real.h). */
+    const double tol_len = TOL(1e-9, (double)solver.stats.steps_accepted * 2.0 * U_REAL * 43.0);
+    TEST_ASSERT_DOUBLE_WITHIN(tol_len, 21.0, total_length());
 }
 
 static void test_winch_rate_and_acceleration_limits(void)
@@ -274,7 +290,9 @@ static void test_winch_length_mode_and_minimum_length(void)
         L += w.u_m_per_s * 0.01;
     }
     TEST_ASSERT_EQUAL_INT(CDPR_WARN_MIN_LENGTH, st);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 10.0, L);
+    /* float: L reaches the core rounded to float (u_f x 10 m = 6e-7) and the stopping rate
+     * carries one more rounding: 2e-6. */
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 2e-6), 10.0, L);
     TEST_ASSERT_EQUAL_INT(1, w.at_min_length);
     TEST_ASSERT_EQUAL_INT(CDPR_WARN_MIN_LENGTH, cdpr_winch_update(&w, L, 0.01));
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.0, w.u_m_per_s);

@@ -1,0 +1,299 @@
+/// @file main.c
+/// Minimal bare-metal integration of the cdpr core: what a winch-controller firmware links and
+/// calls. Built only by the cortex-m7 and cortex-m4 presets; ctest runs it under QEMU.
+///
+/// - The model (the 50 m robot of PARAMETERS.md: six cables of 16 segments between exit points
+///   on a 25 m circle at 30 m and a 40 kg cabin) comes from a compiled-in configuration. The
+///   start is the static equilibrium at the home pose: sag-aware inverse kinematics gives the
+///   unstretched lengths, and the cables start on their catenaries, at rest.
+/// - Every object is a static of known size (docs/firmware.md): nothing is allocated.
+/// - A periodic interrupt (SysTick, 1 kHz) only counts ticks; the main loop runs one control
+///   period per tick outside the interrupt: winch updates, one bounded cdpr_rkf45_advance of
+///   exactly dt, quaternion renormalisation, node events, outputs for telemetry.
+///
+/// Under QEMU with `-icount shift=0` the virtual clock advances 1 ns per executed instruction,
+/// so SysTick's counter measures instructions; the program calibrates that against a loop of
+/// known length and prints the instructions per control period (docs/firmware.md). The exit
+/// status is 0 when the run ends taut, finite and without integrator errors.
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "cdpr/rkf45.h"
+#include "cdpr/robot.h"
+#include "cdpr/statics.h"
+#include "cdpr/status.h"
+#include "cdpr/winch.h"
+
+/* ---- Compiled-in configuration -------------------------------------------------------- */
+
+#define N_CABLES       6
+#define N_SEGMENTS     16
+#define N_PERIODS      200 /* 0.2 s of simulated time */
+#define MAX_TRIALS     40  /* work bound per period: 6 x 40 RHS evaluations */
+#define SYSTICK_HZ     1000
+#define CPU_CLOCK_HZ   25000000u /* QEMU's MPS2 boards clock SysTick at 25 MHz */
+#define SYSTICK_RELOAD (CPU_CLOCK_HZ / SYSTICK_HZ)
+
+#if CDPR_MAX_CABLES < N_CABLES || CDPR_MAX_SEGMENTS < N_SEGMENTS
+#error "the example needs CDPR_MAX_CABLES >= 6 and CDPR_MAX_SEGMENTS >= 16"
+#endif
+
+static const cdpr_real_t DT_S = CDPR_R(0.001); /* control period [s] */
+
+/* Pulley exit points [m] (radius 25 m, azimuths 0, 60, ..., 300 deg, height 30 m) and cabin
+ * attachments in body axes [m] (radius 2 m at 25, 35, 145, 155, 265, 275 deg, 0.5 m below the
+ * origin). The cabin's home pose: 9.135 m above the ground, level. */
+static const cdpr_real_t EXIT_M[N_CABLES][3] = {{CDPR_R(25.0), CDPR_R(0.0), CDPR_R(30.0)},
+                                                {CDPR_R(12.5), CDPR_R(21.6506), CDPR_R(30.0)},
+                                                {CDPR_R(-12.5), CDPR_R(21.6506), CDPR_R(30.0)},
+                                                {CDPR_R(-25.0), CDPR_R(0.0), CDPR_R(30.0)},
+                                                {CDPR_R(-12.5), CDPR_R(-21.6506), CDPR_R(30.0)},
+                                                {CDPR_R(12.5), CDPR_R(-21.6506), CDPR_R(30.0)}};
+static const cdpr_real_t ATTACH_M[N_CABLES][3] = {
+    {CDPR_R(1.81262), CDPR_R(0.84524), CDPR_R(-0.5)},
+    {CDPR_R(1.6383), CDPR_R(1.14715), CDPR_R(-0.5)},
+    {CDPR_R(-1.6383), CDPR_R(1.14715), CDPR_R(-0.5)},
+    {CDPR_R(-1.81262), CDPR_R(0.84524), CDPR_R(-0.5)},
+    {CDPR_R(-0.17431), CDPR_R(-1.99239), CDPR_R(-0.5)},
+    {CDPR_R(0.17431), CDPR_R(-1.99239), CDPR_R(-0.5)}};
+static const cdpr_real_t CHORD_M = CDPR_R(31.541); /* initial guess only: the IK sets L */
+static const cdpr_real_t CABIN_Z_M = CDPR_R(9.135);
+/* Winch commands: a slow payout on two opposite cables, haul-in on two others [m/s]. */
+static const cdpr_real_t RATE_CMD_M_PER_S[N_CABLES] = {CDPR_R(0.02), CDPR_R(0.0), CDPR_R(-0.02),
+                                                       CDPR_R(0.02), CDPR_R(0.0), CDPR_R(-0.02)};
+
+/* Integrator tolerances [relative; m, m/s, rad/s]. float resolves the strain of these stiff
+ * cables (EA = 2 MN) only to ~1e-7, i.e. 0.24 N of tension noise per segment; asking for less
+ * than 1e-4 makes the step controller chase that noise (docs/firmware.md). The statics solver
+ * defaults are set for double, so the float build states its own. */
+#ifdef CDPR_REAL_IS_FLOAT
+#define RTOL            CDPR_R(1e-4)
+#define ATOL            CDPR_R(1e-4)
+#define STATICS_FORCE_N CDPR_R(1e-2)
+#define STATICS_SPAN_M  CDPR_R(1e-4)
+#else
+#define RTOL            CDPR_R(1e-6)
+#define ATOL            CDPR_R(1e-6)
+#define STATICS_FORCE_N CDPR_R(1e-7)
+#define STATICS_SPAN_M  CDPR_R(1e-10)
+#endif
+
+/* ---- The model: static, caller-owned objects (sizes in docs/firmware.md) -------------- */
+
+static cdpr_robot_t robot;
+static cdpr_winch_t winch[N_CABLES];
+static cdpr_rkf45_t solver;
+static cdpr_node_stats_t node_stats;
+static cdpr_robot_out_t out;
+static cdpr_real_t y[CDPR_ROBOT_STATE_MAX];
+static cdpr_real_t atol[CDPR_ROBOT_STATE_MAX];
+static cdpr_real_t work[CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX];
+static cdpr_real_t t_s;
+
+/* ---- SysTick: the periodic call and the instruction counter --------------------------- */
+
+#define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
+#define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
+#define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
+
+static volatile uint32_t ticks;
+
+void SysTick_Handler(void); /* overrides the weak one of tests/target/startup.c */
+void SysTick_Handler(void)
+{
+    ticks++;
+}
+
+/* SysTick clock periods since start: tick count and down-counter read consistently. */
+static uint64_t now_clocks(void)
+{
+    uint32_t before;
+    uint32_t value;
+    uint32_t after;
+    do {
+        before = ticks;
+        value = SYST_CVR;
+        after = ticks;
+    } while (before != after || value == 0u);
+    return (uint64_t)before * SYSTICK_RELOAD + (SYSTICK_RELOAD - 1u - value);
+}
+
+/* 2 instructions per iteration (subs, bne): a loop of known length for the calibration. */
+static void spin(uint32_t n)
+{
+    __asm__ volatile("1: subs %0, %0, #1\n\tbne 1b" : "+r"(n) : : "cc");
+}
+
+/* ---- Initialisation from the compiled-in configuration -------------------------------- */
+
+static cdpr_robot_params_t params;
+static cdpr_statics_result_t home;
+
+static int init_model(void)
+{
+    cdpr_robot_params_default(&params);
+    params.n_cables = N_CABLES;
+    for (int j = 0; j < N_CABLES; ++j) {
+        cdpr_robot_cable_params_t *c = &params.cables[j];
+        c->exit_point_m = cdpr_v3(EXIT_M[j][0], EXIT_M[j][1], EXIT_M[j][2]);
+        c->attach_body_m = cdpr_v3(ATTACH_M[j][0], ATTACH_M[j][1], ATTACH_M[j][2]);
+        c->n_segments = N_SEGMENTS;
+        c->length_m = CHORD_M;
+    }
+    cdpr_diag_t d;
+    cdpr_status_t st = cdpr_robot_init(&robot, &params, &d);
+    if (st != CDPR_OK) {
+        printf("robot init: %s at %s[%d]\n", cdpr_status_str(st), d.field, d.index);
+        return -1;
+    }
+    /* Home pose at rest: the IK gives the unstretched lengths that hold it; re-initialise
+     * with those and start on the catenaries. */
+    const cdpr_cabin_motion_t m = {{CDPR_R(0.0), CDPR_R(0.0), CABIN_Z_M},
+                                   {CDPR_R(1.0), CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)},
+                                   {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)},
+                                   {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)}};
+    cdpr_statics_opts_t so;
+    cdpr_statics_opts_default(&so);
+    so.force_tol_N = STATICS_FORCE_N;
+    so.span_tol_m = STATICS_SPAN_M;
+    st = cdpr_statics_ik(&robot, &m, &so, &home);
+    if (st != CDPR_OK) {
+        printf("statics: %s\n", cdpr_status_str(st));
+        return -1;
+    }
+    for (int j = 0; j < N_CABLES; ++j) {
+        params.cables[j].length_m = home.cable[j].length_m;
+    }
+    st = cdpr_robot_init(&robot, &params, &d);
+    if (st == CDPR_OK) {
+        st = cdpr_robot_place_catenary(&robot, &home, y);
+    }
+    if (st != CDPR_OK) {
+        printf("placement: %s\n", cdpr_status_str(st));
+        return -1;
+    }
+    cdpr_winch_params_t wp;
+    cdpr_winch_params_default(&wp);
+    for (int j = 0; j < N_CABLES; ++j) {
+        st = cdpr_winch_init(&winch[j], &wp, &d);
+        if (st == CDPR_OK) {
+            st = cdpr_winch_command(&winch[j], CDPR_WINCH_RATE, RATE_CMD_M_PER_S[j]);
+        }
+        if (st != CDPR_OK) {
+            printf("winch %d: %s\n", j, cdpr_status_str(st));
+            return -1;
+        }
+    }
+    cdpr_robot_fill_atol(&robot, ATOL, ATOL, ATOL, ATOL, atol);
+    cdpr_rkf45_params_t sp;
+    cdpr_rkf45_params_default(&sp);
+    sp.rtol = RTOL;
+    sp.atol_vec = atol;
+    st = cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),
+                         CDPR_ROBOT_STATE_MAX, robot.dim, &d);
+    if (st != CDPR_OK) {
+        printf("rkf45 init: %s at %s\n", cdpr_status_str(st), d.field);
+        return -1;
+    }
+    t_s = CDPR_R(0.0);
+    return 0;
+}
+
+/* ---- One control period: what the periodic task of a winch controller calls ---------- */
+
+static cdpr_status_t control_period(void)
+{
+    /* Winch commands -> payout rates for this period (speed/acceleration limits). */
+    for (int j = 0; j < N_CABLES; ++j) {
+        const cdpr_real_t len = cdpr_cable_total_length(&robot.cable[j], y + robot.offset[j]);
+        (void)cdpr_winch_update(&winch[j], len, DT_S); /* CDPR_WARN_MIN_LENGTH is a state */
+        robot.in.payout_m_per_s[j] = winch[j].u_m_per_s;
+    }
+    /* Exactly dt, at most MAX_TRIALS trials; on error y and t are unchanged. */
+    const cdpr_status_t st =
+        cdpr_rkf45_advance(&solver, cdpr_robot_rhs, &robot, &t_s, y, DT_S, MAX_TRIALS);
+    if (st < 0) {
+        return st;
+    }
+    cdpr_robot_normalize(&robot, y);
+    /* Node insertion/removal at the pulleys; the state dimension may change. */
+    int changed = 0;
+    (void)cdpr_robot_node_events(&robot, t_s, y, &node_stats, &changed);
+    if (changed != 0) {
+        (void)cdpr_rkf45_set_dim(&solver, robot.dim);
+        cdpr_robot_fill_atol(&robot, ATOL, ATOL, ATOL, ATOL, atol);
+    }
+    /* Cabin force and end tensions for telemetry / the controller. */
+    cdpr_robot_outputs(&robot, t_s, y, &out);
+    return st;
+}
+
+int main(void)
+{
+    if (init_model() != 0) {
+        return 1;
+    }
+    SYST_RVR = SYSTICK_RELOAD - 1u;
+    SYST_CVR = 0u;
+    SYST_CSR = 0x7u; /* processor clock, interrupt, enable */
+
+    /* Calibration: clocks for a loop of 2 x 100000 instructions. */
+    const uint64_t c0 = now_clocks();
+    spin(100000u);
+    const uint64_t c1 = now_clocks();
+    const uint64_t per_calib = c1 - c0;
+
+    uint64_t clocks_max = 0u;
+    uint64_t clocks_sum = 0u;
+    uint32_t overruns = 0u;
+    uint32_t warnings = 0u;
+    uint32_t last = ticks;
+    for (int k = 0; k < N_PERIODS; ++k) {
+        while (ticks == last) {
+            __asm__ volatile("wfi");
+        }
+        overruns += (ticks - last > 1u) ? 1u : 0u;
+        last = ticks;
+        const uint64_t s0 = now_clocks();
+        const cdpr_status_t st = control_period();
+        const uint64_t s1 = now_clocks();
+        if (st < 0) {
+            printf("period %d: %s\n", k, cdpr_status_str(st));
+            return 1;
+        }
+        warnings += (st > 0) ? 1u : 0u;
+        clocks_sum += s1 - s0;
+        clocks_max = (s1 - s0 > clocks_max) ? s1 - s0 : clocks_max;
+    }
+    SYST_CSR = 0u;
+
+    /* Integers only: newlib-nano's printf has no floating point unless asked for. */
+    int ok = 1;
+    for (int i = 0; i < robot.dim; ++i) {
+        ok = (isfinite(y[i]) != 0) ? ok : 0;
+    }
+    printf("cdpr firmware example: %d cables x %d segments, %s, %d periods of 1 ms\n", N_CABLES,
+           N_SEGMENTS, (sizeof(cdpr_real_t) == 4u) ? "float" : "double", N_PERIODS);
+    printf("cabin z: %ld mm, state dim %d, rhs evals %lu, substep-limit periods %lu\n",
+           (long)lroundf((float)(y[CDPR_CABIN_P + 2] * CDPR_R(1000.0))), robot.dim,
+           solver.stats.rhs_evals, (unsigned long)warnings);
+    for (int j = 0; j < N_CABLES; ++j) {
+        const long tc = (long)lroundf((float)out.tension_cabin_N[j]);
+        const long tw = (long)lroundf((float)out.tension_winch_N[j]);
+        printf("cable %d: tension cabin %ld N, winch %ld N, payout %ld mm/s\n", j, tc, tw,
+               (long)lroundf((float)(winch[j].u_m_per_s * CDPR_R(1000.0))));
+        ok = (out.tension_cabin_N[j] > CDPR_R(0.0)) ? ok : 0; /* taut, as configured */
+    }
+    /* With -icount shift=0: 1 instruction = 1 ns of virtual time; the calibration loop is
+     * 200000 instructions, so instructions = clocks x 200000 / per_calib. */
+    if (per_calib > 0u) {
+        printf("instructions per control period (valid under -icount shift=0): "
+               "mean %lu, max %lu (calibration %lu clocks / 200000 instructions)\n",
+               (unsigned long)(clocks_sum * 200000u / per_calib / N_PERIODS),
+               (unsigned long)(clocks_max * 200000u / per_calib), (unsigned long)per_calib);
+    }
+    printf("overruns of the 1 ms tick: %lu\n", (unsigned long)overruns);
+    printf("%s\n", (ok != 0) ? "OK" : "FAILED");
+    return (ok != 0) ? 0 : 1;
+}
