@@ -1,0 +1,31 @@
+/// @file csv.h
+/// Minimal CSV writer for time series: a header row of column names, then rows of numbers
+/// printed with %.17g (round-trip exact, so two runs' files are byte-identical exactly when
+/// their values are bit-identical). Write errors are remembered and reported at close.
+#ifndef CDPR_CSV_H
+#define CDPR_CSV_H
+
+#include <stdio.h>
+
+typedef struct {
+    FILE *f;    ///< open file (internal)
+    int col;    ///< fields written in the current row (internal)
+    int failed; ///< a write failed (output)
+} cdpr_csv_t;
+
+/// Open `path` for writing. Returns 0, or -1 (errno set by fopen).
+int cdpr_csv_open(cdpr_csv_t *c, const char *path);
+
+/// One header field (a column name).
+void cdpr_csv_name(cdpr_csv_t *c, const char *name);
+
+/// One numeric field.
+void cdpr_csv_num(cdpr_csv_t *c, double v);
+
+/// End the current row.
+void cdpr_csv_end_row(cdpr_csv_t *c);
+
+/// Close. Returns 0, or -1 if any write (or the close) failed.
+int cdpr_csv_close(cdpr_csv_t *c);
+
+#endif /* CDPR_CSV_H */

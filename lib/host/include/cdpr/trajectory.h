@@ -1,0 +1,57 @@
+/// @file trajectory.h
+/// Desired cabin trajectories of the scenarios (MODEL.md §7): the paper's circle and line,
+/// and a hold. Poses are (x, y, z [m], α, β, γ [rad]) with R = Rz(γ) Ry(β) Rx(α).
+///
+/// - hold:   a fixed pose.
+/// - circle: horizontal circle, centre c, radius r, constant attitude; the path length
+///           s(t) grows at `speed` (reached after an optional linear speed ramp of ramp_s);
+///           angle θ(t) = θ0 + dir s(t)/r, dir = +1 counter-clockwise seen from above (+z).
+/// - line:   every coordinate linear in time from `from` to `to` over duration_s, then held;
+///           optionally back to `from` after pause_s (deployment and retrieval).
+///
+/// Pure functions of t; no allocation.
+#ifndef CDPR_TRAJECTORY_H
+#define CDPR_TRAJECTORY_H
+
+#include "cdpr/cabin.h"
+
+/// Trajectory kinds.
+typedef enum { CDPR_TRAJ_HOLD = 0, CDPR_TRAJ_CIRCLE = 1, CDPR_TRAJ_LINE = 2 } cdpr_traj_type_t;
+
+/// Trajectory parameters (inputs).
+typedef struct {
+    cdpr_traj_type_t type;
+    double hold_pose[6]; ///< hold: the pose
+    /* circle */
+    double centre_m[3];     ///< circle centre [m]
+    double radius_m;        ///< radius [m] (> 0)
+    double speed_m_per_s;   ///< path speed [m/s] (>= 0)
+    double start_angle_rad; ///< θ0: start point c + r (cos θ0, sin θ0, 0)
+    double direction;       ///< +1 counter-clockwise seen from above, -1 clockwise
+    double ramp_s;          ///< speed ramp from 0 [s] (>= 0; 0 = the paper's step)
+    double attitude_rad[3]; ///< constant α, β, γ [rad]
+    /* line */
+    double from[6];     ///< start pose
+    double to[6];       ///< end pose
+    double duration_s;  ///< time from `from` to `to` [s] (> 0)
+    double pause_s;     ///< wait at `to` before returning [s] (>= 0)
+    int back_and_forth; ///< 1: return to `from` after the pause
+} cdpr_traj_t;
+
+/// Desired state at one instant (outputs).
+typedef struct {
+    double pose[6];             ///< x, y, z [m], α, β, γ [rad]
+    double rate[6];             ///< time derivative of pose [m/s, rad/s]
+    cdpr_cabin_motion_t motion; ///< p, q, v (world), ω (body axes)
+} cdpr_traj_sample_t;
+
+/// Evaluate the trajectory at t [s] (t < 0 gives the start, at rest).
+void cdpr_traj_eval(const cdpr_traj_t *tr, double t_s, cdpr_traj_sample_t *out);
+
+/// Body-axes angular velocity for Euler angles `euler` and their rates (R = Rz Ry Rx).
+cdpr_vec3_t cdpr_euler_rates_to_body(const double euler[3], const double rates[3]);
+
+/// Time at which the trajectory stops moving [s] (circle: never, returns +Inf).
+double cdpr_traj_end_time(const cdpr_traj_t *tr);
+
+#endif /* CDPR_TRAJECTORY_H */

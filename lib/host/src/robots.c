@@ -1,0 +1,162 @@
+/// @file robots.c
+/// PARAMETERS.md sets A and B; docs/robots.md gives every value's tag and source.
+#include "cdpr/robots.h"
+
+#include <math.h>
+#include <string.h>
+
+static const double PI = 3.14159265358979323846;
+
+const char *cdpr_robot_preset_name(cdpr_robot_preset_t preset)
+{
+    switch (preset) {
+    case CDPR_PRESET_PAPER_50M:
+        return "paper-50m";
+    case CDPR_PRESET_FAST:
+        return "fast";
+    default:
+        return "unknown";
+    }
+}
+
+/* Six towers at (j-1) 60 deg; attachments in twisted pairs at +-5 deg about 30, 150, 270 deg
+ * (PARAMETERS.md "Pitfalls": radial attachments leave yaw without static stiffness). */
+static void hexagon(cdpr_robot_config_t *c)
+{
+    static const double attach_deg[CDPR_ROBOT_CABLES] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
+    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
+        c->exit_azimuth_deg[j] = 60.0 * (double)j;
+        c->attach_azimuth_deg[j] = attach_deg[j];
+    }
+}
+
+cdpr_status_t cdpr_robot_config_preset(cdpr_robot_preset_t preset, cdpr_robot_config_t *cfg)
+{
+    if (cfg == NULL || (preset != CDPR_PRESET_PAPER_50M && preset != CDPR_PRESET_FAST)) {
+        return CDPR_E_INVALID_ARG;
+    }
+    cdpr_robot_config_t c;
+    memset(&c, 0, sizeof c);
+    c.preset = preset;
+    hexagon(&c);
+    c.gravity_m_per_s2 = 9.80665;
+    /* Drag: Cd 1.2 and Cm in 0.02-0.05 from the paper, air at sea level. */
+    c.cable.cd = 1.2;
+    c.cable.cm = 0.03;
+    c.cable.rho_air_kg_per_m3 = 1.225;
+    if (preset == CDPR_PRESET_PAPER_50M) {
+        c.exit_radius_m = 25.0;
+        c.exit_height_m = 30.0;
+        c.attach_radius_m = 2.0;
+        c.attach_z_m = -0.5;
+        c.cabin_mass_kg = 40.0;
+        c.cabin_inertia_kg_m2[0] = 45.0;
+        c.cabin_inertia_kg_m2[1] = 45.0;
+        c.cabin_inertia_kg_m2[2] = 90.0;
+        c.cable.d0_m = 0.006;
+        c.cable.rho_kg_per_m = 0.14;
+        c.cable.ea_N = 2.0e6;
+        c.cable.damping_Ns = 170.0;
+        c.segments = 20;
+        c.winch.u_max_m_per_s = 4.0;
+        c.winch.a_max_m_per_s2 = 5.0;
+        c.winch.kp_per_s = 5.0;
+        c.winch.min_length_m = 0.5;
+        c.nominal_pose[2] = 9.135; /* the circle's start (paper §4) */
+    } else {
+        /* Origin at the reflector vertex; the zenith cabin sits at z = 140 m. */
+        c.exit_radius_m = 300.0;
+        c.exit_height_m = 270.0;
+        c.attach_radius_m = 6.5;
+        c.attach_z_m = 0.0;
+        c.cabin_mass_kg = 30000.0;
+        c.cabin_inertia_kg_m2[0] = 3.57e5;
+        c.cabin_inertia_kg_m2[1] = 3.57e5;
+        c.cabin_inertia_kg_m2[2] = 6.34e5;
+        c.cable.d0_m = 0.046;
+        c.cable.rho_kg_per_m = 10.0;
+        c.cable.ea_N = 1.5e8;
+        /* 10 % of critical for one nominal 8 m segment: 0.1 * 2 * 8 * sqrt(EA rho). */
+        c.cable.damping_Ns = 6.2e4;
+        c.segments = 40;
+        c.winch.u_max_m_per_s = 0.5;
+        c.winch.a_max_m_per_s2 = 0.2;
+        c.winch.kp_per_s = 1.0;
+        c.winch.min_length_m = 10.0;
+        c.nominal_pose[2] = 140.0;
+    }
+    *cfg = c;
+    return CDPR_OK;
+}
+
+void cdpr_robot_config_geometry(const cdpr_robot_config_t *cfg, int j, cdpr_vec3_t *exit_m,
+                                cdpr_vec3_t *attach_body_m)
+{
+    const double th = cfg->exit_azimuth_deg[j] * PI / 180.0;
+    const double ph = cfg->attach_azimuth_deg[j] * PI / 180.0;
+    *exit_m =
+        cdpr_v3(cfg->exit_radius_m * cos(th), cfg->exit_radius_m * sin(th), cfg->exit_height_m);
+    *attach_body_m =
+        cdpr_v3(cfg->attach_radius_m * cos(ph), cfg->attach_radius_m * sin(ph), cfg->attach_z_m);
+}
+
+cdpr_cabin_motion_t cdpr_pose_to_motion(const double pose[6])
+{
+    cdpr_cabin_motion_t m;
+    memset(&m, 0, sizeof m);
+    m.p_m = cdpr_v3(pose[0], pose[1], pose[2]);
+    m.q = cdpr_quat_from_euler(pose[3], pose[4], pose[5]);
+    return m;
+}
+
+cdpr_status_t cdpr_robot_config_build(const cdpr_robot_config_t *cfg, const double *length_m,
+                                      cdpr_robot_params_t *p, cdpr_winch_params_t *w,
+                                      cdpr_diag_t *diag)
+{
+    if (cfg == NULL || p == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "config", -1);
+    }
+    cdpr_robot_params_t rp;
+    cdpr_robot_params_default(&rp);
+    rp.n_cables = CDPR_ROBOT_CABLES;
+    rp.g_m_per_s2 = cfg->gravity_m_per_s2;
+    rp.mode = CDPR_CABIN_DYNAMIC;
+    rp.cabin.mass_kg = cfg->cabin_mass_kg;
+    rp.cabin.com_body_m = cdpr_v3(cfg->cabin_com_m[0], cfg->cabin_com_m[1], cfg->cabin_com_m[2]);
+    const double *I = cfg->cabin_inertia_kg_m2;
+    const double *P = cfg->cabin_products_kg_m2; /* Ixy, Ixz, Iyz */
+    const cdpr_mat3_t inertia = {{{I[0], P[0], P[1]}, {P[0], I[1], P[2]}, {P[1], P[2], I[2]}}};
+    rp.cabin.inertia_com_kg_m2 = inertia;
+    const cdpr_cabin_motion_t nominal = cdpr_pose_to_motion(cfg->nominal_pose);
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(nominal.q, &R);
+    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
+        cdpr_robot_cable_params_t *c = &rp.cables[j];
+        c->cable = cfg->cable;
+        cdpr_robot_config_geometry(cfg, j, &c->exit_point_m, &c->attach_body_m);
+        c->n_segments = cfg->segments;
+        if (length_m != NULL) {
+            c->length_m = length_m[j];
+        } else {
+            const cdpr_vec3_t a = cdpr_v3_add(nominal.p_m, cdpr_m3_mul_v3(&R, c->attach_body_m));
+            c->length_m = cdpr_v3_norm(cdpr_v3_sub(c->exit_point_m, a));
+        }
+    }
+    /* Validate with the core's own rules (scratch object: nothing is kept). */
+    static const cdpr_robot_t zero;
+    cdpr_robot_t scratch = zero;
+    const cdpr_status_t st = cdpr_robot_init(&scratch, &rp, diag);
+    if (st != CDPR_OK) {
+        return st;
+    }
+    if (w != NULL) {
+        cdpr_winch_t wt;
+        const cdpr_status_t ws = cdpr_winch_init(&wt, &cfg->winch, diag);
+        if (ws != CDPR_OK) {
+            return ws;
+        }
+        *w = cfg->winch;
+    }
+    *p = rp;
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}

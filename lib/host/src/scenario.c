@@ -1,0 +1,997 @@
+/// @file scenario.c
+/// Scenario files through libcyaml: a schema of "raw" structs (optional keys are pointers, so
+/// absence is visible), resolved onto a preset, then checked key by key.
+#include "cdpr/scenario.h"
+
+#include <cyaml/cyaml.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h> /* collect_log (libcyaml hands a va_list) */
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <yaml.h>
+
+static const double PI = 3.14159265358979323846;
+
+/* ---------------------------------------------------------------- raw (file) structs */
+
+typedef struct {
+    double *radius_m;
+    double *exit_height_m;
+    double *azimuths_deg;
+} raw_towers_t;
+
+typedef struct {
+    double *radius_m;
+    double *z_m;
+    double *azimuths_deg;
+} raw_attach_t;
+
+typedef struct {
+    double *mass_kg;
+    double *inertia_kg_m2;
+    double *products_kg_m2;
+    double *com_m;
+} raw_cabin_t;
+
+typedef struct {
+    double *d0_m;
+    double *rho_kg_per_m;
+    double *ea_N;
+    double *damping_Ns;
+    double *cd;
+    double *cm;
+    double *rho_air_kg_per_m3;
+} raw_cable_t;
+
+typedef struct {
+    double *u_max_m_per_s;
+    double *a_max_m_per_s2;
+    double *kp_per_s;
+    double *min_length_m;
+} raw_winch_t;
+
+typedef struct {
+    cdpr_robot_preset_t preset;
+    double *segments; /* read as a number, checked to be whole (libcyaml's INT accepts 3.5) */
+    double *gravity_m_per_s2;
+    double *wind_m_per_s;
+    raw_towers_t *towers;
+    raw_attach_t *attachments;
+    raw_cabin_t *cabin;
+    raw_cable_t *cable;
+    raw_winch_t *winch;
+} raw_robot_t;
+
+typedef struct {
+    double *pose;
+    double *offset;
+} raw_initial_t;
+
+typedef enum { DIR_CCW = 0, DIR_CW = 1 } raw_direction_t;
+
+typedef struct {
+    double centre_m[3];
+    double radius_m;
+    double speed_m_per_s;
+    double start_angle_deg;
+    raw_direction_t *direction;
+    double *ramp_s;
+    double *attitude_rad;
+} raw_circle_t;
+
+typedef struct {
+    double from[6];
+    double to[6];
+    double duration_s;
+    double *pause_s;
+    bool *back_and_forth;
+} raw_line_t;
+
+typedef struct {
+    double pose[6];
+} raw_hold_t;
+
+typedef struct {
+    cdpr_traj_type_t type;
+    raw_circle_t *circle;
+    raw_line_t *line;
+    raw_hold_t *hold;
+} raw_traj_t;
+
+typedef struct {
+    double period_s;
+    double kp;
+    double *kd_s;
+    double k_length_per_s;
+    double *filter_s;
+} raw_controller_t;
+
+typedef struct {
+    double *rtol;
+    double *atol_position_m;
+    double *atol_velocity_m_per_s;
+    double *atol_quaternion;
+    double *atol_rate_rad_per_s;
+    double *h_max_s;
+    double *max_trials; /* whole number, see segments */
+} raw_integrator_t;
+
+typedef struct {
+    double duration_s;
+    double *output_rate_hz;
+} raw_run_t;
+
+typedef struct {
+    char *description;
+    raw_robot_t robot;
+    raw_initial_t *initial;
+    raw_traj_t trajectory;
+    raw_controller_t controller;
+    raw_integrator_t *integrator;
+    raw_run_t run;
+} raw_t;
+
+/* ---------------------------------------------------------------- schema */
+
+#define OPT                         CYAML_FLAG_OPTIONAL
+#define REQ                         CYAML_FLAG_DEFAULT
+#define OPT_NUM                     (CYAML_FLAG_OPTIONAL | CYAML_FLAG_STRICT)
+#define REQ_NUM                     CYAML_FLAG_STRICT
+#define OPT_SEQ                     (CYAML_FLAG_OPTIONAL | CYAML_FLAG_POINTER)
+#define OPT_NUMP(key, type, member) CYAML_FIELD_FLOAT_PTR(key, OPT_NUM, type, member)
+#define OPT_VEC(key, type, member, n)                                                              \
+    CYAML_FIELD_SEQUENCE_FIXED(key, OPT_SEQ, type, member, &num, n)
+#define REQ_VEC(key, type, member, n) CYAML_FIELD_SEQUENCE_FIXED(key, REQ, type, member, &num, n)
+
+/* Sequence entries: strict floats (overflow such as 1e999 is an error, not Inf). */
+static const cyaml_schema_value_t num = {CYAML_VALUE_FLOAT(CYAML_FLAG_STRICT, double)};
+
+static const cyaml_strval_t preset_names[] = {
+    {"paper-50m", CDPR_PRESET_PAPER_50M},
+    {"fast", CDPR_PRESET_FAST},
+};
+static const cyaml_strval_t traj_names[] = {
+    {"hold", CDPR_TRAJ_HOLD},
+    {"circle", CDPR_TRAJ_CIRCLE},
+    {"line", CDPR_TRAJ_LINE},
+};
+static const cyaml_strval_t direction_names[] = {
+    {"ccw", DIR_CCW},
+    {"cw", DIR_CW},
+};
+
+static const cyaml_schema_field_t towers_fields[] = {
+    OPT_NUMP("radius_m", raw_towers_t, radius_m),
+    OPT_NUMP("exit_height_m", raw_towers_t, exit_height_m),
+    OPT_VEC("azimuths_deg", raw_towers_t, azimuths_deg, 6),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t attach_fields[] = {
+    OPT_NUMP("radius_m", raw_attach_t, radius_m),
+    OPT_NUMP("z_m", raw_attach_t, z_m),
+    OPT_VEC("azimuths_deg", raw_attach_t, azimuths_deg, 6),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t cabin_fields[] = {
+    OPT_NUMP("mass_kg", raw_cabin_t, mass_kg),
+    OPT_VEC("inertia_kg_m2", raw_cabin_t, inertia_kg_m2, 3),
+    OPT_VEC("products_kg_m2", raw_cabin_t, products_kg_m2, 3),
+    OPT_VEC("com_m", raw_cabin_t, com_m, 3),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t cable_fields[] = {
+    OPT_NUMP("d0_m", raw_cable_t, d0_m),
+    OPT_NUMP("rho_kg_per_m", raw_cable_t, rho_kg_per_m),
+    OPT_NUMP("ea_N", raw_cable_t, ea_N),
+    OPT_NUMP("damping_Ns", raw_cable_t, damping_Ns),
+    OPT_NUMP("cd", raw_cable_t, cd),
+    OPT_NUMP("cm", raw_cable_t, cm),
+    OPT_NUMP("rho_air_kg_per_m3", raw_cable_t, rho_air_kg_per_m3),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t winch_fields[] = {
+    OPT_NUMP("u_max_m_per_s", raw_winch_t, u_max_m_per_s),
+    OPT_NUMP("a_max_m_per_s2", raw_winch_t, a_max_m_per_s2),
+    OPT_NUMP("kp_per_s", raw_winch_t, kp_per_s),
+    OPT_NUMP("min_length_m", raw_winch_t, min_length_m),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t robot_fields[] = {
+    CYAML_FIELD_ENUM("preset", CYAML_FLAG_STRICT, raw_robot_t, preset, preset_names,
+                     CYAML_ARRAY_LEN(preset_names)),
+    OPT_NUMP("segments", raw_robot_t, segments),
+    OPT_NUMP("gravity_m_per_s2", raw_robot_t, gravity_m_per_s2),
+    OPT_VEC("wind_m_per_s", raw_robot_t, wind_m_per_s, 3),
+    CYAML_FIELD_MAPPING_PTR("towers", OPT, raw_robot_t, towers, towers_fields),
+    CYAML_FIELD_MAPPING_PTR("attachments", OPT, raw_robot_t, attachments, attach_fields),
+    CYAML_FIELD_MAPPING_PTR("cabin", OPT, raw_robot_t, cabin, cabin_fields),
+    CYAML_FIELD_MAPPING_PTR("cable", OPT, raw_robot_t, cable, cable_fields),
+    CYAML_FIELD_MAPPING_PTR("winch", OPT, raw_robot_t, winch, winch_fields),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t initial_fields[] = {
+    OPT_VEC("pose", raw_initial_t, pose, 6),
+    OPT_VEC("offset", raw_initial_t, offset, 6),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t circle_fields[] = {
+    REQ_VEC("centre_m", raw_circle_t, centre_m, 3),
+    CYAML_FIELD_FLOAT("radius_m", REQ_NUM, raw_circle_t, radius_m),
+    CYAML_FIELD_FLOAT("speed_m_per_s", REQ_NUM, raw_circle_t, speed_m_per_s),
+    CYAML_FIELD_FLOAT("start_angle_deg", REQ_NUM, raw_circle_t, start_angle_deg),
+    CYAML_FIELD_ENUM_PTR("direction", OPT | CYAML_FLAG_STRICT, raw_circle_t, direction,
+                         direction_names, CYAML_ARRAY_LEN(direction_names)),
+    OPT_NUMP("ramp_s", raw_circle_t, ramp_s),
+    OPT_VEC("attitude_rad", raw_circle_t, attitude_rad, 3),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t line_fields[] = {
+    REQ_VEC("from", raw_line_t, from, 6),
+    REQ_VEC("to", raw_line_t, to, 6),
+    CYAML_FIELD_FLOAT("duration_s", REQ_NUM, raw_line_t, duration_s),
+    OPT_NUMP("pause_s", raw_line_t, pause_s),
+    CYAML_FIELD_BOOL_PTR("back_and_forth", OPT, raw_line_t, back_and_forth),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t hold_fields[] = {
+    REQ_VEC("pose", raw_hold_t, pose, 6),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t traj_fields[] = {
+    CYAML_FIELD_ENUM("type", CYAML_FLAG_STRICT, raw_traj_t, type, traj_names,
+                     CYAML_ARRAY_LEN(traj_names)),
+    CYAML_FIELD_MAPPING_PTR("circle", OPT, raw_traj_t, circle, circle_fields),
+    CYAML_FIELD_MAPPING_PTR("line", OPT, raw_traj_t, line, line_fields),
+    CYAML_FIELD_MAPPING_PTR("hold", OPT, raw_traj_t, hold, hold_fields),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t controller_fields[] = {
+    CYAML_FIELD_FLOAT("period_s", REQ_NUM, raw_controller_t, period_s),
+    CYAML_FIELD_FLOAT("kp", REQ_NUM, raw_controller_t, kp),
+    OPT_NUMP("kd_s", raw_controller_t, kd_s),
+    CYAML_FIELD_FLOAT("k_length_per_s", REQ_NUM, raw_controller_t, k_length_per_s),
+    OPT_NUMP("filter_s", raw_controller_t, filter_s),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t integrator_fields[] = {
+    OPT_NUMP("rtol", raw_integrator_t, rtol),
+    OPT_NUMP("atol_position_m", raw_integrator_t, atol_position_m),
+    OPT_NUMP("atol_velocity_m_per_s", raw_integrator_t, atol_velocity_m_per_s),
+    OPT_NUMP("atol_quaternion", raw_integrator_t, atol_quaternion),
+    OPT_NUMP("atol_rate_rad_per_s", raw_integrator_t, atol_rate_rad_per_s),
+    OPT_NUMP("h_max_s", raw_integrator_t, h_max_s),
+    OPT_NUMP("max_trials", raw_integrator_t, max_trials),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t run_fields[] = {
+    CYAML_FIELD_FLOAT("duration_s", REQ_NUM, raw_run_t, duration_s),
+    OPT_NUMP("output_rate_hz", raw_run_t, output_rate_hz),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_field_t top_fields[] = {
+    CYAML_FIELD_STRING_PTR("description", OPT, raw_t, description, 0, 255),
+    CYAML_FIELD_MAPPING("robot", REQ, raw_t, robot, robot_fields),
+    CYAML_FIELD_MAPPING_PTR("initial", OPT, raw_t, initial, initial_fields),
+    CYAML_FIELD_MAPPING("trajectory", REQ, raw_t, trajectory, traj_fields),
+    CYAML_FIELD_MAPPING("controller", REQ, raw_t, controller, controller_fields),
+    CYAML_FIELD_MAPPING_PTR("integrator", OPT, raw_t, integrator, integrator_fields),
+    CYAML_FIELD_MAPPING("run", REQ, raw_t, run, run_fields),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_value_t top_schema = {
+    CYAML_VALUE_MAPPING(CYAML_FLAG_POINTER, raw_t, top_fields),
+};
+
+/* ---------------------------------------------------------------- errors */
+
+const char *cdpr_traj_type_name(cdpr_traj_type_t type)
+{
+    switch (type) {
+    case CDPR_TRAJ_CIRCLE:
+        return "circle";
+    case CDPR_TRAJ_LINE:
+        return "line";
+    default:
+        return "hold";
+    }
+}
+
+static void format_error(cdpr_scenario_error_t *err, const char *path, int line, const char *key,
+                         const char *what)
+{
+    if (path == NULL || path[0] == '\0') {
+        snprintf(err->msg, sizeof err->msg, "scenario: %s: %s", key, what);
+    } else if (line > 0) {
+        snprintf(err->msg, sizeof err->msg, "%s:%d: %s: %s", path, line, key, what);
+    } else {
+        snprintf(err->msg, sizeof err->msg, "%s: %s: %s", path, key, what);
+    }
+}
+
+void cdpr_scenario_error(const cdpr_scenario_t *sc, const char *key, const char *what,
+                         cdpr_scenario_error_t *err)
+{
+    if (err == NULL) {
+        return;
+    }
+    const char *path = (sc != NULL) ? sc->path : "";
+    const int line = (path[0] != '\0') ? cdpr_yaml_key_line(path, key) : 0;
+    format_error(err, path, line, key, what);
+}
+
+/* libyaml event walk: the line of the key at a dotted path. Only mappings are descended
+ * (keys inside sequences are not addressable by a dotted path). */
+#define KEY_DEPTH 16
+#define KEY_LEN   64
+
+int cdpr_yaml_key_line(const char *path, const char *key)
+{
+    char want[256];
+    snprintf(want, sizeof want, "%s", key);
+    char *bracket = strchr(want, '[');
+    if (bracket != NULL) {
+        *bracket = '\0';
+    }
+    FILE *f = fopen(path, "rb");
+    if (f == NULL) {
+        return 0;
+    }
+    yaml_parser_t parser;
+    if (yaml_parser_initialize(&parser) == 0) {
+        fclose(f);
+        return 0;
+    }
+    yaml_parser_set_input_file(&parser, f);
+    /* Per depth: is it a mapping, does it expect a key next, the current key. */
+    int is_map[KEY_DEPTH];
+    int want_key[KEY_DEPTH];
+    char keys[KEY_DEPTH][KEY_LEN];
+    int depth = 0; /* number of open collections */
+    int found = 0;
+    int done = 0;
+    /* Bounded by the file: every iteration consumes one event; an error or stream end stops. */
+    while (done == 0) {
+        yaml_event_t ev;
+        if (yaml_parser_parse(&parser, &ev) == 0) {
+            break;
+        }
+        const int line = (int)ev.start_mark.line + 1;
+        switch (ev.type) {
+        case YAML_STREAM_END_EVENT:
+            done = 1;
+            break;
+        case YAML_MAPPING_START_EVENT:
+        case YAML_SEQUENCE_START_EVENT:
+            if (depth >= KEY_DEPTH) {
+                done = 1;
+                break;
+            }
+            is_map[depth] = (ev.type == YAML_MAPPING_START_EVENT) ? 1 : 0;
+            want_key[depth] = 1;
+            keys[depth][0] = '\0';
+            ++depth;
+            break;
+        case YAML_MAPPING_END_EVENT:
+        case YAML_SEQUENCE_END_EVENT:
+            --depth;
+            if (depth > 0 && is_map[depth - 1] != 0) {
+                want_key[depth - 1] = 1; /* the collection was a value */
+            }
+            break;
+        case YAML_SCALAR_EVENT:
+        case YAML_ALIAS_EVENT:
+            if (depth > 0 && is_map[depth - 1] != 0) {
+                if (want_key[depth - 1] != 0 && ev.type == YAML_SCALAR_EVENT) {
+                    snprintf(keys[depth - 1], KEY_LEN, "%s", (const char *)ev.data.scalar.value);
+                    /* Dotted path of this key; only through mappings. */
+                    char got[256];
+                    got[0] = '\0';
+                    int all_maps = 1;
+                    for (int d = 0; d < depth; ++d) {
+                        all_maps &= is_map[d];
+                        const size_t n = strlen(got);
+                        snprintf(got + n, sizeof got - n, "%s%s", (d > 0) ? "." : "", keys[d]);
+                    }
+                    if (all_maps != 0 && strcmp(got, want) == 0) {
+                        found = line;
+                        done = 1;
+                    }
+                    want_key[depth - 1] = 0;
+                } else {
+                    want_key[depth - 1] = 1;
+                }
+            }
+            break;
+        default:
+            break;
+        }
+        yaml_event_delete(&ev);
+    }
+    yaml_parser_delete(&parser);
+    fclose(f);
+    return found;
+}
+
+/* libcyaml's log: collected, then turned into "FILE:LINE: KEY: message". */
+typedef struct {
+    char text[4096];
+    size_t len;
+} cyaml_log_buf_t;
+
+static void collect_log(cyaml_log_t level, void *ctx, const char *fmt, va_list args)
+{
+    cyaml_log_buf_t *b = ctx;
+    if (level < CYAML_LOG_ERROR || b->len + 1 >= sizeof b->text) {
+        return;
+    }
+    const int n = vsnprintf(b->text + b->len, sizeof b->text - b->len, fmt, args);
+    if (n > 0) {
+        b->len += (size_t)n;
+        if (b->len >= sizeof b->text) {
+            b->len = sizeof b->text - 1;
+        }
+    }
+}
+
+/* One backtrace entry: "in mapping field 'k' (line: L, ...)", "in sequence entry 'i' (...)",
+ * "in mapping (...)". */
+typedef struct {
+    char kind; /* 'f' field, 's' sequence entry, 'm' mapping */
+    char name[KEY_LEN];
+    int line;
+} trace_t;
+
+static int parse_trace_line(const char *s, trace_t *t)
+{
+    const char *p;
+    const char *open = NULL;
+    if ((p = strstr(s, "in mapping field '")) != NULL) {
+        t->kind = 'f';
+        open = p + strlen("in mapping field '");
+    } else if ((p = strstr(s, "in sequence entry '")) != NULL) {
+        t->kind = 's';
+        open = p + strlen("in sequence entry '");
+    } else if (strstr(s, "in mapping") != NULL) {
+        t->kind = 'm';
+    } else {
+        return 0;
+    }
+    t->name[0] = '\0';
+    if (open != NULL) {
+        const char *close = strchr(open, '\'');
+        if (close == NULL) {
+            return 0;
+        }
+        size_t n = (size_t)(close - open);
+        n = (n < KEY_LEN - 1) ? n : KEY_LEN - 1;
+        memcpy(t->name, open, n);
+        t->name[n] = '\0';
+    }
+    const char *ln = strstr(s, "(line: ");
+    t->line = (ln != NULL) ? (int)strtol(ln + strlen("(line: "), NULL, 10) : 0;
+    return 1;
+}
+
+static void cyaml_error_message(const char *path, const cyaml_log_buf_t *lb, cyaml_err_t e,
+                                cdpr_scenario_error_t *err)
+{
+    char message[512] = "";
+    trace_t trace[KEY_DEPTH];
+    memset(trace, 0, sizeof trace);
+    int nt = 0;
+    /* Walk the collected lines. */
+    const char *s = lb->text;
+    while (*s != '\0') {
+        const char *eol = strchr(s, '\n');
+        const size_t n = (eol != NULL) ? (size_t)(eol - s) : strlen(s);
+        char line[512];
+        const size_t m = (n < sizeof line - 1) ? n : sizeof line - 1;
+        memcpy(line, s, m);
+        line[m] = '\0';
+        if (strncmp(line, "Load: ", 6) == 0 && strstr(line, "Backtrace") == NULL &&
+            message[0] == '\0') {
+            snprintf(message, sizeof message, "%s", line + 6);
+        } else if (nt < KEY_DEPTH && parse_trace_line(line, &trace[nt]) != 0) {
+            ++nt;
+        }
+        s += n;
+        if (*s == '\n') {
+            ++s;
+        }
+    }
+    /* Which key: a key that libcyaml names in its message, else the innermost field. */
+    static const char unexpected[] = "Unexpected key: ";
+    static const char missing[] = "Missing required mapping field: ";
+    const char *named = NULL;
+    int is_unknown = 0;
+    int skip_innermost_field = 0;
+    if (strstr(message, unexpected) == message) {
+        named = message + sizeof unexpected - 1;
+        is_unknown = 1;
+    } else if (strstr(message, missing) == message) {
+        named = message + sizeof missing - 1;
+        /* The innermost "field" entry is the mapping's last visited field, not the key. */
+        skip_innermost_field = (nt > 0 && trace[0].kind == 'f') ? 1 : 0;
+    }
+    char key[512] = "";
+    for (int i = nt - 1; i >= skip_innermost_field; --i) {
+        const size_t k = strlen(key);
+        if (trace[i].kind == 'f') {
+            snprintf(key + k, sizeof key - k, "%s%.63s", (k > 0) ? "." : "", trace[i].name);
+        } else if (trace[i].kind == 's') {
+            snprintf(key + k, sizeof key - k, "[%.63s]", trace[i].name);
+        }
+    }
+    if (named != NULL) {
+        const size_t k = strlen(key);
+        snprintf(key + k, sizeof key - k, "%s%.63s", (k > 0) ? "." : "", named);
+    }
+    /* libcyaml's line is where it noticed the problem; prefer the line of the key itself
+     * (or, for a missing key, of the mapping that lacks it). */
+    int line = (nt > 0) ? trace[0].line : 0;
+    char parent[512];
+    snprintf(parent, sizeof parent, "%s", key);
+    if (named != NULL && is_unknown == 0) {
+        char *dot = strrchr(parent, '.');
+        parent[(dot != NULL) ? (size_t)(dot - parent) : 0] = '\0';
+    }
+    const int key_line = (parent[0] != '\0') ? cdpr_yaml_key_line(path, parent) : 0;
+    line = (key_line > 0) ? key_line : line;
+    char what[640];
+    if (is_unknown != 0) {
+        snprintf(what, sizeof what, "unknown key");
+    } else if (named != NULL) {
+        snprintf(what, sizeof what, "missing required key");
+    } else if (message[0] != '\0') {
+        snprintf(what, sizeof what, "%s", message);
+    } else {
+        snprintf(what, sizeof what, "%s", cyaml_strerror(e));
+    }
+    if (key[0] == '\0') {
+        snprintf(key, sizeof key, "(document)");
+    }
+    format_error(err, path, line, key, what);
+}
+
+/* ---------------------------------------------------------------- defaults and resolve */
+
+static void defaults_common(cdpr_scenario_t *sc)
+{
+    sc->gains.period_s = 0.01;
+    sc->gains.kp = 1.0;
+    sc->gains.kd_s = 0.0;
+    sc->gains.k_length_per_s = 5.0;
+    sc->gains.filter_s = 1.0;
+    sc->integrator.rtol = 1e-6;
+    sc->integrator.atol_position_m = 1e-6;
+    sc->integrator.atol_velocity_m_per_s = 1e-5;
+    sc->integrator.atol_quaternion = 1e-8;
+    sc->integrator.atol_rate_rad_per_s = 1e-6;
+    sc->integrator.h_max_s = 0.01;
+    sc->integrator.max_trials = 100;
+    sc->output_rate_hz = 0.0; /* 0: one row per control period */
+}
+
+void cdpr_scenario_default(cdpr_scenario_t *sc, cdpr_robot_preset_t preset)
+{
+    memset(sc, 0, sizeof *sc);
+    (void)cdpr_robot_config_preset(preset, &sc->robot);
+    sc->traj.type = CDPR_TRAJ_HOLD;
+    memcpy(sc->traj.hold_pose, sc->robot.nominal_pose, sizeof sc->traj.hold_pose);
+    sc->traj.direction = 1.0;
+    defaults_common(sc);
+    sc->duration_s = 1.0;
+}
+
+static void take(double *dst, const double *src, int n)
+{
+    if (src != NULL) {
+        memcpy(dst, src, sizeof(double) * (size_t)n);
+    }
+}
+
+static void resolve(const raw_t *r, cdpr_scenario_t *sc)
+{
+    const raw_robot_t *rr = &r->robot;
+    cdpr_robot_config_t *c = &sc->robot;
+    (void)cdpr_robot_config_preset(rr->preset, c);
+    if (rr->segments != NULL) {
+        c->segments = (int)*rr->segments; /* whole and in range: check_whole_numbers */
+    }
+    take(&c->gravity_m_per_s2, rr->gravity_m_per_s2, 1);
+    take(c->wind_m_per_s, rr->wind_m_per_s, 3);
+    if (rr->towers != NULL) {
+        take(&c->exit_radius_m, rr->towers->radius_m, 1);
+        take(&c->exit_height_m, rr->towers->exit_height_m, 1);
+        take(c->exit_azimuth_deg, rr->towers->azimuths_deg, 6);
+    }
+    if (rr->attachments != NULL) {
+        take(&c->attach_radius_m, rr->attachments->radius_m, 1);
+        take(&c->attach_z_m, rr->attachments->z_m, 1);
+        take(c->attach_azimuth_deg, rr->attachments->azimuths_deg, 6);
+    }
+    if (rr->cabin != NULL) {
+        take(&c->cabin_mass_kg, rr->cabin->mass_kg, 1);
+        take(c->cabin_inertia_kg_m2, rr->cabin->inertia_kg_m2, 3);
+        take(c->cabin_products_kg_m2, rr->cabin->products_kg_m2, 3);
+        take(c->cabin_com_m, rr->cabin->com_m, 3);
+    }
+    if (rr->cable != NULL) {
+        take(&c->cable.d0_m, rr->cable->d0_m, 1);
+        take(&c->cable.rho_kg_per_m, rr->cable->rho_kg_per_m, 1);
+        take(&c->cable.ea_N, rr->cable->ea_N, 1);
+        take(&c->cable.damping_Ns, rr->cable->damping_Ns, 1);
+        take(&c->cable.cd, rr->cable->cd, 1);
+        take(&c->cable.cm, rr->cable->cm, 1);
+        take(&c->cable.rho_air_kg_per_m3, rr->cable->rho_air_kg_per_m3, 1);
+    }
+    if (rr->winch != NULL) {
+        take(&c->winch.u_max_m_per_s, rr->winch->u_max_m_per_s, 1);
+        take(&c->winch.a_max_m_per_s2, rr->winch->a_max_m_per_s2, 1);
+        take(&c->winch.kp_per_s, rr->winch->kp_per_s, 1);
+        take(&c->winch.min_length_m, rr->winch->min_length_m, 1);
+    }
+    if (r->initial != NULL) {
+        sc->has_initial_pose = (r->initial->pose != NULL) ? 1 : 0;
+        take(sc->initial_pose, r->initial->pose, 6);
+        take(sc->initial_offset, r->initial->offset, 6);
+    }
+    cdpr_traj_t *t = &sc->traj;
+    t->type = r->trajectory.type;
+    t->direction = 1.0;
+    if (r->trajectory.circle != NULL) {
+        const raw_circle_t *ci = r->trajectory.circle;
+        take(t->centre_m, ci->centre_m, 3);
+        t->radius_m = ci->radius_m;
+        t->speed_m_per_s = ci->speed_m_per_s;
+        t->start_angle_rad = ci->start_angle_deg * PI / 180.0;
+        if (ci->direction != NULL && *ci->direction == DIR_CW) {
+            t->direction = -1.0;
+        }
+        take(&t->ramp_s, ci->ramp_s, 1);
+        take(t->attitude_rad, ci->attitude_rad, 3);
+    }
+    if (r->trajectory.line != NULL) {
+        const raw_line_t *li = r->trajectory.line;
+        take(t->from, li->from, 6);
+        take(t->to, li->to, 6);
+        t->duration_s = li->duration_s;
+        take(&t->pause_s, li->pause_s, 1);
+        t->back_and_forth = (li->back_and_forth != NULL && *li->back_and_forth) ? 1 : 0;
+    }
+    if (r->trajectory.hold != NULL) {
+        take(t->hold_pose, r->trajectory.hold->pose, 6);
+    }
+    sc->gains.period_s = r->controller.period_s;
+    sc->gains.kp = r->controller.kp;
+    take(&sc->gains.kd_s, r->controller.kd_s, 1);
+    sc->gains.k_length_per_s = r->controller.k_length_per_s;
+    take(&sc->gains.filter_s, r->controller.filter_s, 1);
+    if (r->integrator != NULL) {
+        const raw_integrator_t *in = r->integrator;
+        take(&sc->integrator.rtol, in->rtol, 1);
+        take(&sc->integrator.atol_position_m, in->atol_position_m, 1);
+        take(&sc->integrator.atol_velocity_m_per_s, in->atol_velocity_m_per_s, 1);
+        take(&sc->integrator.atol_quaternion, in->atol_quaternion, 1);
+        take(&sc->integrator.atol_rate_rad_per_s, in->atol_rate_rad_per_s, 1);
+        take(&sc->integrator.h_max_s, in->h_max_s, 1);
+        if (in->max_trials != NULL) {
+            sc->integrator.max_trials = (int)*in->max_trials; /* see check_whole_numbers */
+        }
+    }
+    sc->duration_s = r->run.duration_s;
+    take(&sc->output_rate_hz, r->run.output_rate_hz, 1);
+    if (r->description != NULL) {
+        snprintf(sc->description, sizeof sc->description, "%s", r->description);
+    }
+}
+
+/* Which trajectory blocks a file gave: exactly the one matching `type`. */
+static int check_traj_blocks(const raw_t *r, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+{
+    const void *blocks[3] = {r->trajectory.hold, r->trajectory.circle, r->trajectory.line};
+    const cdpr_traj_type_t types[3] = {CDPR_TRAJ_HOLD, CDPR_TRAJ_CIRCLE, CDPR_TRAJ_LINE};
+    for (int i = 0; i < 3; ++i) {
+        char key[64];
+        snprintf(key, sizeof key, "trajectory.%s", cdpr_traj_type_name(types[i]));
+        if (types[i] == r->trajectory.type && blocks[i] == NULL) {
+            char what[512];
+            snprintf(what, sizeof what, "type %s needs a '%s:' block in trajectory",
+                     cdpr_traj_type_name(types[i]), cdpr_traj_type_name(types[i]));
+            cdpr_scenario_error(sc, "trajectory.type", what, err);
+            return -1;
+        }
+        if (types[i] != r->trajectory.type && blocks[i] != NULL) {
+            char what[512];
+            snprintf(what, sizeof what, "given, but trajectory.type is %s",
+                     cdpr_traj_type_name(r->trajectory.type));
+            cdpr_scenario_error(sc, key, what, err);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* Counts given in the file: finite whole numbers in range (before they become ints). */
+static int whole(const cdpr_scenario_t *sc, const char *key, const double *v, double lo, double hi,
+                 cdpr_scenario_error_t *err)
+{
+    if (v == NULL) {
+        return 0;
+    }
+    if (!isfinite(*v) || floor(*v) < *v || *v < lo || *v > hi) {
+        char what[512];
+        snprintf(what, sizeof what, "%g is not a whole number in [%g, %g]", *v, lo, hi);
+        cdpr_scenario_error(sc, key, what, err);
+        return -1;
+    }
+    return 0;
+}
+
+static int check_whole_numbers(const raw_t *r, const cdpr_scenario_t *sc,
+                               cdpr_scenario_error_t *err)
+{
+    if (whole(sc, "robot.segments", r->robot.segments, 1.0, (double)CDPR_MAX_SEGMENTS, err) != 0) {
+        return -1;
+    }
+    if (r->integrator != NULL &&
+        whole(sc, "integrator.max_trials", r->integrator->max_trials, 1.0, 1e6, err) != 0) {
+        return -1;
+    }
+    return 0;
+}
+
+int cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+{
+    memset(sc, 0, sizeof *sc);
+    snprintf(sc->path, sizeof sc->path, "%s", path);
+    FILE *probe = fopen(path, "rb");
+    if (probe == NULL) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    fclose(probe);
+    cyaml_log_buf_t cy_log;
+    cy_log.len = 0;
+    cy_log.text[0] = '\0';
+    const cyaml_config_t cfg = {
+        .log_fn = collect_log,
+        .log_ctx = &cy_log,
+        .mem_fn = cyaml_mem,
+        .log_level = CYAML_LOG_ERROR,
+        .flags = CYAML_CFG_DEFAULT,
+    };
+    raw_t *raw = NULL;
+    const cyaml_err_t e = cyaml_load_file(path, &cfg, &top_schema, (cyaml_data_t **)&raw, NULL);
+    if (e != CYAML_OK) {
+        cyaml_error_message(path, &cy_log, e, err);
+        return -1;
+    }
+    if (raw == NULL) {
+        snprintf(err->msg, sizeof err->msg, "%s: empty scenario file", path);
+        return -1;
+    }
+    int rc = check_traj_blocks(raw, sc, err);
+    if (rc == 0) {
+        rc = check_whole_numbers(raw, sc, err);
+    }
+    if (rc == 0) {
+        defaults_common(sc);
+        resolve(raw, sc);
+        rc = cdpr_scenario_check(sc, err);
+    }
+    (void)cyaml_free(&cfg, &top_schema, raw, 0);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- checks */
+
+typedef struct {
+    const cdpr_scenario_t *sc;
+    cdpr_scenario_error_t *err;
+    int failed;
+} vctx_t;
+
+/* Every x[i] finite and in [lo, hi] (or (lo, hi] when lo_open). */
+static void range(vctx_t *v, const char *key, const double *x, int n, double lo, double hi,
+                  int lo_open)
+{
+    for (int i = 0; i < n && v->failed == 0; ++i) {
+        char k[128];
+        if (n > 1) {
+            snprintf(k, sizeof k, "%s[%d]", key, i);
+        } else {
+            snprintf(k, sizeof k, "%s", key);
+        }
+        if (!isfinite(x[i])) {
+            char what[512];
+            snprintf(what, sizeof what, "not a finite number (%g)", x[i]);
+            cdpr_scenario_error(v->sc, k, what, v->err);
+            v->failed = 1;
+        } else if (x[i] > hi || x[i] < lo || (lo_open != 0 && !(x[i] > lo))) {
+            char what[512];
+            snprintf(what, sizeof what, "%g is outside %s%g, %g]", x[i], (lo_open != 0) ? "(" : "[",
+                     lo, hi);
+            cdpr_scenario_error(v->sc, k, what, v->err);
+            v->failed = 1;
+        }
+    }
+}
+
+static void irange(vctx_t *v, const char *key, long x, long lo, long hi)
+{
+    if (v->failed == 0 && (x < lo || x > hi)) {
+        char what[512];
+        snprintf(what, sizeof what, "%ld is outside [%ld, %ld]", x, lo, hi);
+        cdpr_scenario_error(v->sc, key, what, v->err);
+        v->failed = 1;
+    }
+}
+
+/* A pose: positions within 10 km, angles within +-2 pi. */
+static void pose_range(vctx_t *v, const char *key, const double *pose)
+{
+    char k[128];
+    snprintf(k, sizeof k, "%s", key);
+    for (int i = 0; i < 6 && v->failed == 0; ++i) {
+        const double lim = (i < 3) ? 1e4 : 2.0 * PI;
+        if (!isfinite(pose[i])) {
+            char what[512];
+            snprintf(what, sizeof what, "element %d is not a finite number (%g)", i, pose[i]);
+            cdpr_scenario_error(v->sc, k, what, v->err);
+            v->failed = 1;
+        } else if (fabs(pose[i]) > lim) {
+            char what[512];
+            snprintf(what, sizeof what, "element %d = %g is outside [-%g, %g]", i, pose[i], lim,
+                     lim);
+            cdpr_scenario_error(v->sc, k, what, v->err);
+            v->failed = 1;
+        }
+    }
+}
+
+/* The core's own validation of the robot, with its field named. */
+static void core_check(vctx_t *v)
+{
+    if (v->failed != 0) {
+        return;
+    }
+    cdpr_robot_params_t p;
+    cdpr_winch_params_t w;
+    cdpr_diag_t d;
+    const cdpr_status_t st = cdpr_robot_config_build(&v->sc->robot, NULL, &p, &w, &d);
+    if (st != CDPR_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "rejected by the model: field '%s' (cable %d): %s", d.field,
+                 d.index + 1, cdpr_status_str(st));
+        cdpr_scenario_error(v->sc, "robot", what, v->err);
+        v->failed = 1;
+    }
+}
+
+int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+{
+    vctx_t v = {sc, err, 0};
+    const cdpr_robot_config_t *c = &sc->robot;
+    irange(&v, "robot.segments", c->segments, 1, CDPR_MAX_SEGMENTS);
+    range(&v, "robot.gravity_m_per_s2", &c->gravity_m_per_s2, 1, 0.0, 100.0, 1);
+    range(&v, "robot.wind_m_per_s", c->wind_m_per_s, 3, -100.0, 100.0, 0);
+    range(&v, "robot.towers.radius_m", &c->exit_radius_m, 1, 0.0, 1e4, 1);
+    range(&v, "robot.towers.exit_height_m", &c->exit_height_m, 1, -1e4, 1e4, 0);
+    range(&v, "robot.towers.azimuths_deg", c->exit_azimuth_deg, 6, -360.0, 360.0, 0);
+    range(&v, "robot.attachments.radius_m", &c->attach_radius_m, 1, 0.0, 1e3, 0);
+    range(&v, "robot.attachments.z_m", &c->attach_z_m, 1, -1e3, 1e3, 0);
+    range(&v, "robot.attachments.azimuths_deg", c->attach_azimuth_deg, 6, -360.0, 360.0, 0);
+    range(&v, "robot.cabin.mass_kg", &c->cabin_mass_kg, 1, 0.0, 1e9, 1);
+    range(&v, "robot.cabin.inertia_kg_m2", c->cabin_inertia_kg_m2, 3, 0.0, 1e12, 1);
+    range(&v, "robot.cabin.products_kg_m2", c->cabin_products_kg_m2, 3, -1e12, 1e12, 0);
+    range(&v, "robot.cabin.com_m", c->cabin_com_m, 3, -1e3, 1e3, 0);
+    range(&v, "robot.cable.d0_m", &c->cable.d0_m, 1, 0.0, 1.0, 1);
+    range(&v, "robot.cable.rho_kg_per_m", &c->cable.rho_kg_per_m, 1, 0.0, 1e4, 1);
+    range(&v, "robot.cable.ea_N", &c->cable.ea_N, 1, 0.0, 1e13, 1);
+    range(&v, "robot.cable.damping_Ns", &c->cable.damping_Ns, 1, 0.0, 1e12, 0);
+    range(&v, "robot.cable.cd", &c->cable.cd, 1, 0.0, 10.0, 0);
+    range(&v, "robot.cable.cm", &c->cable.cm, 1, 0.0, 10.0, 0);
+    range(&v, "robot.cable.rho_air_kg_per_m3", &c->cable.rho_air_kg_per_m3, 1, 0.0, 100.0, 0);
+    range(&v, "robot.winch.u_max_m_per_s", &c->winch.u_max_m_per_s, 1, 0.0, 1e3, 1);
+    range(&v, "robot.winch.a_max_m_per_s2", &c->winch.a_max_m_per_s2, 1, 0.0, 1e4, 1);
+    range(&v, "robot.winch.kp_per_s", &c->winch.kp_per_s, 1, 0.0, 1e4, 1);
+    range(&v, "robot.winch.min_length_m", &c->winch.min_length_m, 1, 0.0, 1e5, 1);
+    core_check(&v);
+    if (sc->has_initial_pose != 0) {
+        pose_range(&v, "initial.pose", sc->initial_pose);
+    }
+    pose_range(&v, "initial.offset", sc->initial_offset);
+    const cdpr_traj_t *t = &sc->traj;
+    switch (t->type) {
+    case CDPR_TRAJ_CIRCLE:
+        range(&v, "trajectory.circle.centre_m", t->centre_m, 3, -1e4, 1e4, 0);
+        range(&v, "trajectory.circle.radius_m", &t->radius_m, 1, 0.0, 1e4, 1);
+        range(&v, "trajectory.circle.speed_m_per_s", &t->speed_m_per_s, 1, 0.0, 1e3, 0);
+        {
+            const double deg = t->start_angle_rad * 180.0 / PI;
+            range(&v, "trajectory.circle.start_angle_deg", &deg, 1, -360.0, 360.0, 0);
+        }
+        range(&v, "trajectory.circle.ramp_s", &t->ramp_s, 1, 0.0, 1e6, 0);
+        range(&v, "trajectory.circle.attitude_rad", t->attitude_rad, 3, -2.0 * PI, 2.0 * PI, 0);
+        break;
+    case CDPR_TRAJ_LINE:
+        pose_range(&v, "trajectory.line.from", t->from);
+        pose_range(&v, "trajectory.line.to", t->to);
+        range(&v, "trajectory.line.duration_s", &t->duration_s, 1, 0.0, 1e6, 1);
+        range(&v, "trajectory.line.pause_s", &t->pause_s, 1, 0.0, 1e6, 0);
+        break;
+    default:
+        pose_range(&v, "trajectory.hold.pose", t->hold_pose);
+        break;
+    }
+    range(&v, "controller.period_s", &sc->gains.period_s, 1, 0.0, 10.0, 1);
+    range(&v, "controller.kp", &sc->gains.kp, 1, 0.0, 1e3, 0);
+    range(&v, "controller.kd_s", &sc->gains.kd_s, 1, 0.0, 1e3, 0);
+    range(&v, "controller.k_length_per_s", &sc->gains.k_length_per_s, 1, 0.0, 1e4, 0);
+    range(&v, "controller.filter_s", &sc->gains.filter_s, 1, 0.0, 1e3, 0);
+    const cdpr_scenario_integrator_t *in = &sc->integrator;
+    range(&v, "integrator.rtol", &in->rtol, 1, 0.0, 0.1, 1);
+    range(&v, "integrator.atol_position_m", &in->atol_position_m, 1, 0.0, 1.0, 1);
+    range(&v, "integrator.atol_velocity_m_per_s", &in->atol_velocity_m_per_s, 1, 0.0, 1.0, 1);
+    range(&v, "integrator.atol_quaternion", &in->atol_quaternion, 1, 0.0, 1.0, 1);
+    range(&v, "integrator.atol_rate_rad_per_s", &in->atol_rate_rad_per_s, 1, 0.0, 1.0, 1);
+    range(&v, "integrator.h_max_s", &in->h_max_s, 1, 0.0, 10.0, 1);
+    irange(&v, "integrator.max_trials", in->max_trials, 1, 1000000);
+    range(&v, "run.duration_s", &sc->duration_s, 1, 0.0, 1e6, 1);
+    range(&v, "run.output_rate_hz", &sc->output_rate_hz, 1, 0.0, 1e6, 0);
+    if (v.failed == 0) {
+        /* Whole control periods, and whole periods per output row. */
+        const double periods = sc->duration_s / sc->gains.period_s;
+        if (fabs(periods - floor(periods + 0.5)) > 1e-6 * periods || periods < 0.5) {
+            char what[512];
+            snprintf(what, sizeof what, "%g s is not a whole number of control periods (%g s)",
+                     sc->duration_s, sc->gains.period_s);
+            cdpr_scenario_error(sc, "run.duration_s", what, err);
+            v.failed = 1;
+        } else if (sc->output_rate_hz > 0.0) {
+            const double every = 1.0 / (sc->output_rate_hz * sc->gains.period_s);
+            if (every < 0.5 || fabs(every - floor(every + 0.5)) > 1e-6 * every) {
+                char what[512];
+                snprintf(what, sizeof what,
+                         "%g Hz is not the control rate (%g Hz) divided by a whole "
+                         "number",
+                         sc->output_rate_hz, 1.0 / sc->gains.period_s);
+                cdpr_scenario_error(sc, "run.output_rate_hz", what, err);
+                v.failed = 1;
+            }
+        }
+    }
+    return (v.failed != 0) ? -1 : 0;
+}
+
+void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6])
+{
+    if (sc->has_initial_pose != 0) {
+        memcpy(pose, sc->initial_pose, sizeof(double) * 6);
+    } else {
+        cdpr_traj_sample_t s;
+        cdpr_traj_eval(&sc->traj, 0.0, &s);
+        memcpy(pose, s.pose, sizeof(double) * 6);
+    }
+    for (int i = 0; i < 6; ++i) {
+        pose[i] += sc->initial_offset[i];
+    }
+}
+
+long cdpr_scenario_periods(const cdpr_scenario_t *sc)
+{
+    return (long)floor(sc->duration_s / sc->gains.period_s + 0.5);
+}
+
+long cdpr_scenario_output_every(const cdpr_scenario_t *sc)
+{
+    if (!(sc->output_rate_hz > 0.0)) {
+        return 1;
+    }
+    const long every = (long)floor(1.0 / (sc->output_rate_hz * sc->gains.period_s) + 0.5);
+    return (every >= 1) ? every : 1;
+}

@@ -1,0 +1,824 @@
+/// @file sim.c
+/// Batch closed-loop run of a scenario (see sim.h).
+#include "cdpr/sim.h"
+
+#include <cyaml/cyaml.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "cdpr/csv.h"
+#include "cdpr/rkf45.h"
+#include "cdpr/settle.h"
+#include "cdpr/statics.h"
+#include "cdpr/winch.h"
+
+static const double PI = 3.14159265358979323846;
+
+/* Everything a run needs, allocated once (about 250 kB at the default capacities). */
+typedef struct {
+    cdpr_robot_t robot;
+    cdpr_robot_t model; /* statics-only model for the feasibility checks */
+    cdpr_real_t y[CDPR_ROBOT_STATE_MAX];
+    cdpr_real_t scratch[CDPR_ROBOT_STATE_MAX];
+    cdpr_real_t atol[CDPR_ROBOT_STATE_MAX];
+    cdpr_real_t work[CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX];
+    cdpr_rkf45_t rk;
+    cdpr_winch_t winch[CDPR_MAX_CABLES];
+    cdpr_tracker_t tracker;
+    cdpr_node_stats_t nodes;
+    cdpr_csv_t csv;
+    int csv_open;
+} sim_t;
+
+void cdpr_sim_opts_default(cdpr_sim_opts_t *o)
+{
+    memset(o, 0, sizeof *o);
+    o->progress_after_s = 2.0;
+}
+
+const char *cdpr_sim_status_name(cdpr_sim_status_t st)
+{
+    switch (st) {
+    case CDPR_SIM_OK:
+        return "ok";
+    case CDPR_SIM_WARNINGS:
+        return "warnings";
+    default:
+        return "failed";
+    }
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int mkdir_p(const char *dir)
+{
+    char buf[1024];
+    if (snprintf(buf, sizeof buf, "%s", dir) >= (int)sizeof buf) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    for (char *p = buf + 1; *p != '\0'; ++p) {
+        if (*p == '/') {
+            *p = '\0';
+            if (mkdir(buf, 0775) != 0 && errno != EEXIST) {
+                return -1;
+            }
+            *p = '/';
+        }
+    }
+    return (mkdir(buf, 0775) != 0 && errno != EEXIST) ? -1 : 0;
+}
+
+static double wrap_pi(double a)
+{
+    while (a > PI) {
+        a -= 2.0 * PI;
+    }
+    while (a <= -PI) {
+        a += 2.0 * PI;
+    }
+    return a;
+}
+
+static const char *traj_key(const cdpr_scenario_t *sc)
+{
+    return (sc->traj.type == CDPR_TRAJ_CIRCLE)
+               ? "trajectory.circle"
+               : ((sc->traj.type == CDPR_TRAJ_LINE) ? "trajectory.line" : "trajectory.hold");
+}
+
+/* Key that determines the initial pose, for error messages: the explicit pose, else the
+ * offset from the trajectory's start, else the trajectory's start itself. */
+static const char *initial_key(const cdpr_scenario_t *sc)
+{
+    if (sc->has_initial_pose != 0) {
+        return "initial.pose";
+    }
+    for (int i = 0; i < 6; ++i) {
+        if (fabs(sc->initial_offset[i]) > 0.0) {
+            return "initial.offset";
+        }
+    }
+    return (sc->traj.type == CDPR_TRAJ_CIRCLE)
+               ? "trajectory.circle"
+               : ((sc->traj.type == CDPR_TRAJ_LINE) ? "trajectory.line.from"
+                                                    : "trajectory.hold.pose");
+}
+
+/* The initial pose and the trajectory (every 0.1 s and at the end) must be statically
+ * feasible; returns 0 or 2 with err filled. */
+static int check_reachable(sim_t *s, const cdpr_scenario_t *sc, double duration,
+                           cdpr_statics_result_t *initial, cdpr_scenario_error_t *err)
+{
+    cdpr_robot_params_t mp;
+    cdpr_diag_t d;
+    if (cdpr_robot_config_build(&sc->robot, NULL, &mp, NULL, &d) != CDPR_OK ||
+        cdpr_robot_init(&s->model, &mp, &d) != CDPR_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "rejected by the model: field '%s': %s", d.field,
+                 cdpr_status_str(d.status));
+        cdpr_scenario_error(sc, "robot", what, err);
+        return 2;
+    }
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    double pose[6];
+    cdpr_scenario_initial_pose(sc, pose);
+    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(pose);
+    cdpr_status_t st = cdpr_statics_ik(&s->model, &m0, &o, initial);
+    if (st != CDPR_OK) {
+        const char *key = initial_key(sc);
+        char what[512];
+        snprintf(what, sizeof what,
+                 "%s (%g, %g, %g m, %g, %g, %g rad) is not statically reachable "
+                 "(no equilibrium with every cable pulling): %s",
+                 (strncmp(key, "initial", 7) == 0) ? "initial pose"
+                                                   : "start pose of the trajectory",
+                 pose[0], pose[1], pose[2], pose[3], pose[4], pose[5], cdpr_status_str(st));
+        cdpr_scenario_error(sc, key, what, err);
+        return 2;
+    }
+    const long n = (long)ceil(duration / 0.1);
+    for (long k = 0; k <= n; ++k) {
+        const double t = (k < n) ? 0.1 * (double)k : duration + sc->gains.period_s;
+        cdpr_traj_sample_t ds;
+        cdpr_traj_eval(&sc->traj, t, &ds);
+        cdpr_statics_result_t res;
+        st = cdpr_statics_ik(&s->model, &ds.motion, &o, &res);
+        if (st != CDPR_OK) {
+            char what[512];
+            snprintf(what, sizeof what,
+                     "desired pose at t = %g s (%g, %g, %g m, %g, %g, %g rad) is not "
+                     "statically reachable (no equilibrium with every cable "
+                     "pulling): %s",
+                     t, ds.pose[0], ds.pose[1], ds.pose[2], ds.pose[3], ds.pose[4], ds.pose[5],
+                     cdpr_status_str(st));
+            cdpr_scenario_error(sc, traj_key(sc), what, err);
+            return 2;
+        }
+    }
+    return 0;
+}
+
+static void fill_atol(sim_t *s, const cdpr_scenario_t *sc)
+{
+    const cdpr_scenario_integrator_t *in = &sc->integrator;
+    cdpr_robot_fill_atol(&s->robot, in->atol_position_m, in->atol_velocity_m_per_s,
+                         in->atol_quaternion, in->atol_rate_rad_per_s, s->atol);
+}
+
+static void csv_header(cdpr_csv_t *c, int nc)
+{
+    static const char *const head[] = {
+        "t_s",  "x_m",  "y_m",        "z_m",        "alpha_rad",  "beta_rad",   "gamma_rad",
+        "xd_m", "yd_m", "zd_m",       "alphad_rad", "betad_rad",  "gammad_rad", "ex_m",
+        "ey_m", "ez_m", "ealpha_rad", "ebeta_rad",  "egamma_rad", "epos_m",     "erot_rad"};
+    for (size_t i = 0; i < sizeof head / sizeof head[0]; ++i) {
+        cdpr_csv_name(c, head[i]);
+    }
+    static const char *const per[] = {"T_cabin%d_N", "T_winch%d_N", "L%d_m",
+                                      "Lff%d_m",     "u%d_m_per_s", "n%d"};
+    for (size_t k = 0; k < sizeof per / sizeof per[0]; ++k) {
+        for (int j = 0; j < nc; ++j) {
+            char name[32];
+            snprintf(name, sizeof name, per[k], j + 1);
+            cdpr_csv_name(c, name);
+        }
+    }
+    cdpr_csv_end_row(c);
+}
+
+/* Per-sample quantities shared by the CSV row and the summary. */
+typedef struct {
+    double pose[6];
+    double err[6]; /* actual - desired; angles wrapped */
+    double epos_m;
+    double erot_rad;
+    double length_m[CDPR_MAX_CABLES];
+    cdpr_robot_out_t out;
+} sample_t;
+
+static void measure(const sim_t *s, double t, const cdpr_traj_sample_t *des, sample_t *smp,
+                    cdpr_tracker_meas_t *meas)
+{
+    const cdpr_robot_t *r = &s->robot;
+    cdpr_cabin_motion_t m;
+    cdpr_cabin_get_motion(s->y, &m);
+    m.q = cdpr_quat_normalize(m.q);
+    smp->pose[0] = m.p_m.x;
+    smp->pose[1] = m.p_m.y;
+    smp->pose[2] = m.p_m.z;
+    cdpr_quat_to_euler(m.q, &smp->pose[3], &smp->pose[4], &smp->pose[5]);
+    for (int i = 0; i < 6; ++i) {
+        const double e = smp->pose[i] - des->pose[i];
+        smp->err[i] = (i < 3) ? e : wrap_pi(e);
+    }
+    smp->epos_m =
+        sqrt(smp->err[0] * smp->err[0] + smp->err[1] * smp->err[1] + smp->err[2] * smp->err[2]);
+    const cdpr_quat_t qi = {m.q.w, -m.q.x, -m.q.y, -m.q.z};
+    smp->erot_rad = cdpr_v3_norm(cdpr_quat_to_rotvec(cdpr_quat_mul(des->motion.q, qi)));
+    for (int j = 0; j < r->p.n_cables; ++j) {
+        smp->length_m[j] = cdpr_cable_total_length(&r->cable[j], s->y + r->offset[j]);
+    }
+    if (meas != NULL) {
+        meas->t_s = t;
+        meas->cabin = m;
+        memcpy(meas->length_m, smp->length_m, sizeof meas->length_m);
+    }
+}
+
+static void csv_row(sim_t *s, double t, const cdpr_traj_sample_t *des, const sample_t *smp,
+                    const double *l_ff)
+{
+    cdpr_csv_t *c = &s->csv;
+    const int nc = s->robot.p.n_cables;
+    cdpr_csv_num(c, t);
+    for (int i = 0; i < 6; ++i) {
+        cdpr_csv_num(c, smp->pose[i]);
+    }
+    for (int i = 0; i < 6; ++i) {
+        cdpr_csv_num(c, des->pose[i]);
+    }
+    for (int i = 0; i < 6; ++i) {
+        cdpr_csv_num(c, smp->err[i]);
+    }
+    cdpr_csv_num(c, smp->epos_m);
+    cdpr_csv_num(c, smp->erot_rad);
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, smp->out.tension_cabin_N[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, smp->out.tension_winch_N[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, smp->length_m[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, l_ff[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, s->robot.in.payout_m_per_s[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, (double)s->robot.cable[j].n);
+    }
+    cdpr_csv_end_row(c);
+}
+
+/* Running statistics over the samples. */
+typedef struct {
+    double sum2_pos;
+    double sum2_rot;
+    double sum2_pos_late;
+    long n;
+    long n_late;
+} stats_t;
+
+static void accumulate(stats_t *st, cdpr_sim_summary_t *sum, const sample_t *smp, int nc, int late)
+{
+    st->sum2_pos += smp->epos_m * smp->epos_m;
+    st->sum2_rot += smp->erot_rad * smp->erot_rad;
+    st->n++;
+    if (late != 0) {
+        st->sum2_pos_late += smp->epos_m * smp->epos_m;
+        st->n_late++;
+    }
+    sum->max_error_m = fmax(sum->max_error_m, smp->epos_m);
+    sum->max_error_rad = fmax(sum->max_error_rad, smp->erot_rad);
+    sum->final_error_m = smp->epos_m;
+    sum->final_error_rad = smp->erot_rad;
+    for (int j = 0; j < nc; ++j) {
+        const double a = smp->out.tension_cabin_N[j];
+        const double b = smp->out.tension_winch_N[j];
+        sum->max_tension_N = fmax(sum->max_tension_N, fmax(a, b));
+        sum->min_tension_N = fmin(sum->min_tension_N, fmin(a, b));
+    }
+}
+
+static void progress(const cdpr_sim_opts_t *o, double t, double total, double wall, int final)
+{
+    if (o->progress == 0 || o->progress_stream == NULL) {
+        return;
+    }
+    const double pct = 100.0 * t / total;
+    const double speed = (wall > 0.0) ? t / wall : 0.0;
+    if (o->progress == 1) {
+        fprintf(o->progress_stream,
+                "\rcdpr-sim: t = %7.2f / %.2f s (%3.0f %%), %.2fx real time  %s", t, total, pct,
+                speed, (final != 0) ? "\n" : "");
+    } else {
+        fprintf(o->progress_stream, "cdpr-sim: t = %.2f / %.2f s (%.0f %%), %.2fx real time\n", t,
+                total, pct, speed);
+    }
+    fflush(o->progress_stream);
+}
+
+/* Initial state: IK lengths -> robot -> catenary placement -> settle. Returns 0 or 2. */
+static int initialise(sim_t *s, const cdpr_scenario_t *sc, const cdpr_statics_result_t *ik,
+                      cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+{
+    double lengths[CDPR_MAX_CABLES];
+    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
+        lengths[j] = ik->cable[j].length_m;
+    }
+    cdpr_robot_params_t rp;
+    cdpr_winch_params_t wp;
+    cdpr_diag_t d;
+    if (cdpr_robot_config_build(&sc->robot, lengths, &rp, &wp, &d) != CDPR_OK ||
+        cdpr_robot_init(&s->robot, &rp, &d) != CDPR_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "rejected by the model: field '%s': %s", d.field,
+                 cdpr_status_str(d.status));
+        cdpr_scenario_error(sc, "robot", what, err);
+        return 2;
+    }
+    cdpr_status_t st = cdpr_robot_place_catenary(&s->robot, ik, s->y);
+    if (st != CDPR_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "cannot place the cables: %s", cdpr_status_str(st));
+        cdpr_scenario_error(sc, initial_key(sc), what, err);
+        return 2;
+    }
+    /* Settle with tight tolerances: the discrete equilibrium, to 1e-6 m/s^2. */
+    cdpr_rkf45_params_t sp;
+    cdpr_rkf45_params_default(&sp);
+    sp.rtol = 1e-9;
+    sp.atol = 1e-10;
+    st = cdpr_rkf45_init(&s->rk, &sp, s->work, (int)(sizeof s->work / sizeof s->work[0]),
+                         CDPR_ROBOT_STATE_MAX, s->robot.dim, &d);
+    if (st != CDPR_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "settling solver: %s", cdpr_status_str(st));
+        cdpr_scenario_error(sc, "integrator", what, err);
+        return 2;
+    }
+    cdpr_settle_t cfg;
+    cdpr_settle_default(&cfg);
+    const double t0 = now_s();
+    st = cdpr_robot_settle(&s->robot, &s->rk, s->y, s->scratch, &cfg);
+    sum->settle_wall_time_s = now_s() - t0;
+    sum->settle_steps = cfg.steps;
+    if (st != CDPR_OK) {
+        char what[512];
+        snprintf(what, sizeof what,
+                 "the initial state did not settle to rest (%s after %ld steps, "
+                 "residual %g m/s^2)",
+                 cdpr_status_str(st), cfg.steps, cfg.max_acc_m_per_s2);
+        cdpr_scenario_error(sc, initial_key(sc), what, err);
+        return 2;
+    }
+    /* Winches at rest, in rate mode. */
+    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
+        if (cdpr_winch_init(&s->winch[j], &wp, &d) != CDPR_OK) {
+            char what[512];
+            snprintf(what, sizeof what, "field '%s': %s", d.field, cdpr_status_str(d.status));
+            cdpr_scenario_error(sc, "robot.winch", what, err);
+            return 2;
+        }
+    }
+    s->robot.in.wind_m_per_s =
+        cdpr_v3(sc->robot.wind_m_per_s[0], sc->robot.wind_m_per_s[1], sc->robot.wind_m_per_s[2]);
+    /* The run's integrator. */
+    cdpr_rkf45_params_t ip;
+    cdpr_rkf45_params_default(&ip);
+    ip.rtol = sc->integrator.rtol;
+    ip.h_max_s = sc->integrator.h_max_s;
+    fill_atol(s, sc);
+    ip.atol_vec = s->atol;
+    st = cdpr_rkf45_init(&s->rk, &ip, s->work, (int)(sizeof s->work / sizeof s->work[0]),
+                         CDPR_ROBOT_STATE_MAX, s->robot.dim, &d);
+    if (st != CDPR_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "field '%s': %s", d.field, cdpr_status_str(st));
+        cdpr_scenario_error(sc, "integrator", what, err);
+        return 2;
+    }
+    /* The controller, with its own model built from the same values. */
+    st = cdpr_tracker_init(&s->tracker, &rp, &sc->traj, &sc->gains, 0.0, &d);
+    if (st != CDPR_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "controller: field '%s': %s", d.field, cdpr_status_str(st));
+        cdpr_scenario_error(sc, (strcmp(d.field, "trajectory") == 0) ? traj_key(sc) : "controller",
+                            what, err);
+        return 2;
+    }
+    return 0;
+}
+
+static int open_outputs(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
+                        cdpr_scenario_error_t *err)
+{
+    (void)sc;
+    if (o->out_dir == NULL) {
+        return 0;
+    }
+    if (mkdir_p(o->out_dir) != 0) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot create directory: %s", o->out_dir,
+                 strerror(errno));
+        return 3;
+    }
+    char path[1100];
+    snprintf(path, sizeof path, "%s/timeseries.csv", o->out_dir);
+    if (cdpr_csv_open(&s->csv, path) != 0) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot write: %s", path, strerror(errno));
+        return 3;
+    }
+    s->csv_open = 1;
+    csv_header(&s->csv, s->robot.p.n_cables);
+    return 0;
+}
+
+static void note(cdpr_sim_summary_t *sum, const char *what)
+{
+    if (sum->message[0] == '\0') {
+        snprintf(sum->message, sizeof sum->message, "%s", what);
+    }
+}
+
+/* The control loop. Returns 0 (reached the end) or 1 (integrator error). */
+static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, double duration,
+                cdpr_sim_summary_t *sum, double wall0)
+{
+    cdpr_robot_t *r = &s->robot;
+    const int nc = r->p.n_cables;
+    const double dt = sc->gains.period_s;
+    const long n_periods = (long)floor(duration / dt + 0.5);
+    const long every = cdpr_scenario_output_every(sc);
+    stats_t st;
+    memset(&st, 0, sizeof st);
+    sum->min_tension_N = INFINITY;
+    sum->nodes_min = CDPR_MAX_SEGMENTS;
+    sum->nodes_max = 0;
+    double next_progress = wall0 + o->progress_after_s;
+    int shown = 0;
+    double l_ff[CDPR_MAX_CABLES] = {0.0};
+    int rc = 0;
+    for (long k = 0;; ++k) {
+        const double t = (double)k * dt;
+        for (int j = 0; j < nc; ++j) {
+            sum->nodes_min = (r->cable[j].n < sum->nodes_min) ? r->cable[j].n : sum->nodes_min;
+            sum->nodes_max = (r->cable[j].n > sum->nodes_max) ? r->cable[j].n : sum->nodes_max;
+        }
+        cdpr_traj_sample_t des;
+        cdpr_traj_eval(&sc->traj, t, &des);
+        sample_t smp;
+        cdpr_tracker_meas_t meas;
+        measure(s, t, &des, &smp, &meas);
+        const int last = (k >= n_periods) ? 1 : 0;
+        if (last == 0) {
+            cdpr_tracker_cmd_t cmd;
+            if (cdpr_tracker_step(&s->tracker, &meas, &cmd) != CDPR_OK) {
+                note(sum, "non-finite measurement");
+                rc = 1;
+                break;
+            }
+            memcpy(l_ff, cmd.l_ff_m, sizeof l_ff);
+            for (int j = 0; j < nc; ++j) {
+                (void)cdpr_winch_command(&s->winch[j], CDPR_WINCH_RATE, cmd.rate_m_per_s[j]);
+                if (cdpr_winch_update(&s->winch[j], smp.length_m[j], dt) == CDPR_WARN_MIN_LENGTH) {
+                    sum->min_length_periods++;
+                }
+                r->in.payout_m_per_s[j] = s->winch[j].u_m_per_s;
+                sum->max_payout_m_per_s =
+                    fmax(sum->max_payout_m_per_s, fabs(s->winch[j].u_m_per_s));
+            }
+        }
+        cdpr_robot_outputs(r, t, s->y, &smp.out);
+        if (k == 0) {
+            sum->initial_error_m = smp.epos_m;
+        }
+        accumulate(&st, sum, &smp, nc, (t >= 0.5 * duration) ? 1 : 0);
+        if (s->csv_open != 0 && (k % every == 0 || last != 0)) {
+            csv_row(s, t, &des, &smp, l_ff);
+        }
+        sum->periods = k;
+        sum->sim_time_s = t;
+        if (last != 0) {
+            break;
+        }
+        double tt = t;
+        const cdpr_status_t as =
+            cdpr_rkf45_advance(&s->rk, cdpr_robot_rhs, r, &tt, s->y, dt, sc->integrator.max_trials);
+        if (as < 0) {
+            snprintf(sum->message, sizeof sum->message, "integrator failed at t = %.6g s: %s", t,
+                     cdpr_status_str(as));
+            rc = 1;
+            break;
+        }
+        if (as == CDPR_WARN_SUBSTEP_LIMIT) {
+            sum->substep_limit_hits++;
+        }
+        cdpr_robot_normalize(r, s->y);
+        int changed = 0;
+        const cdpr_status_t ns = cdpr_robot_node_events(r, t + dt, s->y, &s->nodes, &changed);
+        if (ns == CDPR_WARN_CAPACITY) {
+            note(sum, "node capacity reached");
+        }
+        if (changed != 0) {
+            (void)cdpr_rkf45_set_dim(&s->rk, r->dim);
+            fill_atol(s, sc);
+        }
+        const double wall = now_s();
+        if (o->progress != 0 && wall >= next_progress) {
+            progress(o, t + dt, duration, wall - wall0, 0);
+            shown = 1;
+            next_progress = wall + ((o->progress == 1) ? 0.25 : 5.0);
+        }
+    }
+    if (shown != 0) {
+        progress(o, sum->sim_time_s, duration, now_s() - wall0, 1);
+    }
+    sum->rms_error_m = (st.n > 0) ? sqrt(st.sum2_pos / (double)st.n) : 0.0;
+    sum->rms_error_rad = (st.n > 0) ? sqrt(st.sum2_rot / (double)st.n) : 0.0;
+    sum->rms_error_second_half_m =
+        (st.n_late > 0) ? sqrt(st.sum2_pos_late / (double)st.n_late) : 0.0;
+    if (!isfinite(sum->min_tension_N)) {
+        sum->min_tension_N = 0.0;
+    }
+    for (int j = 0; j < nc; ++j) {
+        sum->node_insertions += s->nodes.insertions[j];
+        sum->node_removals += s->nodes.removals[j];
+        sum->capacity_hits += s->nodes.capacity_hits[j];
+    }
+    sum->ik_failures = s->tracker.ik_failures;
+    sum->steps_accepted = s->rk.stats.steps_accepted;
+    sum->steps_rejected = s->rk.stats.steps_rejected;
+    sum->rhs_evals = s->rk.stats.rhs_evals;
+    return rc;
+}
+
+int cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_sim_summary_t *sum,
+                 cdpr_scenario_error_t *err)
+{
+    memset(sum, 0, sizeof *sum);
+    sum->status = CDPR_SIM_FAILED;
+    if (cdpr_scenario_check(sc, err) != 0) {
+        return 2;
+    }
+    const double duration = (o->duration_s > 0.0) ? o->duration_s : sc->duration_s;
+    const double wall0 = now_s();
+    sim_t *s = calloc(1, sizeof *s);
+    if (s == NULL) {
+        snprintf(err->msg, sizeof err->msg, "out of memory");
+        return 3;
+    }
+    cdpr_statics_result_t ik;
+    int rc = check_reachable(s, sc, duration, &ik, err);
+    if (rc == 0) {
+        rc = initialise(s, sc, &ik, sum, err);
+    }
+    if (rc == 0) {
+        rc = open_outputs(s, sc, o, err);
+    }
+    if (rc == 0) {
+        rc = loop(s, sc, o, duration, sum, wall0);
+        sum->wall_time_s = now_s() - wall0;
+        if (rc != 0) {
+            sum->status = CDPR_SIM_FAILED;
+        } else if (sum->substep_limit_hits + sum->ik_failures + sum->capacity_hits +
+                       sum->min_length_periods >
+                   0) {
+            sum->status = CDPR_SIM_WARNINGS;
+            if (sum->substep_limit_hits > 0) {
+                note(sum, "substep limit hit (tolerance not met in some periods)");
+            } else if (sum->ik_failures > 0) {
+                note(sum, "feed-forward IK failed in some periods (last good value held)");
+            } else if (sum->min_length_periods > 0) {
+                note(sum, "a winch was held at its minimum length");
+            }
+        } else {
+            sum->status = CDPR_SIM_OK;
+        }
+        if (s->csv_open != 0 && cdpr_csv_close(&s->csv) != 0) {
+            snprintf(err->msg, sizeof err->msg, "%s/timeseries.csv: write error", o->out_dir);
+            rc = 3;
+        }
+        if (o->out_dir != NULL && rc != 3) {
+            char path[1100];
+            snprintf(path, sizeof path, "%s/summary.json", o->out_dir);
+            if (cdpr_sim_write_summary(path, sc, sum) != 0) {
+                snprintf(err->msg, sizeof err->msg, "%s: cannot write: %s", path, strerror(errno));
+                rc = 3;
+            }
+        }
+    }
+    if (s->csv_open != 0 && s->csv.f != NULL) {
+        (void)cdpr_csv_close(&s->csv);
+    }
+    free(s);
+    return rc;
+}
+
+/* JSON string body with the characters JSON requires escaped. */
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s != '\0'; ++s) {
+        const unsigned char ch = (unsigned char)*s;
+        if (ch == '"' || ch == '\\') {
+            fprintf(f, "\\%c", ch);
+        } else if (ch < 0x20) {
+            fprintf(f, "\\u%04x", ch);
+        } else {
+            fputc(ch, f);
+        }
+    }
+    fputc('"', f);
+}
+
+int cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
+                           const cdpr_sim_summary_t *sum)
+{
+    FILE *f = fopen(path, "w");
+    if (f == NULL) {
+        return -1;
+    }
+    fprintf(f, "{\n  \"scenario\": ");
+    json_string(f, sc->path);
+    fprintf(f, ",\n  \"robot\": ");
+    json_string(f, cdpr_robot_preset_name(sc->robot.preset));
+    fprintf(f, ",\n  \"trajectory\": ");
+    json_string(f, cdpr_traj_type_name(sc->traj.type));
+    fprintf(f, ",\n  \"status\": ");
+    json_string(f, cdpr_sim_status_name(sum->status));
+    fprintf(f, ",\n  \"message\": ");
+    json_string(f, sum->message);
+    const struct {
+        const char *k;
+        double v;
+    } nums[] = {
+        {"rms_error_m", sum->rms_error_m},
+        {"max_error_m", sum->max_error_m},
+        {"final_error_m", sum->final_error_m},
+        {"initial_error_m", sum->initial_error_m},
+        {"rms_error_second_half_m", sum->rms_error_second_half_m},
+        {"rms_error_rad", sum->rms_error_rad},
+        {"max_error_rad", sum->max_error_rad},
+        {"final_error_rad", sum->final_error_rad},
+        {"max_tension_N", sum->max_tension_N},
+        {"min_tension_N", sum->min_tension_N},
+        {"max_payout_m_per_s", sum->max_payout_m_per_s},
+        {"sim_time_s", sum->sim_time_s},
+        {"wall_time_s", sum->wall_time_s},
+        {"settle_wall_time_s", sum->settle_wall_time_s},
+        {"control_period_s", sc->gains.period_s},
+    };
+    for (size_t i = 0; i < sizeof nums / sizeof nums[0]; ++i) {
+        fprintf(f, ",\n  \"%s\": %.17g", nums[i].k, nums[i].v);
+    }
+    const struct {
+        const char *k;
+        long v;
+    } ints[] = {
+        {"node_insertions", (long)sum->node_insertions},
+        {"node_removals", (long)sum->node_removals},
+        {"capacity_hits", (long)sum->capacity_hits},
+        {"substep_limit_hits", (long)sum->substep_limit_hits},
+        {"ik_failures", (long)sum->ik_failures},
+        {"min_length_periods", (long)sum->min_length_periods},
+        {"nodes_min", (long)sum->nodes_min},
+        {"nodes_max", (long)sum->nodes_max},
+        {"periods", sum->periods},
+        {"steps_accepted", (long)sum->steps_accepted},
+        {"steps_rejected", (long)sum->steps_rejected},
+        {"rhs_evals", (long)sum->rhs_evals},
+        {"settle_steps", sum->settle_steps},
+        {"segments", (long)sc->robot.segments},
+    };
+    for (size_t i = 0; i < sizeof ints / sizeof ints[0]; ++i) {
+        fprintf(f, ",\n  \"%s\": %ld", ints[i].k, ints[i].v);
+    }
+    fprintf(f, "\n}\n");
+    return (fclose(f) == 0) ? 0 : -1;
+}
+
+/* ---------------------------------------------------------------- reading summary.json */
+
+typedef struct {
+    char *status;
+    double rms_error_m, max_error_m, final_error_m, initial_error_m, rms_error_second_half_m;
+    double rms_error_rad, max_error_rad, final_error_rad;
+    double max_tension_N, min_tension_N, max_payout_m_per_s, sim_time_s, wall_time_s;
+    double node_insertions, node_removals, capacity_hits, substep_limit_hits, ik_failures;
+    double min_length_periods, nodes_min, nodes_max, periods, steps_accepted, steps_rejected;
+    double rhs_evals, settle_steps;
+} raw_summary_t;
+
+#define SUM_NUM(key) CYAML_FIELD_FLOAT(#key, CYAML_FLAG_STRICT, raw_summary_t, key)
+
+static const cyaml_schema_field_t summary_fields[] = {
+    CYAML_FIELD_STRING_PTR("status", CYAML_FLAG_DEFAULT, raw_summary_t, status, 0, 63),
+    SUM_NUM(rms_error_m),
+    SUM_NUM(max_error_m),
+    SUM_NUM(final_error_m),
+    SUM_NUM(initial_error_m),
+    SUM_NUM(rms_error_second_half_m),
+    SUM_NUM(rms_error_rad),
+    SUM_NUM(max_error_rad),
+    SUM_NUM(final_error_rad),
+    SUM_NUM(max_tension_N),
+    SUM_NUM(min_tension_N),
+    SUM_NUM(max_payout_m_per_s),
+    SUM_NUM(sim_time_s),
+    SUM_NUM(wall_time_s),
+    SUM_NUM(node_insertions),
+    SUM_NUM(node_removals),
+    SUM_NUM(capacity_hits),
+    SUM_NUM(substep_limit_hits),
+    SUM_NUM(ik_failures),
+    SUM_NUM(min_length_periods),
+    SUM_NUM(nodes_min),
+    SUM_NUM(nodes_max),
+    SUM_NUM(periods),
+    SUM_NUM(steps_accepted),
+    SUM_NUM(steps_rejected),
+    SUM_NUM(rhs_evals),
+    SUM_NUM(settle_steps),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_value_t summary_schema = {
+    CYAML_VALUE_MAPPING(CYAML_FLAG_POINTER, raw_summary_t, summary_fields),
+};
+
+typedef struct {
+    char text[1024];
+    size_t len;
+} summary_log_t;
+
+static void summary_log(cyaml_log_t level, void *ctx, const char *fmt, va_list args)
+{
+    summary_log_t *b = ctx;
+    if (level >= CYAML_LOG_ERROR && b->len == 0) {
+        const int n = vsnprintf(b->text, sizeof b->text, fmt, args);
+        b->len = (n > 0) ? (size_t)n : 0;
+        /* first line only */
+        char *nl = strchr(b->text, '\n');
+        if (nl != NULL) {
+            *nl = '\0';
+        }
+    }
+}
+
+int cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+{
+    summary_log_t lg;
+    lg.len = 0;
+    lg.text[0] = '\0';
+    const cyaml_config_t cfg = {
+        .log_fn = summary_log,
+        .log_ctx = &lg,
+        .mem_fn = cyaml_mem,
+        .log_level = CYAML_LOG_ERROR,
+        .flags = CYAML_CFG_IGNORE_UNKNOWN_KEYS,
+    };
+    raw_summary_t *r = NULL;
+    const cyaml_err_t e = cyaml_load_file(path, &cfg, &summary_schema, (cyaml_data_t **)&r, NULL);
+    if (e != CYAML_OK || r == NULL) {
+        snprintf(err->msg, sizeof err->msg, "%s: %s", path,
+                 (lg.text[0] != '\0') ? lg.text : cyaml_strerror(e));
+        return -1;
+    }
+    memset(sum, 0, sizeof *sum);
+    sum->status =
+        (strcmp(r->status, "ok") == 0)
+            ? CDPR_SIM_OK
+            : ((strcmp(r->status, "warnings") == 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_FAILED);
+    sum->rms_error_m = r->rms_error_m;
+    sum->max_error_m = r->max_error_m;
+    sum->final_error_m = r->final_error_m;
+    sum->initial_error_m = r->initial_error_m;
+    sum->rms_error_second_half_m = r->rms_error_second_half_m;
+    sum->rms_error_rad = r->rms_error_rad;
+    sum->max_error_rad = r->max_error_rad;
+    sum->final_error_rad = r->final_error_rad;
+    sum->max_tension_N = r->max_tension_N;
+    sum->min_tension_N = r->min_tension_N;
+    sum->max_payout_m_per_s = r->max_payout_m_per_s;
+    sum->sim_time_s = r->sim_time_s;
+    sum->wall_time_s = r->wall_time_s;
+    sum->node_insertions = (unsigned long)r->node_insertions;
+    sum->node_removals = (unsigned long)r->node_removals;
+    sum->capacity_hits = (unsigned long)r->capacity_hits;
+    sum->substep_limit_hits = (unsigned long)r->substep_limit_hits;
+    sum->ik_failures = (unsigned long)r->ik_failures;
+    sum->min_length_periods = (unsigned long)r->min_length_periods;
+    sum->nodes_min = (int)r->nodes_min;
+    sum->nodes_max = (int)r->nodes_max;
+    sum->periods = (long)r->periods;
+    sum->steps_accepted = (unsigned long)r->steps_accepted;
+    sum->steps_rejected = (unsigned long)r->steps_rejected;
+    sum->rhs_evals = (unsigned long)r->rhs_evals;
+    sum->settle_steps = (long)r->settle_steps;
+    (void)cyaml_free(&cfg, &summary_schema, r, 0);
+    return 0;
+}

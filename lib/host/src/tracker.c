@@ -1,0 +1,186 @@
+/// @file tracker.c
+/// Sag-aware feed-forward plus pose feedback through the straight-cable Jacobian.
+#include "cdpr/tracker.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "cdpr/vec3.h"
+
+cdpr_vec3_t cdpr_quat_to_rotvec(cdpr_quat_t q)
+{
+    /* Shortest rotation: q and -q are the same rotation; take w >= 0. */
+    if (q.w < 0.0) {
+        q.w = -q.w;
+        q.x = -q.x;
+        q.y = -q.y;
+        q.z = -q.z;
+    }
+    const cdpr_vec3_t v = cdpr_v3(q.x, q.y, q.z);
+    const double s = cdpr_v3_norm(v);
+    if (s < 1e-12) {
+        return cdpr_v3_scale(v, 2.0); /* angle ~ 2 s, to first order */
+    }
+    return cdpr_v3_scale(v, 2.0 * atan2(s, q.w) / s);
+}
+
+void cdpr_tracker_jacobian(const cdpr_robot_t *model, int j, const cdpr_cabin_motion_t *m,
+                           cdpr_vec3_t *u, cdpr_vec3_t *g)
+{
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(cdpr_quat_normalize(m->q), &R);
+    const cdpr_vec3_t rb = cdpr_m3_mul_v3(&R, model->p.cables[j].attach_body_m);
+    const cdpr_vec3_t d = cdpr_v3_sub(model->p.cables[j].exit_point_m, cdpr_v3_add(m->p_m, rb));
+    const double l = cdpr_v3_norm(d);
+    *u = (l > 0.0) ? cdpr_v3_scale(d, 1.0 / l) : cdpr_v3(0.0, 0.0, 0.0);
+    *g = cdpr_v3_cross(rb, *u);
+}
+
+static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_diag_t *diag)
+{
+    const double v[5] = {g->period_s, g->kp, g->kd_s, g->k_length_per_s, g->filter_s};
+    static const char *const names[5] = {"period_s", "kp", "kd_s", "k_length_per_s", "filter_s"};
+    for (int i = 0; i < 5; ++i) {
+        if (!isfinite(v[i])) {
+            return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
+        }
+        if (v[i] < 0.0 || (i == 0 && !(v[i] > 0.0))) {
+            return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, names[i], -1);
+        }
+    }
+    return CDPR_OK;
+}
+
+/* Feed-forward lengths at time t; on failure `L` is untouched. */
+static cdpr_status_t feedforward(const cdpr_tracker_t *tr, double t, double *L)
+{
+    cdpr_traj_sample_t d;
+    cdpr_traj_eval(&tr->traj, t, &d);
+    cdpr_statics_result_t res;
+    const cdpr_status_t st = cdpr_statics_ik(&tr->model, &d.motion, &tr->ik_opts, &res);
+    if (st == CDPR_OK) {
+        for (int j = 0; j < tr->model.p.n_cables; ++j) {
+            L[j] = res.cable[j].length_m;
+        }
+    }
+    return st;
+}
+
+cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *model_params,
+                                const cdpr_traj_t *traj, const cdpr_tracker_gains_t *g, double t0_s,
+                                cdpr_diag_t *diag)
+{
+    if (tr == NULL || model_params == NULL || traj == NULL || g == NULL || !isfinite(t0_s)) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "tracker", -1);
+    }
+    const cdpr_status_t gs = check_gains(g, diag);
+    if (gs != CDPR_OK) {
+        return gs;
+    }
+    memset(tr, 0, sizeof *tr);
+    const cdpr_status_t ms = cdpr_robot_init(&tr->model, model_params, diag);
+    if (ms != CDPR_OK) {
+        return ms;
+    }
+    tr->traj = *traj;
+    tr->g = *g;
+    cdpr_statics_opts_default(&tr->ik_opts);
+    const cdpr_status_t st = feedforward(tr, t0_s, tr->l_ff_m);
+    if (st != CDPR_OK) {
+        return cdpr_diag_set(diag, st, "trajectory", -1);
+    }
+    tr->t_next_s = t0_s;
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m,
+                                cdpr_tracker_cmd_t *cmd)
+{
+    if (tr == NULL || m == NULL || cmd == NULL) {
+        return CDPR_E_INVALID_ARG;
+    }
+    const int nc = tr->model.p.n_cables;
+    int finite = isfinite(m->t_s) && cdpr_v3_isfinite(m->cabin.p_m) &&
+                 cdpr_v3_isfinite(m->cabin.v_m_per_s) && cdpr_v3_isfinite(m->cabin.w_rad_per_s) &&
+                 isfinite(m->cabin.q.w) && isfinite(m->cabin.q.x) && isfinite(m->cabin.q.y) &&
+                 isfinite(m->cabin.q.z);
+    for (int j = 0; j < nc; ++j) {
+        finite = finite && isfinite(m->length_m[j]);
+    }
+    if (!finite) {
+        return CDPR_E_NOT_FINITE;
+    }
+    memset(cmd, 0, sizeof *cmd);
+    const double dt = tr->g.period_s;
+    const double t = m->t_s;
+    /* L_ff(t): prepared by the previous period, unless the caller's clock jumped. */
+    if (fabs(t - tr->t_next_s) > 1e-9 * (1.0 + fabs(t))) {
+        if (feedforward(tr, t, tr->l_ff_m) != CDPR_OK) {
+            tr->ik_failures++;
+        }
+    }
+    double l_next[CDPR_MAX_CABLES];
+    memcpy(l_next, tr->l_ff_m, sizeof l_next);
+    cmd->ik_status = feedforward(tr, t + dt, l_next);
+    if (cmd->ik_status != CDPR_OK) {
+        tr->ik_failures++; /* l_next still holds the last good feed-forward */
+    }
+
+    /* Pose error (desired - measured) and its rate, world axes. */
+    cdpr_traj_eval(&tr->traj, t, &cmd->desired);
+    const cdpr_cabin_motion_t *d = &cmd->desired.motion;
+    const cdpr_quat_t qm = cdpr_quat_normalize(m->cabin.q);
+    const cdpr_quat_t qm_inv = {qm.w, -qm.x, -qm.y, -qm.z};
+    const cdpr_vec3_t e_p = cdpr_v3_sub(d->p_m, m->cabin.p_m);
+    const cdpr_vec3_t e_th = cdpr_quat_to_rotvec(cdpr_quat_mul(d->q, qm_inv));
+    cdpr_mat3_t Rd;
+    cdpr_mat3_t Rm;
+    cdpr_quat_to_mat3(d->q, &Rd);
+    cdpr_quat_to_mat3(qm, &Rm);
+    const cdpr_vec3_t e_v = cdpr_v3_sub(d->v_m_per_s, m->cabin.v_m_per_s);
+    const cdpr_vec3_t e_w =
+        cdpr_v3_sub(cdpr_m3_mul_v3(&Rd, d->w_rad_per_s), cdpr_m3_mul_v3(&Rm, m->cabin.w_rad_per_s));
+    cmd->err_pos_m[0] = e_p.x;
+    cmd->err_pos_m[1] = e_p.y;
+    cmd->err_pos_m[2] = e_p.z;
+    cmd->err_rot_rad[0] = e_th.x;
+    cmd->err_rot_rad[1] = e_th.y;
+    cmd->err_rot_rad[2] = e_th.z;
+
+    /* Second-order low-pass (two first-order stages, critically damped) of the 12 error
+     * components; the first sample primes both stages. */
+    const double raw[12] = {e_p.x, e_p.y, e_p.z, e_th.x, e_th.y, e_th.z,
+                            e_v.x, e_v.y, e_v.z, e_w.x,  e_w.y,  e_w.z};
+    const double a = (tr->g.filter_s > 0.0) ? 1.0 - exp(-dt / tr->g.filter_s) : 1.0;
+    for (int i = 0; i < 12; ++i) {
+        if (tr->filter_primed == 0) {
+            tr->err_f1[i] = raw[i];
+            tr->err_f[i] = raw[i];
+        } else {
+            tr->err_f1[i] += a * (raw[i] - tr->err_f1[i]);
+            tr->err_f[i] += a * (tr->err_f1[i] - tr->err_f[i]);
+        }
+    }
+    tr->filter_primed = 1;
+    const double *f = tr->err_f;
+
+    for (int j = 0; j < nc; ++j) {
+        cdpr_vec3_t u;
+        cdpr_vec3_t gj;
+        cdpr_tracker_jacobian(&tr->model, j, &m->cabin, &u, &gj);
+        const double move =
+            u.x * f[0] + u.y * f[1] + u.z * f[2] + gj.x * f[3] + gj.y * f[4] + gj.z * f[5];
+        const double move_rate =
+            u.x * f[6] + u.y * f[7] + u.z * f[8] + gj.x * f[9] + gj.y * f[10] + gj.z * f[11];
+        const double dl = -(tr->g.kp * move + tr->g.kd_s * move_rate);
+        const double u_ff = (l_next[j] - tr->l_ff_m[j]) / dt;
+        cmd->l_ff_m[j] = tr->l_ff_m[j];
+        cmd->u_ff_m_per_s[j] = u_ff;
+        cmd->dl_m[j] = dl;
+        cmd->rate_m_per_s[j] = u_ff + tr->g.k_length_per_s * (tr->l_ff_m[j] + dl - m->length_m[j]);
+    }
+    memcpy(tr->l_ff_m, l_next, sizeof l_next);
+    tr->t_next_s = t + dt;
+    tr->steps++;
+    return CDPR_OK;
+}

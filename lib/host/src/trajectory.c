@@ -1,0 +1,108 @@
+/// @file trajectory.c
+/// Circle, line and hold trajectories (MODEL.md §7, PARAMETERS.md scenario geometry).
+#include "cdpr/trajectory.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "cdpr/vec3.h"
+
+cdpr_vec3_t cdpr_euler_rates_to_body(const double euler[3], const double rates[3])
+{
+    /* R = Rz(γ) Ry(β) Rx(α): ω_world = γ' z + β' Rz(γ) y + α' Rz(γ) Ry(β) x. */
+    const double cb = cos(euler[1]);
+    const double sb = sin(euler[1]);
+    const double cg = cos(euler[2]);
+    const double sg = sin(euler[2]);
+    const cdpr_vec3_t w_world =
+        cdpr_v3(rates[0] * cg * cb - rates[1] * sg, rates[0] * sg * cb + rates[1] * cg,
+                -rates[0] * sb + rates[2]);
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(cdpr_quat_from_euler(euler[0], euler[1], euler[2]), &R);
+    return cdpr_m3t_mul_v3(&R, w_world);
+}
+
+double cdpr_traj_end_time(const cdpr_traj_t *tr)
+{
+    switch (tr->type) {
+    case CDPR_TRAJ_CIRCLE:
+        return INFINITY;
+    case CDPR_TRAJ_LINE:
+        return (tr->back_and_forth != 0) ? 2.0 * tr->duration_s + tr->pause_s : tr->duration_s;
+    default:
+        return 0.0;
+    }
+}
+
+static void circle(const cdpr_traj_t *tr, double t, cdpr_traj_sample_t *o)
+{
+    const double tt = (t > 0.0) ? t : 0.0;
+    double s;    /* path length travelled [m] */
+    double sdot; /* path speed [m/s] */
+    if (t < 0.0) {
+        s = 0.0; /* before the start: at rest at the start point */
+        sdot = 0.0;
+    } else if (tt < tr->ramp_s) {
+        s = 0.5 * tr->speed_m_per_s * tt * tt / tr->ramp_s;
+        sdot = tr->speed_m_per_s * tt / tr->ramp_s;
+    } else {
+        s = tr->speed_m_per_s * (tt - 0.5 * tr->ramp_s);
+        sdot = tr->speed_m_per_s;
+    }
+    const double th = tr->start_angle_rad + tr->direction * s / tr->radius_m;
+    const double thdot = tr->direction * sdot / tr->radius_m;
+    o->pose[0] = tr->centre_m[0] + tr->radius_m * cos(th);
+    o->pose[1] = tr->centre_m[1] + tr->radius_m * sin(th);
+    o->pose[2] = tr->centre_m[2];
+    o->rate[0] = -tr->radius_m * thdot * sin(th);
+    o->rate[1] = tr->radius_m * thdot * cos(th);
+    o->rate[2] = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        o->pose[3 + i] = tr->attitude_rad[i];
+        o->rate[3 + i] = 0.0;
+    }
+}
+
+/* Linear interpolation a -> b over [0, T): fraction f and its rate. */
+static void lerp(const double *a, const double *b, double f, double fdot, cdpr_traj_sample_t *o)
+{
+    for (int i = 0; i < 6; ++i) {
+        o->pose[i] = a[i] + f * (b[i] - a[i]);
+        o->rate[i] = fdot * (b[i] - a[i]);
+    }
+}
+
+static void line(const cdpr_traj_t *tr, double t, cdpr_traj_sample_t *o)
+{
+    const double T = tr->duration_s;
+    const double back = T + tr->pause_s; /* start of the way back */
+    if (t > 0.0 && t < T) {
+        lerp(tr->from, tr->to, t / T, 1.0 / T, o);
+    } else if (t >= T && (tr->back_and_forth == 0 || t < back)) {
+        lerp(tr->from, tr->to, 1.0, 0.0, o); /* at `to` (held, or pausing) */
+    } else if (t >= back && t < back + T) {
+        lerp(tr->to, tr->from, (t - back) / T, 1.0 / T, o);
+    } else {
+        lerp(tr->from, tr->to, 0.0, 0.0, o); /* not started, or back at `from` */
+    }
+}
+
+void cdpr_traj_eval(const cdpr_traj_t *tr, double t_s, cdpr_traj_sample_t *out)
+{
+    memset(out, 0, sizeof *out);
+    switch (tr->type) {
+    case CDPR_TRAJ_CIRCLE:
+        circle(tr, t_s, out);
+        break;
+    case CDPR_TRAJ_LINE:
+        line(tr, t_s, out);
+        break;
+    default:
+        memcpy(out->pose, tr->hold_pose, sizeof out->pose);
+        break;
+    }
+    out->motion.p_m = cdpr_v3(out->pose[0], out->pose[1], out->pose[2]);
+    out->motion.q = cdpr_quat_from_euler(out->pose[3], out->pose[4], out->pose[5]);
+    out->motion.v_m_per_s = cdpr_v3(out->rate[0], out->rate[1], out->rate[2]);
+    out->motion.w_rad_per_s = cdpr_euler_rates_to_body(out->pose + 3, out->rate + 3);
+}

@@ -1,0 +1,460 @@
+/// @file test_scenario.c
+/// Scenario files: a file using every key resolves to exactly the values written in it;
+/// omitted keys take the preset's values (PARAMETERS.md, typed in here independently);
+/// the committed scenarios load with the paper's numbers; and every kind of bad file (missing
+/// key, wrong type, unknown key, NaN/Inf, out of range, wrong length, inconsistent sections,
+/// unreachable pose, broken YAML) is rejected with a message naming the file, the key and
+/// the line, and makes cdpr-sim exit with status 2.
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include "cdpr/scenario.h"
+#include "cdpr/sim.h"
+#include "unity.h"
+
+void setUp(void) {}
+void tearDown(void) {}
+
+static const double PI = 3.14159265358979323846;
+
+/* Every key of the format, each value different from the preset's. */
+static const char GOOD_LINE[] = "description: \"test: every key\"\n"
+                                "robot:\n"
+                                "  preset: paper-50m\n"
+                                "  segments: 12\n"
+                                "  gravity_m_per_s2: 9.81\n"
+                                "  wind_m_per_s: [1.0, -0.5, 0.0]\n"
+                                "  towers:\n"
+                                "    radius_m: 26.0\n"
+                                "    exit_height_m: 31.0\n"
+                                "    azimuths_deg: [1, 61, 121, 181, 241, 301]\n"
+                                "  attachments:\n"
+                                "    radius_m: 2.1\n"
+                                "    z_m: -0.4\n"
+                                "    azimuths_deg: [24, 36, 144, 156, 264, 276]\n"
+                                "  cabin:\n"
+                                "    mass_kg: 41.0\n"
+                                "    inertia_kg_m2: [50.0, 46.0, 91.0]\n"
+                                "    products_kg_m2: [0.5, -0.25, 0.125]\n"
+                                "    com_m: [0.01, -0.02, 0.03]\n"
+                                "  cable:\n"
+                                "    d0_m: 0.007\n"
+                                "    rho_kg_per_m: 0.15\n"
+                                "    ea_N: 2.5e6\n"
+                                "    damping_Ns: 160.0\n"
+                                "    cd: 1.1\n"
+                                "    cm: 0.04\n"
+                                "    rho_air_kg_per_m3: 1.2\n"
+                                "  winch:\n"
+                                "    u_max_m_per_s: 3.5\n"
+                                "    a_max_m_per_s2: 4.5\n"
+                                "    kp_per_s: 4.0\n"
+                                "    min_length_m: 0.75\n"
+                                "initial:\n"
+                                "  pose: [0.1, 0.2, 10.0, 0.01, -0.02, 0.03]\n"
+                                "  offset: [0.0, 0.001, -0.01, 0.0, 0.0, 0.002]\n"
+                                "trajectory:\n"
+                                "  type: line\n"
+                                "  line:\n"
+                                "    from: [0.1, 0.2, 10.0, 0.01, -0.02, 0.03]\n"
+                                "    to: [0.5, -0.3, 11.0, 0.02, 0.01, -0.04]\n"
+                                "    duration_s: 10.0\n"
+                                "    pause_s: 1.5\n"
+                                "    back_and_forth: true\n"
+                                "controller:\n"
+                                "  period_s: 0.02\n"
+                                "  kp: 0.5\n"
+                                "  kd_s: 0.05\n"
+                                "  k_length_per_s: 4.0\n"
+                                "  filter_s: 0.25\n"
+                                "integrator:\n"
+                                "  rtol: 1.0e-7\n"
+                                "  atol_position_m: 2.0e-6\n"
+                                "  atol_velocity_m_per_s: 3.0e-5\n"
+                                "  atol_quaternion: 4.0e-8\n"
+                                "  atol_rate_rad_per_s: 5.0e-6\n"
+                                "  h_max_s: 0.005\n"
+                                "  max_trials: 300\n"
+                                "run:\n"
+                                "  duration_s: 12.0\n"
+                                "  output_rate_hz: 25\n";
+
+/* The smallest valid file: required keys only. */
+static const char MINIMAL[] = "robot:\n"
+                              "  preset: paper-50m\n"
+                              "trajectory:\n"
+                              "  type: circle\n"
+                              "  circle:\n"
+                              "    centre_m: [0.0, -2.0, 9.135]\n"
+                              "    radius_m: 2.0\n"
+                              "    speed_m_per_s: 2.0\n"
+                              "    start_angle_deg: 90\n"
+                              "controller:\n"
+                              "  period_s: 0.01\n"
+                              "  kp: 0.0\n"
+                              "  k_length_per_s: 5.0\n"
+                              "run:\n"
+                              "  duration_s: 1.0\n";
+
+static char tmp_dir[512];
+
+static void make_tmp(void)
+{
+    snprintf(tmp_dir, sizeof tmp_dir, "%s", CDPR_TEST_TMP);
+    mkdir(tmp_dir, 0775); /* parent (the build directory) exists; EEXIST is fine */
+}
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    TEST_ASSERT_NOT_NULL_MESSAGE(f, path);
+    TEST_ASSERT_TRUE(fputs(text, f) >= 0);
+    TEST_ASSERT_EQUAL_INT(0, fclose(f));
+}
+
+/* text with the first occurrence of `from` replaced by `to` (into out). */
+static void replace(const char *text, const char *from, const char *to, char *out, size_t cap)
+{
+    const char *at = strstr(text, from);
+    TEST_ASSERT_NOT_NULL_MESSAGE(at, from);
+    const size_t head = (size_t)(at - text);
+    TEST_ASSERT_TRUE(head + strlen(to) + strlen(at + strlen(from)) < cap);
+    memcpy(out, text, head);
+    strcpy(out + head, to);
+    strcat(out, at + strlen(from));
+}
+
+/* 1-based line of the first line containing `marker`, or 0. */
+static int line_of(const char *text, const char *marker)
+{
+    const char *at = strstr(text, marker);
+    if (at == NULL) {
+        return 0;
+    }
+    int line = 1;
+    for (const char *p = text; p < at; ++p) {
+        line += (*p == '\n') ? 1 : 0;
+    }
+    return line;
+}
+
+/* Run cdpr-sim with `args`; stdout+stderr into out; returns the exit status. */
+static int run_sim(const char *args, char *out, size_t cap)
+{
+#ifdef CDPR_SIM_EXE
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", CDPR_SIM_EXE, args);
+    FILE *p = popen(cmd, "r");
+    TEST_ASSERT_NOT_NULL(p);
+    const size_t n = fread(out, 1, cap - 1, p);
+    out[n] = '\0';
+    const int st = pclose(p);
+    TEST_ASSERT_TRUE(WIFEXITED(st));
+    return WEXITSTATUS(st);
+#else
+    (void)args;
+    snprintf(out, cap, "cdpr-sim not built");
+    return -1;
+#endif
+}
+
+static void test_every_key_resolves_to_the_value_written(void)
+{
+    make_tmp();
+    char path[600];
+    snprintf(path, sizeof path, "%s/good_line.yaml", tmp_dir);
+    write_text(path, GOOD_LINE);
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_scenario_load(path, &sc, &err), err.msg);
+    /* Exact: decimal literals parse to the nearest double, as the C literals below do. */
+    const cdpr_robot_config_t *c = &sc.robot;
+    TEST_ASSERT_EQUAL_STRING("test: every key", sc.description);
+    TEST_ASSERT_EQUAL_INT(CDPR_PRESET_PAPER_50M, c->preset);
+    TEST_ASSERT_EQUAL_INT(12, c->segments);
+    TEST_ASSERT_EQUAL_DOUBLE(9.81, c->gravity_m_per_s2);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, c->wind_m_per_s[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(-0.5, c->wind_m_per_s[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(26.0, c->exit_radius_m);
+    TEST_ASSERT_EQUAL_DOUBLE(31.0, c->exit_height_m);
+    TEST_ASSERT_EQUAL_DOUBLE(301.0, c->exit_azimuth_deg[5]);
+    TEST_ASSERT_EQUAL_DOUBLE(2.1, c->attach_radius_m);
+    TEST_ASSERT_EQUAL_DOUBLE(-0.4, c->attach_z_m);
+    TEST_ASSERT_EQUAL_DOUBLE(24.0, c->attach_azimuth_deg[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(276.0, c->attach_azimuth_deg[5]);
+    TEST_ASSERT_EQUAL_DOUBLE(41.0, c->cabin_mass_kg);
+    TEST_ASSERT_EQUAL_DOUBLE(46.0, c->cabin_inertia_kg_m2[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.125, c->cabin_products_kg_m2[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(-0.02, c->cabin_com_m[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.007, c->cable.d0_m);
+    TEST_ASSERT_EQUAL_DOUBLE(0.15, c->cable.rho_kg_per_m);
+    TEST_ASSERT_EQUAL_DOUBLE(2.5e6, c->cable.ea_N);
+    TEST_ASSERT_EQUAL_DOUBLE(160.0, c->cable.damping_Ns);
+    TEST_ASSERT_EQUAL_DOUBLE(1.1, c->cable.cd);
+    TEST_ASSERT_EQUAL_DOUBLE(0.04, c->cable.cm);
+    TEST_ASSERT_EQUAL_DOUBLE(1.2, c->cable.rho_air_kg_per_m3);
+    TEST_ASSERT_EQUAL_DOUBLE(3.5, c->winch.u_max_m_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(4.5, c->winch.a_max_m_per_s2);
+    TEST_ASSERT_EQUAL_DOUBLE(4.0, c->winch.kp_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.75, c->winch.min_length_m);
+    TEST_ASSERT_EQUAL_INT(1, sc.has_initial_pose);
+    TEST_ASSERT_EQUAL_DOUBLE(10.0, sc.initial_pose[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.002, sc.initial_offset[5]);
+    TEST_ASSERT_EQUAL_INT(CDPR_TRAJ_LINE, sc.traj.type);
+    TEST_ASSERT_EQUAL_DOUBLE(-0.04, sc.traj.to[5]);
+    TEST_ASSERT_EQUAL_DOUBLE(10.0, sc.traj.duration_s);
+    TEST_ASSERT_EQUAL_DOUBLE(1.5, sc.traj.pause_s);
+    TEST_ASSERT_EQUAL_INT(1, sc.traj.back_and_forth);
+    TEST_ASSERT_EQUAL_DOUBLE(0.02, sc.gains.period_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.5, sc.gains.kp);
+    TEST_ASSERT_EQUAL_DOUBLE(0.05, sc.gains.kd_s);
+    TEST_ASSERT_EQUAL_DOUBLE(4.0, sc.gains.k_length_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.25, sc.gains.filter_s);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0e-7, sc.integrator.rtol);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0e-6, sc.integrator.atol_position_m);
+    TEST_ASSERT_EQUAL_DOUBLE(3.0e-5, sc.integrator.atol_velocity_m_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(4.0e-8, sc.integrator.atol_quaternion);
+    TEST_ASSERT_EQUAL_DOUBLE(5.0e-6, sc.integrator.atol_rate_rad_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.005, sc.integrator.h_max_s);
+    TEST_ASSERT_EQUAL_INT(300, sc.integrator.max_trials);
+    TEST_ASSERT_EQUAL_DOUBLE(12.0, sc.duration_s);
+    TEST_ASSERT_EQUAL_DOUBLE(25.0, sc.output_rate_hz);
+    TEST_ASSERT_EQUAL_INT(600, (int)cdpr_scenario_periods(&sc));    /* 12 s / 0.02 s */
+    TEST_ASSERT_EQUAL_INT(2, (int)cdpr_scenario_output_every(&sc)); /* 50 Hz / 25 Hz */
+    double pose[6];
+    cdpr_scenario_initial_pose(&sc, pose);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.201, pose[1]); /* pose + offset, one rounding */
+}
+
+static void test_omitted_keys_take_the_preset(void)
+{
+    make_tmp();
+    char path[600];
+    snprintf(path, sizeof path, "%s/minimal.yaml", tmp_dir);
+    write_text(path, MINIMAL);
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_scenario_load(path, &sc, &err), err.msg);
+    /* PARAMETERS.md set A, typed in from the table. */
+    const cdpr_robot_config_t *c = &sc.robot;
+    TEST_ASSERT_EQUAL_DOUBLE(25.0, c->exit_radius_m);
+    TEST_ASSERT_EQUAL_DOUBLE(30.0, c->exit_height_m);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0, c->attach_radius_m);
+    TEST_ASSERT_EQUAL_DOUBLE(-0.5, c->attach_z_m);
+    const double att[6] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
+    for (int j = 0; j < 6; ++j) {
+        TEST_ASSERT_EQUAL_DOUBLE(att[j], c->attach_azimuth_deg[j]);
+        TEST_ASSERT_EQUAL_DOUBLE(60.0 * j, c->exit_azimuth_deg[j]);
+    }
+    TEST_ASSERT_EQUAL_DOUBLE(40.0, c->cabin_mass_kg);
+    TEST_ASSERT_EQUAL_DOUBLE(45.0, c->cabin_inertia_kg_m2[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(90.0, c->cabin_inertia_kg_m2[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.006, c->cable.d0_m);
+    TEST_ASSERT_EQUAL_DOUBLE(0.14, c->cable.rho_kg_per_m);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0e6, c->cable.ea_N);
+    TEST_ASSERT_EQUAL_DOUBLE(170.0, c->cable.damping_Ns);
+    TEST_ASSERT_EQUAL_DOUBLE(1.2, c->cable.cd);
+    TEST_ASSERT_EQUAL_DOUBLE(0.03, c->cable.cm);
+    TEST_ASSERT_EQUAL_DOUBLE(1.225, c->cable.rho_air_kg_per_m3);
+    TEST_ASSERT_EQUAL_DOUBLE(4.0, c->winch.u_max_m_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(5.0, c->winch.a_max_m_per_s2);
+    TEST_ASSERT_EQUAL_INT(20, c->segments);
+    TEST_ASSERT_EQUAL_DOUBLE(9.80665, c->gravity_m_per_s2);
+    /* Documented defaults of the optional sections (docs/scenarios.md). */
+    TEST_ASSERT_EQUAL_INT(0, sc.has_initial_pose);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, sc.traj.direction); /* ccw */
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.traj.ramp_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.kd_s);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, sc.gains.filter_s);
+    TEST_ASSERT_EQUAL_DOUBLE(1e-6, sc.integrator.rtol);
+    TEST_ASSERT_EQUAL_INT(100, sc.integrator.max_trials);
+    TEST_ASSERT_EQUAL_INT(1, (int)cdpr_scenario_output_every(&sc));
+    /* Initial pose: the circle's start, (0, -2 + 2, 9.135). */
+    double pose[6];
+    cdpr_scenario_initial_pose(&sc, pose);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.0, pose[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.0, pose[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(9.135, pose[2]);
+}
+
+static void test_committed_scenarios_hold_the_papers_numbers(void)
+{
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/paper-circle.yaml", &sc, &err), err.msg);
+    /* Paper §4 and PARAMETERS.md: centre (0, -2, 9.135), r 2 m, 2 m/s, ccw, start (0, 0,
+     * 9.135), offset (0, 1, -1470) mm. */
+    TEST_ASSERT_EQUAL_INT(CDPR_TRAJ_CIRCLE, sc.traj.type);
+    TEST_ASSERT_EQUAL_DOUBLE(-2.0, sc.traj.centre_m[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(9.135, sc.traj.centre_m[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0, sc.traj.radius_m);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0, sc.traj.speed_m_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, sc.traj.direction);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, PI / 2.0, sc.traj.start_angle_rad);
+    TEST_ASSERT_EQUAL_DOUBLE(0.001, sc.initial_offset[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(-1.470, sc.initial_offset[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0e6, sc.robot.cable.ea_N);
+
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/paper-line.yaml", &sc, &err), err.msg);
+    /* Paper §4 poses, γ mapped to γ - π (PARAMETERS.md). Written to 14 decimals in the file. */
+    const double from[6] = {2.00, 1.00, 16.0, 0.0889, -0.1756, 3.108 - PI};
+    const double to[6] = {2.50, 1.50, 16.2, 0.135, -0.263, 3.121 - PI};
+    for (int i = 0; i < 6; ++i) {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-13, from[i], sc.traj.from[i]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-13, to[i], sc.traj.to[i]);
+    }
+    TEST_ASSERT_EQUAL_DOUBLE(10.0, sc.traj.duration_s);
+    TEST_ASSERT_EQUAL_INT(0, sc.has_initial_pose);
+
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/deploy-retrieve.yaml", &sc, &err),
+        err.msg);
+    TEST_ASSERT_EQUAL_INT(1, sc.traj.back_and_forth);
+}
+
+typedef struct {
+    const char *label;
+    const char *from; /* text of GOOD_LINE to replace */
+    const char *to;   /* replacement */
+    const char *key;  /* key path the message must name */
+    const char *line; /* marker whose line the message must give ("" = no line check) */
+    int at_run;       /* 1: the file loads; the run refuses it (feasibility) */
+} bad_case_t;
+
+static const bad_case_t BAD[] = {
+    {"missing key", "    duration_s: 10.0\n", "", "trajectory.line.duration_s", "  line:", 0},
+    {"wrong type", "mass_kg: 41.0", "mass_kg: heavy", "robot.cabin.mass_kg", "mass_kg:", 0},
+    {"unknown key", "    cd: 1.1\n", "    cdd: 1.1\n", "robot.cable.cdd", "cdd:", 0},
+    {"NaN", "ea_N: 2.5e6", "ea_N: nan", "robot.cable.ea_N", "ea_N:", 0},
+    {"YAML NaN", "ea_N: 2.5e6", "ea_N: .nan", "robot.cable.ea_N", "ea_N:", 0},
+    {"Inf", "rtol: 1.0e-7", "rtol: inf", "integrator.rtol", "rtol:", 0},
+    {"overflow", "rtol: 1.0e-7", "rtol: 1e999", "integrator.rtol", "rtol:", 0},
+    {"NaN in a list", "[0.1, 0.2, 10.0, 0.01, -0.02, 0.03]\n  offset",
+     "[0.1, nan, 10.0, 0.01, -0.02, 0.03]\n  offset", "initial.pose", "  pose:", 0},
+    {"out of range", "segments: 12", "segments: 0", "robot.segments", "segments:", 0},
+    {"negative", "ea_N: 2.5e6", "ea_N: -2.5e6", "robot.cable.ea_N", "ea_N:", 0},
+    {"not an integer", "max_trials: 300", "max_trials: 3.5", "integrator.max_trials",
+     "max_trials:", 0},
+    {"bad name", "type: line", "type: spiral", "trajectory.type", "type:", 0},
+    {"short list", "[50.0, 46.0, 91.0]", "[50.0, 46.0]", "robot.cabin.inertia_kg_m2",
+     "inertia_kg_m2:", 0},
+    {"scalar for a section", "controller:\n  period_s: 0.02\n",
+     "controller: 3\ncontroller2:\n  period_s: 0.02\n", "controller", "controller:", 0},
+    {"two trajectory blocks", "controller:\n",
+     "  hold:\n    pose: [0, 0, 9, 0, 0, 0]\ncontroller:\n", "trajectory.hold", "  hold:", 0},
+    {"period vs duration", "duration_s: 12.0", "duration_s: 12.01", "run.duration_s",
+     "  duration_s: 12.0", 0},
+    {"output rate", "output_rate_hz: 25", "output_rate_hz: 30", "run.output_rate_hz",
+     "output_rate_hz:", 0},
+    {"unreachable start", "pose: [0.1, 0.2, 10.0", "pose: [0.1, 0.2, 35.0", "initial.pose",
+     "  pose:", 1},
+    {"unreachable trajectory", "to: [0.5, -0.3, 11.0", "to: [40.0, -0.3, 11.0", "trajectory.line",
+     "  line:", 1},
+};
+
+static void test_bad_files_name_file_key_and_line(void)
+{
+    make_tmp();
+    for (size_t k = 0; k < sizeof BAD / sizeof BAD[0]; ++k) {
+        const bad_case_t *b = &BAD[k];
+        static char text[sizeof GOOD_LINE + 512];
+        replace(GOOD_LINE, b->from, b->to, text, sizeof text);
+        char path[700];
+        snprintf(path, sizeof path, "%s/bad_%02u.yaml", tmp_dir, (unsigned)k);
+        write_text(path, text);
+        cdpr_scenario_t sc;
+        cdpr_scenario_error_t err;
+        err.msg[0] = '\0';
+        int rc = cdpr_scenario_load(path, &sc, &err);
+        if (b->at_run != 0) {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, rc, b->label);
+            cdpr_sim_opts_t o;
+            cdpr_sim_opts_default(&o);
+            cdpr_sim_summary_t sum;
+            rc = cdpr_sim_run(&sc, &o, &sum, &err);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(2, rc, b->label);
+        } else {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(-1, rc, b->label);
+        }
+        char what[2300];
+        snprintf(what, sizeof what, "%s: %s", b->label, err.msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, path), what);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, b->key), what);
+        if (b->line[0] != '\0') {
+            char at[760];
+            snprintf(at, sizeof at, "%s:%d: ", path, line_of(text, b->line));
+            TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, at), what);
+        }
+#ifdef CDPR_SIM_EXE
+        /* The app: exit status 2 and the same file and key on stderr. */
+        char args[1600];
+        char out[4096];
+        snprintf(args, sizeof args, "'%s' --out '%s/bad_out' --no-plot --quiet", path, tmp_dir);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, run_sim(args, out, sizeof out), what);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, path), out);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, b->key), out);
+#endif
+    }
+}
+
+static void test_unreadable_files(void)
+{
+    make_tmp();
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    char path[600];
+    snprintf(path, sizeof path, "%s/does-not-exist.yaml", tmp_dir);
+    TEST_ASSERT_EQUAL_INT(-1, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, path));
+    snprintf(path, sizeof path, "%s/empty.yaml", tmp_dir);
+    write_text(path, "");
+    TEST_ASSERT_EQUAL_INT(-1, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "empty"));
+    snprintf(path, sizeof path, "%s/broken.yaml", tmp_dir);
+    write_text(path, "robot: [1, 2\n");
+    TEST_ASSERT_EQUAL_INT(-1, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, path), err.msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "robot"), err.msg);
+}
+
+static void test_command_line(void)
+{
+#ifndef CDPR_SIM_EXE
+    TEST_IGNORE_MESSAGE("cdpr-sim not built (CDPR_BUILD_APPS=OFF)");
+#else
+    make_tmp();
+    char out[8192];
+    TEST_ASSERT_EQUAL_INT(0, run_sim("--help", out, sizeof out));
+    TEST_ASSERT_NOT_NULL(strstr(out, "usage: cdpr-sim SCENARIO --out DIR"));
+    TEST_ASSERT_EQUAL_INT(2, run_sim("", out, sizeof out));
+    TEST_ASSERT_NOT_NULL(strstr(out, "missing SCENARIO"));
+    TEST_ASSERT_EQUAL_INT(2,
+                          run_sim(CDPR_SOURCE_DIR "/scenarios/paper-line.yaml", out, sizeof out));
+    TEST_ASSERT_NOT_NULL(strstr(out, "--out DIR is required"));
+    TEST_ASSERT_EQUAL_INT(2, run_sim(CDPR_SOURCE_DIR "/scenarios/paper-line.yaml --out x "
+                                                     "--duration -1",
+                                     out, sizeof out));
+    TEST_ASSERT_NOT_NULL(strstr(out, "--duration"));
+    TEST_ASSERT_EQUAL_INT(2, run_sim("nope.yaml --out x", out, sizeof out));
+    TEST_ASSERT_NOT_NULL(strstr(out, "nope.yaml: cannot open"));
+    TEST_ASSERT_EQUAL_INT(2, run_sim("--bogus", out, sizeof out));
+#endif
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_every_key_resolves_to_the_value_written);
+    RUN_TEST(test_omitted_keys_take_the_preset);
+    RUN_TEST(test_committed_scenarios_hold_the_papers_numbers);
+    RUN_TEST(test_bad_files_name_file_key_and_line);
+    RUN_TEST(test_unreadable_files);
+    RUN_TEST(test_command_line);
+    return UNITY_END() ? 1 : 0;
+}

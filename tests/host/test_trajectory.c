@@ -1,0 +1,202 @@
+/// @file test_trajectory.c
+/// Trajectories against their definitions: the circle's geometry, speed and direction, its
+/// speed ramp, the line's end points and rates, and every derivative against a central finite
+/// difference of the pose (the body angular velocity against one of the quaternion).
+#include <math.h>
+#include <string.h>
+
+#include "cdpr/tracker.h"
+#include "cdpr/trajectory.h"
+#include "unity.h"
+
+void setUp(void) {}
+void tearDown(void) {}
+
+static const double PI = 3.14159265358979323846;
+
+static cdpr_traj_t paper_circle(void)
+{
+    cdpr_traj_t tr;
+    memset(&tr, 0, sizeof tr);
+    tr.type = CDPR_TRAJ_CIRCLE;
+    tr.centre_m[1] = -2.0;
+    tr.centre_m[2] = 9.135;
+    tr.radius_m = 2.0;
+    tr.speed_m_per_s = 2.0;
+    tr.start_angle_rad = PI / 2.0;
+    tr.direction = 1.0;
+    return tr;
+}
+
+/* Central difference of every pose coordinate vs the analytic rate. The error of a central
+ * difference is h^2/6 |f'''|; with h = 1e-4 s and |f'''| <= v^3/r^2 = 2 m/s^3 on the circle
+ * that is 3e-9, rounding adds ~1e-15/h = 1e-11: tolerance 1e-7. */
+static void check_rates(const cdpr_traj_t *tr, double t)
+{
+    const double h = 1e-4;
+    cdpr_traj_sample_t a;
+    cdpr_traj_sample_t b;
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(tr, t - h, &a);
+    cdpr_traj_eval(tr, t + h, &b);
+    cdpr_traj_eval(tr, t, &s);
+    for (int i = 0; i < 6; ++i) {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-7, (b.pose[i] - a.pose[i]) / (2.0 * h), s.rate[i]);
+    }
+    /* Body rate: ω = 2 Im(q^-1 q') with q' by central difference (same error order). */
+    const cdpr_quat_t qi = {s.motion.q.w, -s.motion.q.x, -s.motion.q.y, -s.motion.q.z};
+    const cdpr_quat_t qd = {
+        (b.motion.q.w - a.motion.q.w) / (2.0 * h), (b.motion.q.x - a.motion.q.x) / (2.0 * h),
+        (b.motion.q.y - a.motion.q.y) / (2.0 * h), (b.motion.q.z - a.motion.q.z) / (2.0 * h)};
+    const cdpr_quat_t w = cdpr_quat_mul(qi, qd);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, 2.0 * w.x, s.motion.w_rad_per_s.x);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, 2.0 * w.y, s.motion.w_rad_per_s.y);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, 2.0 * w.z, s.motion.w_rad_per_s.z);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, s.rate[0], s.motion.v_m_per_s.x);
+}
+
+static void test_circle_geometry_speed_and_direction(void)
+{
+    const cdpr_traj_t tr = paper_circle();
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(&tr, 0.0, &s);
+    /* Start point (0, 0, 9.135) [paper §4]. */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.0, s.pose[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.0, s.pose[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(9.135, s.pose[2]);
+    for (int k = 0; k < 50; ++k) {
+        const double t = 0.173 * k;
+        cdpr_traj_eval(&tr, t, &s);
+        const double dx = s.pose[0] - tr.centre_m[0];
+        const double dy = s.pose[1] - tr.centre_m[1];
+        TEST_ASSERT_DOUBLE_WITHIN(1e-14, 2.0, sqrt(dx * dx + dy * dy));
+        TEST_ASSERT_DOUBLE_WITHIN(1e-14, 2.0, hypot(s.rate[0], s.rate[1]));
+        /* Counter-clockwise seen from above: (p - c) x v along +z, = r v. */
+        TEST_ASSERT_DOUBLE_WITHIN(1e-13, 4.0, dx * s.rate[1] - dy * s.rate[0]);
+        for (int i = 3; i < 6; ++i) {
+            TEST_ASSERT_EQUAL_DOUBLE(0.0, s.pose[i]);
+        }
+        check_rates(&tr, t + 0.05);
+    }
+    /* One lap takes 2 pi r / v. */
+    cdpr_traj_eval(&tr, 2.0 * PI, &s);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-13, 0.0, s.pose[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-13, 0.0, s.pose[1]);
+    cdpr_traj_eval(&tr, -1.0, &s); /* before the start: held at the start point */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.0, s.pose[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, s.rate[0]);
+}
+
+static void test_circle_ramp_and_clockwise(void)
+{
+    cdpr_traj_t tr = paper_circle();
+    tr.ramp_s = 2.0;
+    tr.direction = -1.0;
+    tr.attitude_rad[2] = 0.3;
+    for (int k = 0; k <= 40; ++k) {
+        const double t = 0.1 * k;
+        cdpr_traj_sample_t s;
+        cdpr_traj_eval(&tr, t, &s);
+        /* Speed v t / T during the ramp, then v. */
+        const double v = (t < 2.0) ? 2.0 * t / 2.0 : 2.0;
+        TEST_ASSERT_DOUBLE_WITHIN(1e-14, v, hypot(s.rate[0], s.rate[1]));
+        if (t > 0.0) {
+            const double dx = s.pose[0] - tr.centre_m[0];
+            const double dy = s.pose[1] - tr.centre_m[1];
+            TEST_ASSERT_TRUE(dx * s.rate[1] - dy * s.rate[0] < 0.0); /* clockwise */
+        }
+        TEST_ASSERT_EQUAL_DOUBLE(0.3, s.pose[5]);
+        if (t > 0.0) {
+            check_rates(&tr, t + 0.05);
+        }
+    }
+}
+
+static void test_line_end_points_rates_and_return(void)
+{
+    cdpr_traj_t tr;
+    memset(&tr, 0, sizeof tr);
+    tr.type = CDPR_TRAJ_LINE;
+    const double from[6] = {2.00, 1.00, 16.0, 0.0889, -0.1756, 3.108 - PI};
+    const double to[6] = {2.50, 1.50, 16.2, 0.135, -0.263, 3.121 - PI};
+    memcpy(tr.from, from, sizeof from);
+    memcpy(tr.to, to, sizeof to);
+    tr.duration_s = 10.0;
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(&tr, 0.0, &s);
+    for (int i = 0; i < 6; ++i) {
+        TEST_ASSERT_EQUAL_DOUBLE(from[i], s.pose[i]);
+    }
+    cdpr_traj_eval(&tr, 5.0, &s);
+    for (int i = 0; i < 6; ++i) {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.5 * (from[i] + to[i]), s.pose[i]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-16, (to[i] - from[i]) / 10.0, s.rate[i]);
+    }
+    for (int k = 1; k < 10; ++k) {
+        check_rates(&tr, 0.97 * k);
+    }
+    cdpr_traj_eval(&tr, 12.0, &s);
+    for (int i = 0; i < 6; ++i) {
+        TEST_ASSERT_EQUAL_DOUBLE(to[i], s.pose[i]);
+        TEST_ASSERT_EQUAL_DOUBLE(0.0, s.rate[i]);
+    }
+    TEST_ASSERT_EQUAL_DOUBLE(10.0, cdpr_traj_end_time(&tr));
+    /* Back and forth with a pause: at `to` during the pause, back at `from` at the end. */
+    tr.back_and_forth = 1;
+    tr.pause_s = 2.0;
+    cdpr_traj_eval(&tr, 11.0, &s);
+    TEST_ASSERT_EQUAL_DOUBLE(to[2], s.pose[2]);
+    cdpr_traj_eval(&tr, 17.0, &s);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-14, 0.5 * (from[2] + to[2]), s.pose[2]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-16, -(to[2] - from[2]) / 10.0, s.rate[2]);
+    check_rates(&tr, 17.0);
+    cdpr_traj_eval(&tr, 30.0, &s);
+    TEST_ASSERT_EQUAL_DOUBLE(from[2], s.pose[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(22.0, cdpr_traj_end_time(&tr));
+}
+
+static void test_hold(void)
+{
+    cdpr_traj_t tr;
+    memset(&tr, 0, sizeof tr);
+    tr.type = CDPR_TRAJ_HOLD;
+    const double pose[6] = {0.5, -0.5, 10.0, 0.1, -0.2, 0.3};
+    memcpy(tr.hold_pose, pose, sizeof pose);
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(&tr, 3.0, &s);
+    for (int i = 0; i < 6; ++i) {
+        TEST_ASSERT_EQUAL_DOUBLE(pose[i], s.pose[i]);
+        TEST_ASSERT_EQUAL_DOUBLE(0.0, s.rate[i]);
+    }
+}
+
+static void test_rotation_vector(void)
+{
+    /* Axis-angle built directly: q = (cos(a/2), sin(a/2) n). */
+    const double n[3] = {0.36, -0.48, 0.8}; /* unit */
+    const double angles[4] = {1e-9, 0.3, 2.5, PI - 1e-6};
+    for (int k = 0; k < 4; ++k) {
+        const double a = angles[k];
+        const cdpr_quat_t q = {cos(0.5 * a), sin(0.5 * a) * n[0], sin(0.5 * a) * n[1],
+                               sin(0.5 * a) * n[2]};
+        cdpr_vec3_t r = cdpr_quat_to_rotvec(q);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, a * n[0], r.x);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, a * n[1], r.y);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, a * n[2], r.z);
+        /* -q is the same rotation. */
+        const cdpr_quat_t qn = {-q.w, -q.x, -q.y, -q.z};
+        r = cdpr_quat_to_rotvec(qn);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, a * n[2], r.z);
+    }
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_circle_geometry_speed_and_direction);
+    RUN_TEST(test_circle_ramp_and_clockwise);
+    RUN_TEST(test_line_end_points_rates_and_return);
+    RUN_TEST(test_hold);
+    RUN_TEST(test_rotation_vector);
+    return UNITY_END() ? 1 : 0;
+}
