@@ -1,0 +1,50 @@
+/// @file lcm_pack.h
+/// Packing the core's state into the LCM messages (lcmtypes/, package cdpr).
+///
+/// Inputs are the robot (cdpr_robot_t), its state vector `y` at time `t_s` and, for tensions,
+/// the outputs of cdpr_robot_outputs at the same (t, y). Every function writes every field of
+/// its message (entries past the robot's cable or node count are zero), so a message struct
+/// can be reused from period to period without clearing. Values are converted from
+/// cdpr_real_t (double or float) to the wire types exactly as C converts them.
+///
+/// Real-time: no allocation, no system call, no lcm_* call; reentrant. Work: O(cables) for the
+/// state and tensions, O(total nodes) for the shape. The wire format carries at most
+/// CDPR_WINCH_COMMAND_T_MAX_CABLES (6) cables: a core built with more does not compile here.
+#ifndef CDPR_LCM_PACK_H
+#define CDPR_LCM_PACK_H
+
+#include <stdint.h>
+
+#include "cdpr/robot.h"
+#include "lcmtypes/cdpr_cabin_state_t.h"
+#include "lcmtypes/cdpr_cable_shape_t.h"
+#include "lcmtypes/cdpr_cable_tensions_t.h"
+#include "lcmtypes/cdpr_diagnostics_t.h"
+
+/// Plant time [s] -> utime_us [us], rounded to the nearest microsecond (ties away from zero).
+int64_t cdpr_lcm_utime_us(double t_s);
+
+/// Cabin state at (t_s, y): pose and velocities as cdpr_robot_cabin_motion sees them (the
+/// prescription in prescribed mode), the paper's angles from cdpr_quat_to_euler, `seq`,
+/// `command_seq` and `flags` (cdpr_cabin_state_t.FLAG_* bits) as given.
+void cdpr_lcm_pack_cabin_state(cdpr_cabin_state_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
+                               double t_s, int64_t seq, int64_t command_seq, int32_t flags);
+
+/// Tensions and winch state at (t_s, y): `out` from cdpr_robot_outputs(r, t_s, y, out); total
+/// unstretched lengths from cdpr_cable_total_length; payout rates are r->in.payout_m_per_s
+/// (the rates applied in the step that led to y).
+void cdpr_lcm_pack_tensions(cdpr_cable_tensions_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
+                            const cdpr_robot_out_t *out, double t_s, int64_t seq);
+
+/// Node i (0..n_sent-1) of the shape message -> node index of a cable with `n_nodes` nodes:
+/// the identity when n_nodes <= n_sent, else evenly spread indices round(i (n_nodes-1) /
+/// (n_sent-1)), first and last included. Pure, O(1).
+int cdpr_lcm_shape_node_index(int i, int n_sent, int n_nodes);
+
+/// Node positions at (t_s, y): node 0 at the cabin attachment (cdpr_robot_attachment), the
+/// free nodes from y, the last node at the pulley exit point; subsampled to
+/// CDPR_CABLE_SHAPE_T_MAX_NODES per cable when a cable has more nodes (see the .lcm file).
+void cdpr_lcm_pack_shape(cdpr_cable_shape_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
+                         double t_s, int64_t seq);
+
+#endif /* CDPR_LCM_PACK_H */
