@@ -13,7 +13,7 @@ cdpr_packages=(
     liblcm-dev liblcm-bin libglib2.0-dev libgsl-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     cppcheck clang clang-tidy libclang-rt-14-dev valgrind gcovr
-    gnuplot-nox libcyaml-dev dpkg-dev xz-utils python3-matplotlib iproute2
+    gnuplot-nox libcyaml-dev libyaml-dev dpkg-dev xz-utils python3-matplotlib iproute2
 )
 
 # Pinned: the orig tarball is identical for every Debian revision of ntpsec 1.2.2+dfsg1.
