@@ -150,7 +150,7 @@ static timing_t measure(bench_fn fn, void *ctx, const options_t *o)
     }
     timing_t r;
     r.reps = reps;
-    r.ns_per_unit = INFINITY;
+    r.ns_per_unit = (double)INFINITY;
     for (int k = 0; k < o->runs; ++k) {
         const double t0 = now_s();
         const double units = fn(ctx, reps);

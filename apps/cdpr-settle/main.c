@@ -266,7 +266,7 @@ static int run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, doub
     if (n < 2) {
         im = 0;
     }
-    double sag = NAN;
+    double sag = (double)NAN;
     if (n >= 2) {
         const int a = (im > 0) ? im - 1 : 0;
         const double x0 = xs[a], x1 = xs[a + 1], x2 = xs[a + 2];

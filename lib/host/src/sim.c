@@ -456,7 +456,7 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
     const long every = cdpr_scenario_output_every(sc);
     stats_t st;
     memset(&st, 0, sizeof st);
-    sum->min_tension_N = INFINITY;
+    sum->min_tension_N = (double)INFINITY;
     sum->nodes_min = CDPR_MAX_SEGMENTS;
     sum->nodes_max = 0;
     double next_progress = wall0 + o->progress_after_s;

@@ -26,7 +26,7 @@ double cdpr_traj_end_time(const cdpr_traj_t *tr)
 {
     switch (tr->type) {
     case CDPR_TRAJ_CIRCLE:
-        return INFINITY;
+        return (double)INFINITY;
     case CDPR_TRAJ_LINE:
         return (tr->back_and_forth != 0) ? 2.0 * tr->duration_s + tr->pause_s : tr->duration_s;
     default:
