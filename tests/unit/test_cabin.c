@@ -7,6 +7,7 @@
 /// and scaled for the float build as tests/support/test_real.h explains (TOL); the integrated
 /// cases state their float tolerances where they are used.
 #include "unity.h"
+#include "ref_mat3.h"
 
 #include "cdpr/cabin.h"
 #include "cdpr/rkf45.h"
@@ -22,25 +23,6 @@ void setUp(void) {}
 void tearDown(void) {}
 
 /* ---------------------------------------------------------------- test-local linear algebra */
-
-typedef struct {
-    double m[3][3];
-} mat_t;
-
-static mat_t mat_mul(const mat_t *a, const mat_t *b)
-{
-    mat_t r;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            double s = 0.0;
-            for (int k = 0; k < 3; ++k) {
-                s += a->m[i][k] * b->m[k][j];
-            }
-            r.m[i][j] = s;
-        }
-    }
-    return r;
-}
 
 static void mat_vec(const mat_t *a, const double *x, double *out)
 {
@@ -64,16 +46,6 @@ static void cross(const double *a, const double *b, double *out)
     out[0] = r0;
     out[1] = r1;
     out[2] = r2;
-}
-
-/* R = Rz(g) Ry(b) Rx(a), explicit (MODEL.md §1). */
-static mat_t euler_matrix(double a, double b, double g)
-{
-    const mat_t rx = {{{1.0, 0.0, 0.0}, {0.0, cos(a), -sin(a)}, {0.0, sin(a), cos(a)}}};
-    const mat_t ry = {{{cos(b), 0.0, sin(b)}, {0.0, 1.0, 0.0}, {-sin(b), 0.0, cos(b)}}};
-    const mat_t rz = {{{cos(g), -sin(g), 0.0}, {sin(g), cos(g), 0.0}, {0.0, 0.0, 1.0}}};
-    const mat_t zy = mat_mul(&rz, &ry);
-    return mat_mul(&zy, &rx);
 }
 
 /* exp(skew(phi)) by Rodrigues, with 1 - cos th = 2 sin^2(th/2) (no cancellation). */

@@ -7,6 +7,7 @@
 /// The tolerances are rounding bounds derived for double; the float build scales them as
 /// tests/support/test_real.h explains (TOL).
 #include "unity.h"
+#include "ref_mat3.h"
 
 #include "cdpr/status.h"
 #include "cdpr/vec3.h"
@@ -27,54 +28,6 @@ void setUp(void) {}
 void tearDown(void) {}
 
 /* ---------------------------------------------------------------- test-local helpers */
-
-typedef struct {
-    double m[3][3];
-} mat_t;
-
-static mat_t mat_mul(const mat_t *a, const mat_t *b)
-{
-    mat_t r;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            double s = 0.0;
-            for (int k = 0; k < 3; ++k) {
-                s += a->m[i][k] * b->m[k][j];
-            }
-            r.m[i][j] = s;
-        }
-    }
-    return r;
-}
-
-/* Elementary rotations written out from their definitions. */
-static mat_t rot_x(double a)
-{
-    const mat_t r = {{{1.0, 0.0, 0.0}, {0.0, cos(a), -sin(a)}, {0.0, sin(a), cos(a)}}};
-    return r;
-}
-
-static mat_t rot_y(double b)
-{
-    const mat_t r = {{{cos(b), 0.0, sin(b)}, {0.0, 1.0, 0.0}, {-sin(b), 0.0, cos(b)}}};
-    return r;
-}
-
-static mat_t rot_z(double g)
-{
-    const mat_t r = {{{cos(g), -sin(g), 0.0}, {sin(g), cos(g), 0.0}, {0.0, 0.0, 1.0}}};
-    return r;
-}
-
-/* MODEL.md §1: R = Rz(gamma) Ry(beta) Rx(alpha), built by explicit matrix products. */
-static mat_t euler_matrix(double a, double b, double g)
-{
-    const mat_t rz = rot_z(g);
-    const mat_t ry = rot_y(b);
-    const mat_t rx = rot_x(a);
-    const mat_t zy = mat_mul(&rz, &ry);
-    return mat_mul(&zy, &rx);
-}
 
 /* Rodrigues: R = I + sin(th) K + (1 - cos(th)) K^2, K = skew(unit axis n). */
 static mat_t rodrigues(double nx, double ny, double nz, double th)
