@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "cdpr/csv.h"
+#include "cdpr/plant.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/settle.h"
 #include "cdpr/statics.h"
@@ -21,16 +22,9 @@ static const double PI = 3.14159265358979323846;
 
 /* Everything a run needs, allocated once (about 250 kB at the default capacities). */
 typedef struct {
-    cdpr_robot_t robot;
+    cdpr_plant_t plant;
     cdpr_robot_t model; /* statics-only model for the feasibility checks */
-    cdpr_real_t y[CDPR_ROBOT_STATE_MAX];
-    cdpr_real_t scratch[CDPR_ROBOT_STATE_MAX];
-    cdpr_real_t atol[CDPR_ROBOT_STATE_MAX];
-    cdpr_real_t work[CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX];
-    cdpr_rkf45_t rk;
-    cdpr_winch_t winch[CDPR_MAX_CABLES];
     cdpr_tracker_t tracker;
-    cdpr_node_stats_t nodes;
     cdpr_csv_t csv;
     int csv_open;
 } sim_t;
@@ -170,13 +164,6 @@ static int check_reachable(sim_t *s, const cdpr_scenario_t *sc, double duration,
     return 0;
 }
 
-static void fill_atol(sim_t *s, const cdpr_scenario_t *sc)
-{
-    const cdpr_scenario_integrator_t *in = &sc->integrator;
-    cdpr_robot_fill_atol(&s->robot, in->atol_position_m, in->atol_velocity_m_per_s,
-                         in->atol_quaternion, in->atol_rate_rad_per_s, s->atol);
-}
-
 static void csv_header(cdpr_csv_t *c, int nc)
 {
     static const char *const head[] = {
@@ -208,13 +195,11 @@ typedef struct {
     cdpr_robot_out_t out;
 } sample_t;
 
-static void measure(const sim_t *s, double t, const cdpr_traj_sample_t *des, sample_t *smp,
+static void measure(const sim_t *s, const cdpr_traj_sample_t *des, sample_t *smp,
                     cdpr_tracker_meas_t *meas)
 {
-    const cdpr_robot_t *r = &s->robot;
-    cdpr_cabin_motion_t m;
-    cdpr_cabin_get_motion(s->y, &m);
-    m.q = cdpr_quat_normalize(m.q);
+    cdpr_plant_measure(&s->plant, meas);
+    const cdpr_cabin_motion_t m = meas->cabin;
     smp->pose[0] = m.p_m.x;
     smp->pose[1] = m.p_m.y;
     smp->pose[2] = m.p_m.z;
@@ -227,21 +212,15 @@ static void measure(const sim_t *s, double t, const cdpr_traj_sample_t *des, sam
         sqrt(smp->err[0] * smp->err[0] + smp->err[1] * smp->err[1] + smp->err[2] * smp->err[2]);
     const cdpr_quat_t qi = {m.q.w, -m.q.x, -m.q.y, -m.q.z};
     smp->erot_rad = cdpr_v3_norm(cdpr_quat_to_rotvec(cdpr_quat_mul(des->motion.q, qi)));
-    for (int j = 0; j < r->p.n_cables; ++j) {
-        smp->length_m[j] = cdpr_cable_total_length(&r->cable[j], s->y + r->offset[j]);
-    }
-    if (meas != NULL) {
-        meas->t_s = t;
-        meas->cabin = m;
-        memcpy(meas->length_m, smp->length_m, sizeof meas->length_m);
-    }
+    memcpy(smp->length_m, meas->length_m, sizeof smp->length_m);
 }
 
 static void csv_row(sim_t *s, double t, const cdpr_traj_sample_t *des, const sample_t *smp,
                     const double *l_ff)
 {
     cdpr_csv_t *c = &s->csv;
-    const int nc = s->robot.p.n_cables;
+    const cdpr_robot_t *r = &s->plant.robot;
+    const int nc = r->p.n_cables;
     cdpr_csv_num(c, t);
     for (int i = 0; i < 6; ++i) {
         cdpr_csv_num(c, smp->pose[i]);
@@ -267,10 +246,10 @@ static void csv_row(sim_t *s, double t, const cdpr_traj_sample_t *des, const sam
         cdpr_csv_num(c, l_ff[j]);
     }
     for (int j = 0; j < nc; ++j) {
-        cdpr_csv_num(c, s->robot.in.payout_m_per_s[j]);
+        cdpr_csv_num(c, r->in.payout_m_per_s[j]);
     }
     for (int j = 0; j < nc; ++j) {
-        cdpr_csv_num(c, (double)s->robot.cable[j].n);
+        cdpr_csv_num(c, (double)r->cable[j].n);
     }
     cdpr_csv_end_row(c);
 }
@@ -323,88 +302,21 @@ static void progress(const cdpr_sim_opts_t *o, double t, double total, double wa
     fflush(o->progress_stream);
 }
 
-/* Initial state: IK lengths -> robot -> catenary placement -> settle. Returns 0 or 2. */
-static int initialise(sim_t *s, const cdpr_scenario_t *sc, const cdpr_statics_result_t *ik,
-                      cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+/* Plant (IK lengths -> robot -> catenary placement -> settle) and controller. Returns 0 or
+ * 2. */
+static int initialise(sim_t *s, const cdpr_scenario_t *sc, cdpr_sim_summary_t *sum,
+                      cdpr_scenario_error_t *err)
 {
-    double lengths[CDPR_MAX_CABLES];
-    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
-        lengths[j] = ik->cable[j].length_m;
-    }
-    cdpr_robot_params_t rp;
-    cdpr_winch_params_t wp;
-    cdpr_diag_t d;
-    if (cdpr_robot_config_build(&sc->robot, lengths, &rp, &wp, &d) != CDPR_OK ||
-        cdpr_robot_init(&s->robot, &rp, &d) != CDPR_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "rejected by the model: field '%s': %s", d.field,
-                 cdpr_status_str(d.status));
-        cdpr_scenario_error(sc, "robot", what, err);
-        return 2;
-    }
-    cdpr_status_t st = cdpr_robot_place_catenary(&s->robot, ik, s->y);
-    if (st != CDPR_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "cannot place the cables: %s", cdpr_status_str(st));
-        cdpr_scenario_error(sc, initial_key(sc), what, err);
-        return 2;
-    }
-    /* Settle with tight tolerances: the discrete equilibrium, to 1e-6 m/s^2. */
-    cdpr_rkf45_params_t sp;
-    cdpr_rkf45_params_default(&sp);
-    sp.rtol = 1e-9;
-    sp.atol = 1e-10;
-    st = cdpr_rkf45_init(&s->rk, &sp, s->work, (int)(sizeof s->work / sizeof s->work[0]),
-                         CDPR_ROBOT_STATE_MAX, s->robot.dim, &d);
-    if (st != CDPR_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "settling solver: %s", cdpr_status_str(st));
-        cdpr_scenario_error(sc, "integrator", what, err);
-        return 2;
-    }
-    cdpr_settle_t cfg;
-    cdpr_settle_default(&cfg);
-    const double t0 = now_s();
-    st = cdpr_robot_settle(&s->robot, &s->rk, s->y, s->scratch, &cfg);
-    sum->settle_wall_time_s = now_s() - t0;
-    sum->settle_steps = cfg.steps;
-    if (st != CDPR_OK) {
-        char what[512];
-        snprintf(what, sizeof what,
-                 "the initial state did not settle to rest (%s after %ld steps, "
-                 "residual %g m/s^2)",
-                 cdpr_status_str(st), cfg.steps, cfg.max_acc_m_per_s2);
-        cdpr_scenario_error(sc, initial_key(sc), what, err);
-        return 2;
-    }
-    /* Winches at rest, in rate mode. */
-    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
-        if (cdpr_winch_init(&s->winch[j], &wp, &d) != CDPR_OK) {
-            char what[512];
-            snprintf(what, sizeof what, "field '%s': %s", d.field, cdpr_status_str(d.status));
-            cdpr_scenario_error(sc, "robot.winch", what, err);
-            return 2;
-        }
-    }
-    s->robot.in.wind_m_per_s =
-        cdpr_v3(sc->robot.wind_m_per_s[0], sc->robot.wind_m_per_s[1], sc->robot.wind_m_per_s[2]);
-    /* The run's integrator. */
-    cdpr_rkf45_params_t ip;
-    cdpr_rkf45_params_default(&ip);
-    ip.rtol = sc->integrator.rtol;
-    ip.h_max_s = sc->integrator.h_max_s;
-    fill_atol(s, sc);
-    ip.atol_vec = s->atol;
-    st = cdpr_rkf45_init(&s->rk, &ip, s->work, (int)(sizeof s->work / sizeof s->work[0]),
-                         CDPR_ROBOT_STATE_MAX, s->robot.dim, &d);
-    if (st != CDPR_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "field '%s': %s", d.field, cdpr_status_str(st));
-        cdpr_scenario_error(sc, "integrator", what, err);
-        return 2;
+    const int rc = cdpr_plant_init(&s->plant, sc, sc->gains.period_s, 0, err);
+    sum->settle_wall_time_s = s->plant.settle_wall_time_s;
+    sum->settle_steps = s->plant.settle_steps;
+    if (rc != 0) {
+        return rc;
     }
     /* The controller, with its own model built from the same values. */
-    st = cdpr_tracker_init(&s->tracker, &rp, &sc->traj, &sc->gains, 0.0, &d);
+    cdpr_diag_t d;
+    const cdpr_status_t st =
+        cdpr_tracker_init(&s->tracker, &s->plant.params, &sc->traj, &sc->gains, 0.0, &d);
     if (st != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "controller: field '%s': %s", d.field, cdpr_status_str(st));
@@ -434,7 +346,7 @@ static int open_outputs(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts
         return 3;
     }
     s->csv_open = 1;
-    csv_header(&s->csv, s->robot.p.n_cables);
+    csv_header(&s->csv, s->plant.robot.p.n_cables);
     return 0;
 }
 
@@ -449,7 +361,8 @@ static void note(cdpr_sim_summary_t *sum, const char *what)
 static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, double duration,
                 cdpr_sim_summary_t *sum, double wall0)
 {
-    cdpr_robot_t *r = &s->robot;
+    cdpr_plant_t *p = &s->plant;
+    const cdpr_robot_t *r = &p->robot;
     const int nc = r->p.n_cables;
     const double dt = sc->gains.period_s;
     const long n_periods = (long)floor(duration / dt + 0.5);
@@ -473,8 +386,9 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
         cdpr_traj_eval(&sc->traj, t, &des);
         sample_t smp;
         cdpr_tracker_meas_t meas;
-        measure(s, t, &des, &smp, &meas);
+        measure(s, &des, &smp, &meas);
         const int last = (k >= n_periods) ? 1 : 0;
+        int flags = 0;
         if (last == 0) {
             cdpr_tracker_cmd_t cmd;
             if (cdpr_tracker_step(&s->tracker, &meas, &cmd) != CDPR_OK) {
@@ -483,17 +397,13 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
                 break;
             }
             memcpy(l_ff, cmd.l_ff_m, sizeof l_ff);
+            flags = cdpr_plant_command(p, CDPR_WINCH_RATE, cmd.rate_m_per_s);
             for (int j = 0; j < nc; ++j) {
-                (void)cdpr_winch_command(&s->winch[j], CDPR_WINCH_RATE, cmd.rate_m_per_s[j]);
-                if (cdpr_winch_update(&s->winch[j], smp.length_m[j], dt) == CDPR_WARN_MIN_LENGTH) {
-                    sum->min_length_periods++;
-                }
-                r->in.payout_m_per_s[j] = s->winch[j].u_m_per_s;
                 sum->max_payout_m_per_s =
-                    fmax(sum->max_payout_m_per_s, fabs(s->winch[j].u_m_per_s));
+                    fmax(sum->max_payout_m_per_s, fabs(p->winch[j].u_m_per_s));
             }
         }
-        cdpr_robot_outputs(r, t, s->y, &smp.out);
+        cdpr_robot_outputs(r, t, p->y, &smp.out);
         if (k == 0) {
             sum->initial_error_m = smp.epos_m;
         }
@@ -506,27 +416,15 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
         if (last != 0) {
             break;
         }
-        double tt = t;
-        const cdpr_status_t as =
-            cdpr_rkf45_advance(&s->rk, cdpr_robot_rhs, r, &tt, s->y, dt, sc->integrator.max_trials);
+        const cdpr_status_t as = cdpr_plant_advance(p, &flags);
         if (as < 0) {
             snprintf(sum->message, sizeof sum->message, "integrator failed at t = %.6g s: %s", t,
                      cdpr_status_str(as));
             rc = 1;
             break;
         }
-        if (as == CDPR_WARN_SUBSTEP_LIMIT) {
-            sum->substep_limit_hits++;
-        }
-        cdpr_robot_normalize(r, s->y);
-        int changed = 0;
-        const cdpr_status_t ns = cdpr_robot_node_events(r, t + dt, s->y, &s->nodes, &changed);
-        if (ns == CDPR_WARN_CAPACITY) {
+        if ((flags & CDPR_PLANT_NODE_CAPACITY) != 0) {
             note(sum, "node capacity reached");
-        }
-        if (changed != 0) {
-            (void)cdpr_rkf45_set_dim(&s->rk, r->dim);
-            fill_atol(s, sc);
         }
         const double wall = now_s();
         if (o->progress != 0 && wall >= next_progress) {
@@ -546,14 +444,16 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
         sum->min_tension_N = 0.0;
     }
     for (int j = 0; j < nc; ++j) {
-        sum->node_insertions += s->nodes.insertions[j];
-        sum->node_removals += s->nodes.removals[j];
-        sum->capacity_hits += s->nodes.capacity_hits[j];
+        sum->node_insertions += p->nodes.insertions[j];
+        sum->node_removals += p->nodes.removals[j];
+        sum->capacity_hits += p->nodes.capacity_hits[j];
     }
     sum->ik_failures = s->tracker.ik_failures;
-    sum->steps_accepted = s->rk.stats.steps_accepted;
-    sum->steps_rejected = s->rk.stats.steps_rejected;
-    sum->rhs_evals = s->rk.stats.rhs_evals;
+    sum->substep_limit_hits = p->stats.substep_limit_hits;
+    sum->min_length_periods = p->stats.min_length_periods;
+    sum->steps_accepted = p->rk.stats.steps_accepted;
+    sum->steps_rejected = p->rk.stats.steps_rejected;
+    sum->rhs_evals = p->rk.stats.rhs_evals;
     return rc;
 }
 
@@ -575,7 +475,7 @@ int cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_sim_s
     cdpr_statics_result_t ik;
     int rc = check_reachable(s, sc, duration, &ik, err);
     if (rc == 0) {
-        rc = initialise(s, sc, &ik, sum, err);
+        rc = initialise(s, sc, sum, err);
     }
     if (rc == 0) {
         rc = open_outputs(s, sc, o, err);
