@@ -9,8 +9,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "cdpr/scenario.h"
@@ -115,45 +113,6 @@ static int parse(int argc, char **argv, options_t *o)
     return 0;
 }
 
-/* gnuplot -c SCRIPT DIR KIND TITLE; no shell, so no quoting issues. Returns 0 on success. */
-static int plot(const options_t *o, const char *kind, const char *title)
-{
-    struct stat sb;
-    if (stat(o->plot_script, &sb) != 0) {
-        fprintf(stderr, "cdpr-sim: warning: plot script %s: %s; no figures\n", o->plot_script,
-                strerror(errno));
-        return -1;
-    }
-    fflush(NULL);
-    const pid_t pid = fork();
-    if (pid < 0) {
-        fprintf(stderr, "cdpr-sim: warning: fork: %s; no figures\n", strerror(errno));
-        return -1;
-    }
-    if (pid == 0) {
-        char *const args[] = {
-            "gnuplot",     "-c", (char *)o->plot_script, (char *)o->out_dir, (char *)kind,
-            (char *)title, NULL};
-        execvp("gnuplot", args);
-        fprintf(stderr, "cdpr-sim: warning: cannot run gnuplot: %s; no figures\n", strerror(errno));
-        _exit(127);
-    }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0) {
-        if (errno != EINTR) {
-            return -1;
-        }
-    }
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        if (!WIFEXITED(status) || WEXITSTATUS(status) != 127) {
-            fprintf(stderr, "cdpr-sim: warning: gnuplot failed (%s); figures may be missing\n",
-                    o->plot_script);
-        }
-        return -1;
-    }
-    return 0;
-}
-
 static void print_summary(const options_t *o, const cdpr_sim_summary_t *s)
 {
     printf("%s: %s%s%s\n", o->scenario, cdpr_sim_status_name(s->status),
@@ -209,7 +168,8 @@ int main(int argc, char **argv)
                            ? "circle"
                            : ((sc.traj.type == CDPR_TRAJ_LINE) ? "line" : "hold");
     if (o.plot != 0) {
-        plotted = plot(&o, kind, (sc.description[0] != '\0') ? sc.description : o.scenario);
+        plotted = cdpr_sim_plot("cdpr-sim", o.plot_script, o.out_dir, kind,
+                                (sc.description[0] != '\0') ? sc.description : o.scenario);
     }
     if (o.quiet == 0) {
         print_summary(&o, &sum);

@@ -83,17 +83,10 @@ static int initial_ik(cdpr_plant_t *p, const cdpr_scenario_t *sc, cdpr_scenario_
     return 0;
 }
 
-int cdpr_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double period_s, int max_trials,
-                    cdpr_scenario_error_t *err)
+int cdpr_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
     memset(p, 0, sizeof *p);
-    if (!(period_s > 0.0) || period_s > 10.0) {
-        return fail_model(sc, "controller.period_s", "period must be in (0, 10] s", NULL, err);
-    }
-    p->period_s = period_s;
-    p->max_trials = (max_trials > 0) ? max_trials : sc->integrator.max_trials;
-    p->integ = sc->integrator;
-    int rc = initial_ik(p, sc, err);
+    const int rc = initial_ik(p, sc, err);
     if (rc != 0) {
         return rc;
     }
@@ -101,13 +94,32 @@ int cdpr_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double period_s,
     for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
         lengths[j] = p->initial.cable[j].length_m;
     }
-    cdpr_winch_params_t wp;
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    if (cdpr_robot_config_build(&sc->robot, lengths, &p->params, &wp, &d) != CDPR_OK ||
+    if (cdpr_robot_config_build(&sc->robot, lengths, &p->params, &p->winch_params, &d) != CDPR_OK ||
         cdpr_robot_init(&p->robot, &p->params, &d) != CDPR_OK) {
         return fail_model(sc, "robot", "rejected by the model", &d, err);
     }
+    return 0;
+}
+
+int cdpr_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double period_s, int max_trials,
+                    cdpr_scenario_error_t *err)
+{
+    if (!(period_s > 0.0) || period_s > 10.0) {
+        memset(p, 0, sizeof *p);
+        return fail_model(sc, "controller.period_s", "period must be in (0, 10] s", NULL, err);
+    }
+    const int rc = cdpr_plant_model(p, sc, err);
+    if (rc != 0) {
+        return rc;
+    }
+    p->period_s = period_s;
+    p->max_trials = (max_trials > 0) ? max_trials : sc->integrator.max_trials;
+    p->integ = sc->integrator;
+    const cdpr_winch_params_t wp = p->winch_params;
+    cdpr_diag_t d;
+    memset(&d, 0, sizeof d);
     cdpr_status_t st = cdpr_robot_place_catenary(&p->robot, &p->initial, p->y);
     if (st != CDPR_OK) {
         char what[512];

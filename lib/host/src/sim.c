@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <time.h>
 
 #include "cdpr/csv.h"
@@ -25,8 +27,7 @@ typedef struct {
     cdpr_plant_t plant;
     cdpr_robot_t model; /* statics-only model for the feasibility checks */
     cdpr_tracker_t tracker;
-    cdpr_csv_t csv;
-    int csv_open;
+    cdpr_sim_rec_t rec;
 } sim_t;
 
 void cdpr_sim_opts_default(cdpr_sim_opts_t *o)
@@ -191,14 +192,10 @@ typedef struct {
     double err[6]; /* actual - desired; angles wrapped */
     double epos_m;
     double erot_rad;
-    double length_m[CDPR_MAX_CABLES];
-    cdpr_robot_out_t out;
 } sample_t;
 
-static void measure(const sim_t *s, const cdpr_traj_sample_t *des, sample_t *smp,
-                    cdpr_tracker_meas_t *meas)
+static void errors(const cdpr_tracker_meas_t *meas, const cdpr_traj_sample_t *des, sample_t *smp)
 {
-    cdpr_plant_measure(&s->plant, meas);
     const cdpr_cabin_motion_t m = meas->cabin;
     smp->pose[0] = m.p_m.x;
     smp->pose[1] = m.p_m.y;
@@ -212,21 +209,18 @@ static void measure(const sim_t *s, const cdpr_traj_sample_t *des, sample_t *smp
         sqrt(smp->err[0] * smp->err[0] + smp->err[1] * smp->err[1] + smp->err[2] * smp->err[2]);
     const cdpr_quat_t qi = {m.q.w, -m.q.x, -m.q.y, -m.q.z};
     smp->erot_rad = cdpr_v3_norm(cdpr_quat_to_rotvec(cdpr_quat_mul(des->motion.q, qi)));
-    memcpy(smp->length_m, meas->length_m, sizeof smp->length_m);
 }
 
-static void csv_row(sim_t *s, double t, const cdpr_traj_sample_t *des, const sample_t *smp,
-                    const double *l_ff)
+static void csv_row(cdpr_sim_rec_t *rec, const cdpr_sim_row_t *row, const sample_t *smp)
 {
-    cdpr_csv_t *c = &s->csv;
-    const cdpr_robot_t *r = &s->plant.robot;
-    const int nc = r->p.n_cables;
-    cdpr_csv_num(c, t);
+    cdpr_csv_t *c = &rec->csv;
+    const int nc = rec->n_cables;
+    cdpr_csv_num(c, row->t_s);
     for (int i = 0; i < 6; ++i) {
         cdpr_csv_num(c, smp->pose[i]);
     }
     for (int i = 0; i < 6; ++i) {
-        cdpr_csv_num(c, des->pose[i]);
+        cdpr_csv_num(c, row->des->pose[i]);
     }
     for (int i = 0; i < 6; ++i) {
         cdpr_csv_num(c, smp->err[i]);
@@ -234,54 +228,108 @@ static void csv_row(sim_t *s, double t, const cdpr_traj_sample_t *des, const sam
     cdpr_csv_num(c, smp->epos_m);
     cdpr_csv_num(c, smp->erot_rad);
     for (int j = 0; j < nc; ++j) {
-        cdpr_csv_num(c, smp->out.tension_cabin_N[j]);
+        cdpr_csv_num(c, row->tension_cabin_N[j]);
     }
     for (int j = 0; j < nc; ++j) {
-        cdpr_csv_num(c, smp->out.tension_winch_N[j]);
+        cdpr_csv_num(c, row->tension_winch_N[j]);
     }
     for (int j = 0; j < nc; ++j) {
-        cdpr_csv_num(c, smp->length_m[j]);
+        cdpr_csv_num(c, row->meas->length_m[j]);
     }
     for (int j = 0; j < nc; ++j) {
-        cdpr_csv_num(c, l_ff[j]);
+        cdpr_csv_num(c, row->l_ff_m[j]);
     }
     for (int j = 0; j < nc; ++j) {
-        cdpr_csv_num(c, r->in.payout_m_per_s[j]);
+        cdpr_csv_num(c, row->payout_m_per_s[j]);
     }
     for (int j = 0; j < nc; ++j) {
-        cdpr_csv_num(c, (double)r->cable[j].n);
+        cdpr_csv_num(c, (double)row->segments[j]);
     }
     cdpr_csv_end_row(c);
 }
 
-/* Running statistics over the samples. */
-typedef struct {
-    double sum2_pos;
-    double sum2_rot;
-    double sum2_pos_late;
-    long n;
-    long n_late;
-} stats_t;
-
-static void accumulate(stats_t *st, cdpr_sim_summary_t *sum, const sample_t *smp, int nc, int late)
+int cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc, const char *out_dir,
+                      int n_cables, double duration_s, cdpr_sim_summary_t *sum,
+                      cdpr_scenario_error_t *err)
 {
-    st->sum2_pos += smp->epos_m * smp->epos_m;
-    st->sum2_rot += smp->erot_rad * smp->erot_rad;
-    st->n++;
-    if (late != 0) {
-        st->sum2_pos_late += smp->epos_m * smp->epos_m;
-        st->n_late++;
+    memset(rec, 0, sizeof *rec);
+    rec->n_cables = n_cables;
+    rec->every = cdpr_scenario_output_every(sc);
+    rec->duration_s = duration_s;
+    rec->sum = sum;
+    sum->min_tension_N = (double)INFINITY;
+    sum->nodes_min = CDPR_MAX_SEGMENTS;
+    sum->nodes_max = 0;
+    if (out_dir == NULL) {
+        return 0;
     }
-    sum->max_error_m = fmax(sum->max_error_m, smp->epos_m);
-    sum->max_error_rad = fmax(sum->max_error_rad, smp->erot_rad);
-    sum->final_error_m = smp->epos_m;
-    sum->final_error_rad = smp->erot_rad;
+    if (mkdir_p(out_dir) != 0) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot create directory: %s", out_dir,
+                 strerror(errno));
+        return 3;
+    }
+    char path[1100];
+    snprintf(path, sizeof path, "%s/timeseries.csv", out_dir);
+    if (cdpr_csv_open(&rec->csv, path) != 0) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot write: %s", path, strerror(errno));
+        return 3;
+    }
+    rec->csv_open = 1;
+    csv_header(&rec->csv, n_cables);
+    return 0;
+}
+
+void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row)
+{
+    cdpr_sim_summary_t *sum = rec->sum;
+    const int nc = rec->n_cables;
+    sample_t smp;
+    errors(row->meas, row->des, &smp);
+    if (k == 0) {
+        sum->initial_error_m = smp.epos_m;
+    }
+    rec->sum2_pos += smp.epos_m * smp.epos_m;
+    rec->sum2_rot += smp.erot_rad * smp.erot_rad;
+    rec->n++;
+    if (row->t_s >= 0.5 * rec->duration_s) {
+        rec->sum2_pos_late += smp.epos_m * smp.epos_m;
+        rec->n_late++;
+    }
+    sum->max_error_m = fmax(sum->max_error_m, smp.epos_m);
+    sum->max_error_rad = fmax(sum->max_error_rad, smp.erot_rad);
+    sum->final_error_m = smp.epos_m;
+    sum->final_error_rad = smp.erot_rad;
     for (int j = 0; j < nc; ++j) {
-        const double a = smp->out.tension_cabin_N[j];
-        const double b = smp->out.tension_winch_N[j];
+        const double a = row->tension_cabin_N[j];
+        const double b = row->tension_winch_N[j];
         sum->max_tension_N = fmax(sum->max_tension_N, fmax(a, b));
         sum->min_tension_N = fmin(sum->min_tension_N, fmin(a, b));
+        sum->nodes_min = (row->segments[j] < sum->nodes_min) ? row->segments[j] : sum->nodes_min;
+        sum->nodes_max = (row->segments[j] > sum->nodes_max) ? row->segments[j] : sum->nodes_max;
     }
+    sum->periods = k;
+    sum->sim_time_s = row->t_s;
+    if (rec->csv_open != 0 && (k % rec->every == 0 || last != 0)) {
+        csv_row(rec, row, &smp);
+    }
+}
+
+int cdpr_sim_rec_close(cdpr_sim_rec_t *rec)
+{
+    cdpr_sim_summary_t *sum = rec->sum;
+    sum->rms_error_m = (rec->n > 0) ? sqrt(rec->sum2_pos / (double)rec->n) : 0.0;
+    sum->rms_error_rad = (rec->n > 0) ? sqrt(rec->sum2_rot / (double)rec->n) : 0.0;
+    sum->rms_error_second_half_m =
+        (rec->n_late > 0) ? sqrt(rec->sum2_pos_late / (double)rec->n_late) : 0.0;
+    if (!isfinite(sum->min_tension_N)) {
+        sum->min_tension_N = 0.0;
+    }
+    int rc = 0;
+    if (rec->csv_open != 0) {
+        rc = cdpr_csv_close(&rec->csv);
+        rec->csv_open = 0;
+    }
+    return rc;
 }
 
 static void progress(const cdpr_sim_opts_t *o, double t, double total, double wall, int final)
@@ -327,29 +375,6 @@ static int initialise(sim_t *s, const cdpr_scenario_t *sc, cdpr_sim_summary_t *s
     return 0;
 }
 
-static int open_outputs(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
-                        cdpr_scenario_error_t *err)
-{
-    (void)sc;
-    if (o->out_dir == NULL) {
-        return 0;
-    }
-    if (mkdir_p(o->out_dir) != 0) {
-        snprintf(err->msg, sizeof err->msg, "%s: cannot create directory: %s", o->out_dir,
-                 strerror(errno));
-        return 3;
-    }
-    char path[1100];
-    snprintf(path, sizeof path, "%s/timeseries.csv", o->out_dir);
-    if (cdpr_csv_open(&s->csv, path) != 0) {
-        snprintf(err->msg, sizeof err->msg, "%s: cannot write: %s", path, strerror(errno));
-        return 3;
-    }
-    s->csv_open = 1;
-    csv_header(&s->csv, s->plant.robot.p.n_cables);
-    return 0;
-}
-
 static void note(cdpr_sim_summary_t *sum, const char *what)
 {
     if (sum->message[0] == '\0') {
@@ -366,53 +391,51 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
     const int nc = r->p.n_cables;
     const double dt = sc->gains.period_s;
     const long n_periods = (long)floor(duration / dt + 0.5);
-    const long every = cdpr_scenario_output_every(sc);
-    stats_t st;
-    memset(&st, 0, sizeof st);
-    sum->min_tension_N = (double)INFINITY;
-    sum->nodes_min = CDPR_MAX_SEGMENTS;
-    sum->nodes_max = 0;
     double next_progress = wall0 + o->progress_after_s;
     int shown = 0;
     double l_ff[CDPR_MAX_CABLES] = {0.0};
     int rc = 0;
     for (long k = 0;; ++k) {
         const double t = (double)k * dt;
-        for (int j = 0; j < nc; ++j) {
-            sum->nodes_min = (r->cable[j].n < sum->nodes_min) ? r->cable[j].n : sum->nodes_min;
-            sum->nodes_max = (r->cable[j].n > sum->nodes_max) ? r->cable[j].n : sum->nodes_max;
-        }
         cdpr_traj_sample_t des;
         cdpr_traj_eval(&sc->traj, t, &des);
-        sample_t smp;
         cdpr_tracker_meas_t meas;
-        measure(s, &des, &smp, &meas);
+        cdpr_plant_measure(p, &meas);
         const int last = (k >= n_periods) ? 1 : 0;
-        int flags = 0;
+        cdpr_tracker_cmd_t cmd;
         if (last == 0) {
-            cdpr_tracker_cmd_t cmd;
             if (cdpr_tracker_step(&s->tracker, &meas, &cmd) != CDPR_OK) {
                 note(sum, "non-finite measurement");
                 rc = 1;
                 break;
             }
             memcpy(l_ff, cmd.l_ff_m, sizeof l_ff);
+        }
+        /* The row of t_k: state, tensions and the payout rates of the period that ended at t_k
+         * (what the real-time node publishes for state k), L_ff(t_k). */
+        cdpr_robot_out_t out;
+        cdpr_robot_outputs(r, t, p->y, &out);
+        int segments[CDPR_MAX_CABLES];
+        for (int j = 0; j < nc; ++j) {
+            segments[j] = r->cable[j].n;
+        }
+        const cdpr_sim_row_t row = {t,
+                                    &des,
+                                    &meas,
+                                    out.tension_cabin_N,
+                                    out.tension_winch_N,
+                                    l_ff,
+                                    r->in.payout_m_per_s,
+                                    segments};
+        cdpr_sim_rec_period(&s->rec, k, last, &row);
+        int flags = 0;
+        if (last == 0) {
             flags = cdpr_plant_command(p, CDPR_WINCH_RATE, cmd.rate_m_per_s);
             for (int j = 0; j < nc; ++j) {
                 sum->max_payout_m_per_s =
                     fmax(sum->max_payout_m_per_s, fabs(p->winch[j].u_m_per_s));
             }
         }
-        cdpr_robot_outputs(r, t, p->y, &smp.out);
-        if (k == 0) {
-            sum->initial_error_m = smp.epos_m;
-        }
-        accumulate(&st, sum, &smp, nc, (t >= 0.5 * duration) ? 1 : 0);
-        if (s->csv_open != 0 && (k % every == 0 || last != 0)) {
-            csv_row(s, t, &des, &smp, l_ff);
-        }
-        sum->periods = k;
-        sum->sim_time_s = t;
         if (last != 0) {
             break;
         }
@@ -435,13 +458,6 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
     }
     if (shown != 0) {
         progress(o, sum->sim_time_s, duration, now_s() - wall0, 1);
-    }
-    sum->rms_error_m = (st.n > 0) ? sqrt(st.sum2_pos / (double)st.n) : 0.0;
-    sum->rms_error_rad = (st.n > 0) ? sqrt(st.sum2_rot / (double)st.n) : 0.0;
-    sum->rms_error_second_half_m =
-        (st.n_late > 0) ? sqrt(st.sum2_pos_late / (double)st.n_late) : 0.0;
-    if (!isfinite(sum->min_tension_N)) {
-        sum->min_tension_N = 0.0;
     }
     for (int j = 0; j < nc; ++j) {
         sum->node_insertions += p->nodes.insertions[j];
@@ -478,11 +494,13 @@ int cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_sim_s
         rc = initialise(s, sc, sum, err);
     }
     if (rc == 0) {
-        rc = open_outputs(s, sc, o, err);
+        rc = cdpr_sim_rec_open(&s->rec, sc, o->out_dir, s->plant.robot.p.n_cables, duration, sum,
+                               err);
     }
     if (rc == 0) {
         rc = loop(s, sc, o, duration, sum, wall0);
         sum->wall_time_s = now_s() - wall0;
+        const int csv_rc = cdpr_sim_rec_close(&s->rec);
         if (rc != 0) {
             sum->status = CDPR_SIM_FAILED;
         } else if (sum->substep_limit_hits + sum->ik_failures + sum->capacity_hits +
@@ -499,7 +517,7 @@ int cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_sim_s
         } else {
             sum->status = CDPR_SIM_OK;
         }
-        if (s->csv_open != 0 && cdpr_csv_close(&s->csv) != 0) {
+        if (csv_rc != 0) {
             snprintf(err->msg, sizeof err->msg, "%s/timeseries.csv: write error", o->out_dir);
             rc = 3;
         }
@@ -512,8 +530,8 @@ int cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_sim_s
             }
         }
     }
-    if (s->csv_open != 0 && s->csv.f != NULL) {
-        (void)cdpr_csv_close(&s->csv);
+    if (s->rec.csv_open != 0) {
+        (void)cdpr_csv_close(&s->rec.csv);
     }
     free(s);
     return rc;
@@ -720,5 +738,45 @@ int cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum, cdpr_scenar
     sum->rhs_evals = (unsigned long)r->rhs_evals;
     sum->settle_steps = (long)r->settle_steps;
     (void)cyaml_free(&cfg, &summary_schema, r, 0);
+    return 0;
+}
+
+/* ---------------------------------------------------------------- figures */
+
+int cdpr_sim_plot(const char *prog, const char *script, const char *dir, const char *kind,
+                  const char *title)
+{
+    struct stat sb;
+    if (stat(script, &sb) != 0) {
+        fprintf(stderr, "%s: warning: plot script %s: %s; no figures\n", prog, script,
+                strerror(errno));
+        return -1;
+    }
+    fflush(NULL);
+    const pid_t pid = fork();
+    if (pid < 0) {
+        fprintf(stderr, "%s: warning: fork: %s; no figures\n", prog, strerror(errno));
+        return -1;
+    }
+    if (pid == 0) {
+        char *const args[] = {"gnuplot",     "-c", (char *)script, (char *)dir, (char *)kind,
+                              (char *)title, NULL};
+        execvp("gnuplot", args);
+        fprintf(stderr, "%s: warning: cannot run gnuplot: %s; no figures\n", prog, strerror(errno));
+        _exit(127);
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0) {
+        if (errno != EINTR) {
+            return -1;
+        }
+    }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        if (!WIFEXITED(status) || WEXITSTATUS(status) != 127) {
+            fprintf(stderr, "%s: warning: gnuplot failed (%s); figures may be missing\n", prog,
+                    script);
+        }
+        return -1;
+    }
     return 0;
 }

@@ -37,37 +37,43 @@ int64_t cdpr_lcm_utime_us(double t_s)
     return (int64_t)llround(t_s * 1e6);
 }
 
-void cdpr_lcm_pack_cabin_state(cdpr_cabin_state_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
-                               double t_s, int64_t seq, int64_t command_seq, int32_t flags)
+void cdpr_lcm_pack_cabin_motion(cdpr_cabin_state_t *msg, const cdpr_cabin_motion_t *m, double t_s,
+                                int64_t seq, int64_t command_seq, int32_t flags)
 {
-    cdpr_cabin_motion_t m;
     cdpr_real_t a;
     cdpr_real_t b;
     cdpr_real_t g;
 
-    cdpr_robot_cabin_motion(r, (cdpr_real_t)t_s, y, &m);
-    cdpr_quat_to_euler(m.q, &a, &b, &g);
-
+    cdpr_quat_to_euler(m->q, &a, &b, &g);
     msg->utime_us = cdpr_lcm_utime_us(t_s);
     msg->seq = seq;
     msg->command_seq = command_seq;
-    msg->position_m[0] = (double)m.p_m.x;
-    msg->position_m[1] = (double)m.p_m.y;
-    msg->position_m[2] = (double)m.p_m.z;
-    msg->orientation[0] = (double)m.q.w;
-    msg->orientation[1] = (double)m.q.x;
-    msg->orientation[2] = (double)m.q.y;
-    msg->orientation[3] = (double)m.q.z;
+    msg->position_m[0] = (double)m->p_m.x;
+    msg->position_m[1] = (double)m->p_m.y;
+    msg->position_m[2] = (double)m->p_m.z;
+    msg->orientation[0] = (double)m->q.w;
+    msg->orientation[1] = (double)m->q.x;
+    msg->orientation[2] = (double)m->q.y;
+    msg->orientation[3] = (double)m->q.z;
     msg->euler_rad[0] = (double)a;
     msg->euler_rad[1] = (double)b;
     msg->euler_rad[2] = (double)g;
-    msg->velocity_m_per_s[0] = (double)m.v_m_per_s.x;
-    msg->velocity_m_per_s[1] = (double)m.v_m_per_s.y;
-    msg->velocity_m_per_s[2] = (double)m.v_m_per_s.z;
-    msg->angular_velocity_rad_per_s[0] = (double)m.w_rad_per_s.x;
-    msg->angular_velocity_rad_per_s[1] = (double)m.w_rad_per_s.y;
-    msg->angular_velocity_rad_per_s[2] = (double)m.w_rad_per_s.z;
+    msg->velocity_m_per_s[0] = (double)m->v_m_per_s.x;
+    msg->velocity_m_per_s[1] = (double)m->v_m_per_s.y;
+    msg->velocity_m_per_s[2] = (double)m->v_m_per_s.z;
+    msg->angular_velocity_rad_per_s[0] = (double)m->w_rad_per_s.x;
+    msg->angular_velocity_rad_per_s[1] = (double)m->w_rad_per_s.y;
+    msg->angular_velocity_rad_per_s[2] = (double)m->w_rad_per_s.z;
     msg->flags = flags;
+}
+
+void cdpr_lcm_pack_cabin_state(cdpr_cabin_state_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
+                               double t_s, int64_t seq, int64_t command_seq, int32_t flags)
+{
+    cdpr_cabin_motion_t m;
+
+    cdpr_robot_cabin_motion(r, (cdpr_real_t)t_s, y, &m);
+    cdpr_lcm_pack_cabin_motion(msg, &m, t_s, seq, command_seq, flags);
 }
 
 void cdpr_lcm_pack_tensions(cdpr_cable_tensions_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,

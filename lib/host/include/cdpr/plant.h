@@ -62,17 +62,18 @@ typedef struct {
     cdpr_winch_t winch[CDPR_MAX_CABLES];
     cdpr_node_stats_t nodes;
     cdpr_plant_stats_t stats;
-    cdpr_robot_params_t params;      ///< the robot's parameters (a controller model's too)
-    cdpr_statics_result_t initial;   ///< IK solution of the initial pose
+    cdpr_robot_params_t params;       ///< the robot's parameters (a controller model's too)
+    cdpr_winch_params_t winch_params; ///< the winches' limits
+    cdpr_statics_result_t initial;    ///< IK solution of the initial pose
     cdpr_scenario_integrator_t integ; ///< tolerances (copy)
-    double period_s;                 ///< Δt [s]
-    int max_trials;                  ///< RKF45 trials per period
-    long k;                          ///< periods stepped successfully; t = k Δt
-    long settle_steps;               ///< accepted steps of the initial settling
-    cdpr_winch_t winch_before[CDPR_MAX_CABLES];  ///< winches before the period (internal)
-    cdpr_real_t payout_before[CDPR_MAX_CABLES];  ///< payout rates before it (internal)
-    int commanded;                               ///< command applied, advance pending (internal)
-    double settle_wall_time_s;       ///< wall time of the settling [s]
+    double period_s;                  ///< Δt [s]
+    int max_trials;                   ///< RKF45 trials per period
+    long k;                           ///< periods stepped successfully; t = k Δt
+    long settle_steps;                ///< accepted steps of the initial settling
+    cdpr_winch_t winch_before[CDPR_MAX_CABLES]; ///< winches before the period (internal)
+    cdpr_real_t payout_before[CDPR_MAX_CABLES]; ///< payout rates before it (internal)
+    int commanded;                              ///< command applied, advance pending (internal)
+    double settle_wall_time_s;                  ///< wall time of the settling [s]
 } cdpr_plant_t;
 
 /// Build and settle the plant of scenario `sc` (checked) with control period `period_s` and
@@ -81,6 +82,11 @@ typedef struct {
 /// parameters the core rejects, settling failure).
 int cdpr_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double period_s, int max_trials,
                     cdpr_scenario_error_t *err);
+
+/// The first part of cdpr_plant_init only: IK of the initial pose, `params`, `winch_params`
+/// and `initial` filled, the robot initialised (not placed, not settled). What a controller in
+/// another process needs to build the same model. Returns 0 or 2 with `err` filled.
+int cdpr_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc, cdpr_scenario_error_t *err);
 
 /// Plant time t_k = k Δt [s].
 double cdpr_plant_time(const cdpr_plant_t *p);

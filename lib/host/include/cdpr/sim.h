@@ -23,6 +23,7 @@
 
 #include <stdio.h>
 
+#include "cdpr/csv.h"
 #include "cdpr/scenario.h"
 
 /// Run options (inputs).
@@ -75,6 +76,45 @@ typedef struct {
     char message[256];                ///< what failed or warned, "" if nothing
 } cdpr_sim_summary_t;
 
+/// One period's values for the recorder (inputs; arrays of the robot's cable count).
+typedef struct {
+    double t_s;                      ///< time t_k [s]
+    const cdpr_traj_sample_t *des;   ///< desired state at t_k
+    const cdpr_tracker_meas_t *meas; ///< measured cabin motion and lengths at t_k
+    const double *tension_cabin_N;   ///< cabin-end tensions [N]
+    const double *tension_winch_N;   ///< winch-end tensions [N]
+    const double *l_ff_m;            ///< feed-forward lengths [m]
+    const double *payout_m_per_s;    ///< payout rates [m/s]
+    const int *segments;             ///< active segments per cable
+} cdpr_sim_row_t;
+
+/// Recorder: timeseries.csv (every output period and the last) and the summary's error,
+/// tension and node statistics. Used by cdpr_sim_run and by apps/cdpr-tracker, so a run over
+/// LCM writes the same files. Fields are internal.
+typedef struct {
+    cdpr_csv_t csv;
+    int csv_open;
+    int n_cables;
+    long every;
+    double duration_s;
+    double sum2_pos, sum2_rot, sum2_pos_late;
+    long n, n_late;
+    cdpr_sim_summary_t *sum;
+} cdpr_sim_rec_t;
+
+/// Start recording into `sum` (zeroed by the caller) and, when out_dir is not NULL,
+/// out_dir/timeseries.csv (the directory is created). Returns 0, or 3 with `err` naming the
+/// file.
+int cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc, const char *out_dir,
+                      int n_cables, double duration_s, cdpr_sim_summary_t *sum,
+                      cdpr_scenario_error_t *err);
+
+/// Record period k (t_k = row->t_s); `last` forces a CSV row.
+void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row);
+
+/// Finish the statistics (RMS values) and close the CSV. Returns 0, or -1 on a write error.
+int cdpr_sim_rec_close(cdpr_sim_rec_t *rec);
+
 /// Defaults: no output directory, scenario duration, no progress, 2 s before progress.
 void cdpr_sim_opts_default(cdpr_sim_opts_t *o);
 
@@ -93,6 +133,12 @@ int cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
 /// keys it does not know are ignored). Fills the numeric fields and the status; returns 0, or
 /// -1 with `err` naming the file and key.
 int cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err);
+
+/// Run `gnuplot -c script dir kind title` (no shell) and wait for it: the figures of a run
+/// (scripts/plot_sim.gp: kind circle, line or hold). Warnings go to stderr prefixed `prog`.
+/// Returns 0 when gnuplot succeeded, else -1.
+int cdpr_sim_plot(const char *prog, const char *script, const char *dir, const char *kind,
+                  const char *title);
 
 /// Name of a status as written in summary.json ("ok", "warnings", "failed").
 const char *cdpr_sim_status_name(cdpr_sim_status_t st);

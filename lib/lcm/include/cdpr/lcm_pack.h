@@ -30,6 +30,11 @@ int64_t cdpr_lcm_utime_us(double t_s);
 void cdpr_lcm_pack_cabin_state(cdpr_cabin_state_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
                                double t_s, int64_t seq, int64_t command_seq, int32_t flags);
 
+/// Cabin state from a motion `m` as given (e.g. a plant's measurement): the same fields as
+/// cdpr_lcm_pack_cabin_state, every value copied exactly.
+void cdpr_lcm_pack_cabin_motion(cdpr_cabin_state_t *msg, const cdpr_cabin_motion_t *m, double t_s,
+                                int64_t seq, int64_t command_seq, int32_t flags);
+
 /// Tensions and winch state at (t_s, y): `out` from cdpr_robot_outputs(r, t_s, y, out); total
 /// unstretched lengths from cdpr_cable_total_length; payout rates are r->in.payout_m_per_s
 /// (the rates applied in the step that led to y).

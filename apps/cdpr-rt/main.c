@@ -1,0 +1,288 @@
+/// @file main.c
+/// cdpr-rt: the real-time plant node. Loads a scenario, initialises the robot at static
+/// equilibrium, then steps it in a periodic thread, publishing cabin state, cable tensions,
+/// cable shape and diagnostics over LCM and taking winch commands back (docs/realtime.md).
+///
+/// Exit codes: 0 run completed, 1 stopped early (SIGINT/SIGTERM), 2 bad command line or
+/// scenario, 3 LCM or thread start-up failure.
+#include <errno.h>
+#include <getopt.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cdpr/rt_plant.h"
+#include "cdpr/rt_tracker.h"
+#include "cdpr/scenario.h"
+
+#ifndef CDPR_SOURCE_DIR
+#define CDPR_SOURCE_DIR "."
+#endif
+
+enum { EXIT_STOPPED = 1, EXIT_USAGE = 2, EXIT_START = 3 };
+
+static volatile int g_stop = 0;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+typedef struct {
+    const char *scenario;
+    const char *tracker_out;
+    int with_tracker;
+    int quiet;
+    cdpr_rt_opts_t rt;
+} options_t;
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: cdpr-rt SCENARIO [options]\n"
+            "Real-time plant node: the scenario's robot (settled at its initial pose) stepped\n"
+            "by a periodic thread; publishes <prefix>CABIN_STATE, CABLE_TENSIONS, CABLE_SHAPE,\n"
+            "DIAGNOSTICS and takes <prefix>WINCH_COMMAND (docs/realtime.md).\n\n"
+            "  --rate HZ              control rate (default 1000)\n"
+            "  --duration S           plant time to run (default: the scenario's run.duration_s)\n"
+            "  --lockstep             step only when the command answering the last state came\n"
+            "                         (deterministic: bit-identical to the in-process loop)\n"
+            "  --lockstep-timeout S   lockstep: hold after waiting S for an answer (default 2)\n"
+            "  --realtime             SCHED_FIFO + mlockall when permitted (else says why and\n"
+            "                         runs SCHED_OTHER)\n"
+            "  --priority N           SCHED_FIFO priority 1..99 (default 80)\n"
+            "  --max-trials N         RKF45 trials per period, the work bound (default 50)\n"
+            "  --watchdog S           no valid command for S -> winches hold (default 0.1)\n"
+            "  --start-delay S        free-running: wait S before the first period (default 0)\n"
+            "  --lcm-url URL          LCM provider (default: liblcm's, i.e. $LCM_DEFAULT_URL or\n"
+            "                         udpm://239.255.76.67:7667?ttl=0)\n"
+            "  --prefix P             channel prefix (default CDPR_)\n"
+            "  --with-tracker         also run the example tracker in this process, on the LCM\n"
+            "                         thread (what memq:// needs: it is in-process only)\n"
+            "  --tracker-out DIR      with --with-tracker: its timeseries.csv, summary.json and\n"
+            "                         figures (as cdpr-tracker --out)\n"
+            "  --quiet                no telemetry summary\n"
+            "  --help                 this text\n\n"
+            "exit codes: 0 completed, 1 stopped by a signal, 2 bad command line or scenario,\n"
+            "            3 LCM/thread start-up failure\n");
+}
+
+static int number(const char *opt, const char *arg, double lo, double hi, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    const double v = strtod(arg, &end);
+    if (errno != 0 || end == arg || *end != '\0' || !(v >= lo && v <= hi)) {
+        fprintf(stderr, "cdpr-rt: --%s: not a number in [%g, %g]: '%s'\n", opt, lo, hi, arg);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int parse(int argc, char **argv, options_t *o)
+{
+    static const struct option longopts[] = {{"rate", required_argument, NULL, 'r'},
+                                             {"duration", required_argument, NULL, 'd'},
+                                             {"lockstep", no_argument, NULL, 'l'},
+                                             {"lockstep-timeout", required_argument, NULL, 'L'},
+                                             {"realtime", no_argument, NULL, 'R'},
+                                             {"priority", required_argument, NULL, 'P'},
+                                             {"max-trials", required_argument, NULL, 'm'},
+                                             {"watchdog", required_argument, NULL, 'w'},
+                                             {"start-delay", required_argument, NULL, 's'},
+                                             {"lcm-url", required_argument, NULL, 'u'},
+                                             {"prefix", required_argument, NULL, 'p'},
+                                             {"with-tracker", no_argument, NULL, 't'},
+                                             {"tracker-out", required_argument, NULL, 'o'},
+                                             {"quiet", no_argument, NULL, 'q'},
+                                             {"help", no_argument, NULL, 'h'},
+                                             {NULL, 0, NULL, 0}};
+    int c;
+    double v = 0.0;
+    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        int bad = 0;
+        switch (c) {
+        case 'r':
+            bad = number("rate", optarg, 1.0, 100000.0, &o->rt.rate_hz);
+            break;
+        case 'd':
+            bad = number("duration", optarg, 1e-6, 1e7, &o->rt.duration_s);
+            break;
+        case 'l':
+            o->rt.lockstep = 1;
+            break;
+        case 'L':
+            bad = number("lockstep-timeout", optarg, 1e-3, 3600.0, &o->rt.lockstep_timeout_s);
+            break;
+        case 'R':
+            o->rt.realtime = 1;
+            break;
+        case 'P':
+            bad = number("priority", optarg, 1.0, 99.0, &v);
+            o->rt.rt_priority = (int)v;
+            break;
+        case 'm':
+            bad = number("max-trials", optarg, 1.0, 1e6, &v);
+            o->rt.max_trials = (int)v;
+            break;
+        case 'w':
+            bad = number("watchdog", optarg, 1e-4, 3600.0, &o->rt.lcm.watchdog_timeout_s);
+            break;
+        case 's':
+            bad = number("start-delay", optarg, 0.0, 3600.0, &o->rt.start_delay_s);
+            break;
+        case 'u':
+            o->rt.lcm.url = optarg;
+            break;
+        case 'p':
+            o->rt.lcm.channel_prefix = optarg;
+            break;
+        case 't':
+            o->with_tracker = 1;
+            break;
+        case 'o':
+            o->tracker_out = optarg;
+            break;
+        case 'q':
+            o->quiet = 1;
+            break;
+        case 'h':
+            usage(stdout);
+            exit(0);
+        default:
+            usage(stderr);
+            return -1;
+        }
+        if (bad != 0) {
+            return -1;
+        }
+    }
+    if (optind >= argc) {
+        fprintf(stderr, "cdpr-rt: missing SCENARIO (try --help)\n");
+        return -1;
+    }
+    o->scenario = argv[optind++];
+    if (optind < argc) {
+        fprintf(stderr, "cdpr-rt: unexpected argument '%s'\n", argv[optind]);
+        return -1;
+    }
+    if (o->tracker_out != NULL && o->with_tracker == 0) {
+        fprintf(stderr, "cdpr-rt: --tracker-out needs --with-tracker\n");
+        return -1;
+    }
+    return 0;
+}
+
+/* Everything big is static. */
+static cdpr_rt_t g_rt;
+static cdpr_rt_tracker_t g_tracker;
+static cdpr_rt_record_t g_record;
+static cdpr_sim_summary_t g_tracker_sum;
+
+static int tracker_open(lcm_t *lcm, void *ctx)
+{
+    cdpr_rt_tracker_t *t = ctx;
+    return cdpr_rt_tracker_attach(t, lcm);
+}
+
+int main(int argc, char **argv)
+{
+    options_t o;
+    memset(&o, 0, sizeof o);
+    cdpr_rt_opts_default(&o.rt);
+    if (parse(argc, argv, &o) != 0) {
+        return EXIT_USAGE;
+    }
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    if (cdpr_scenario_load(o.scenario, &sc, &err) != 0) {
+        fprintf(stderr, "cdpr-rt: %s\n", err.msg);
+        return EXIT_USAGE;
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    (void)sigaction(SIGINT, &sa, NULL);
+    (void)sigaction(SIGTERM, &sa, NULL);
+    o.rt.stop = &g_stop;
+    if (o.with_tracker != 0) {
+        o.rt.lcm.on_open = tracker_open;
+        o.rt.lcm.on_open_ctx = &g_tracker;
+    }
+    if (o.quiet == 0) {
+        fprintf(stderr, "cdpr-rt: %s: settling the initial state...\n", o.scenario);
+    }
+    int rc = cdpr_rt_init(&g_rt, &sc, &o.rt, &err);
+    if (rc != 0) {
+        fprintf(stderr, "cdpr-rt: %s\n", err.msg);
+        return EXIT_USAGE;
+    }
+    if (o.with_tracker != 0) {
+        cdpr_tracker_gains_t g = sc.gains;
+        g.period_s = g_rt.plant.period_s;
+        cdpr_diag_t d;
+        const cdpr_status_t st =
+            cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.winch_params, &sc.traj,
+                                 &g, o.rt.lcm.channel_prefix, &d);
+        if (st != CDPR_OK) {
+            fprintf(stderr, "cdpr-rt: tracker: field '%s': %s\n", d.field, cdpr_status_str(st));
+            return EXIT_USAGE;
+        }
+        g_tracker.answer_in_handler = 1;
+        g_record.traj = &sc.traj;
+        g_record.period_s = g.period_s;
+        if (cdpr_sim_rec_open(&g_record.rec, &sc, o.tracker_out, g_rt.plant.robot.p.n_cables,
+                              g_rt.o.duration_s, &g_tracker_sum, &err) != 0) {
+            fprintf(stderr, "cdpr-rt: %s\n", err.msg);
+            return EXIT_USAGE;
+        }
+        g_tracker.on_step = cdpr_rt_tracker_record_step;
+        g_tracker.on_step_ctx = &g_record;
+    }
+    if (o.quiet == 0) {
+        fprintf(stderr, "cdpr-rt: running %.3g s at %.0f Hz (%s) on %s\n", g_rt.o.duration_s,
+                g_rt.o.rate_hz, (g_rt.o.lockstep != 0) ? "lockstep" : "free-running",
+                (o.rt.lcm.url != NULL) ? o.rt.lcm.url : "liblcm's default URL");
+    }
+    rc = cdpr_rt_run(&g_rt, &err);
+    if (rc == 3) {
+        fprintf(stderr, "cdpr-rt: %s\n", err.msg);
+        return EXIT_START;
+    }
+    if (o.quiet == 0) {
+        cdpr_rt_print_summary(&g_rt, stdout);
+    }
+    if (o.with_tracker != 0) {
+        (void)cdpr_sim_rec_close(&g_record.rec);
+        g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
+        g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
+        g_tracker_sum.node_insertions = g_rt.tel.node_insertions;
+        g_tracker_sum.node_removals = g_rt.tel.node_removals;
+        g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
+        g_tracker_sum.status = CDPR_SIM_OK;
+        if (o.quiet == 0) {
+            printf("in-process tracker: %llu commands; tracking error rms %.4g m, max %.4g m, "
+                   "final %.4g m; tensions %.4g .. %.4g N\n",
+                   (unsigned long long)g_tracker.stats.answered, g_tracker_sum.rms_error_m,
+                   g_tracker_sum.max_error_m, g_tracker_sum.final_error_m,
+                   g_tracker_sum.min_tension_N, g_tracker_sum.max_tension_N);
+        }
+        if (o.tracker_out != NULL) {
+            char path[1100];
+            snprintf(path, sizeof path, "%s/summary.json", o.tracker_out);
+            if (cdpr_sim_write_summary(path, &sc, &g_tracker_sum) != 0) {
+                fprintf(stderr, "cdpr-rt: %s: cannot write\n", path);
+            }
+            const char *kind = (sc.traj.type == CDPR_TRAJ_CIRCLE)
+                                   ? "circle"
+                                   : ((sc.traj.type == CDPR_TRAJ_LINE) ? "line" : "hold");
+            (void)cdpr_sim_plot("cdpr-rt", CDPR_SOURCE_DIR "/scripts/plot_sim.gp", o.tracker_out,
+                                kind, (sc.description[0] != '\0') ? sc.description : o.scenario);
+        }
+    }
+    return (rc == 1) ? EXIT_STOPPED : 0;
+}

@@ -1,0 +1,294 @@
+/// @file main.c
+/// cdpr-tracker: the example external tracking controller. A separate process that speaks only
+/// LCM: it subscribes to the plant's cabin state and cable tensions, follows the scenario's
+/// trajectory with the sag-aware IK feed-forward plus feedback (tracker.h) and publishes winch
+/// rate commands answering each state (docs/realtime.md). With --out it writes what it saw in
+/// cdpr-sim's format (timeseries.csv, summary.json, figures).
+///
+/// Exit codes: 0 finished (answered the state at the end of the run), 1 stopped by a signal
+/// or by silence (no state for --idle-exit seconds), 2 bad command line or scenario, 3 LCM
+/// failure or output error.
+#include <errno.h>
+#include <getopt.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <lcm/lcm.h>
+
+#include "cdpr/plant.h"
+#include "cdpr/rt_tracker.h"
+#include "cdpr/scenario.h"
+
+#ifndef CDPR_SOURCE_DIR
+#define CDPR_SOURCE_DIR "."
+#endif
+
+enum { EXIT_STOPPED = 1, EXIT_USAGE = 2, EXIT_LCM = 3 };
+
+static volatile int g_stop = 0;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+typedef struct {
+    const char *scenario;
+    const char *url;
+    const char *prefix;
+    const char *out_dir;
+    double rate_hz;
+    double duration_s;
+    double idle_exit_s;
+    int plot;
+    int quiet;
+} options_t;
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: cdpr-tracker SCENARIO [options]\n"
+            "Example tracking controller over LCM: answers every <prefix>CABIN_STATE (+ the\n"
+            "CABLE_TENSIONS of the same period) with a <prefix>WINCH_COMMAND following the\n"
+            "scenario's trajectory (sag-aware IK feed-forward + feedback; docs/realtime.md).\n\n"
+            "  --rate HZ        control rate; must equal cdpr-rt's --rate (default 1000)\n"
+            "  --duration S     run length; exits after answering the state at S (default: the\n"
+            "                   scenario's run.duration_s)\n"
+            "  --idle-exit S    exit when no state came for S seconds after the first (default 5)\n"
+            "  --lcm-url URL    LCM provider (default: liblcm's)\n"
+            "  --prefix P       channel prefix (default CDPR_)\n"
+            "  --out DIR        write DIR/timeseries.csv, summary.json and figures\n"
+            "  --no-plot        no figures\n"
+            "  --quiet          no summary on stdout\n"
+            "  --help           this text\n\n"
+            "exit codes: 0 finished, 1 stopped (signal or silence), 2 bad command line or\n"
+            "            scenario, 3 LCM or output failure\n");
+}
+
+static int number(const char *opt, const char *arg, double lo, double hi, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    const double v = strtod(arg, &end);
+    if (errno != 0 || end == arg || *end != '\0' || !(v >= lo && v <= hi)) {
+        fprintf(stderr, "cdpr-tracker: --%s: not a number in [%g, %g]: '%s'\n", opt, lo, hi, arg);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int parse(int argc, char **argv, options_t *o)
+{
+    static const struct option longopts[] = {{"rate", required_argument, NULL, 'r'},
+                                             {"duration", required_argument, NULL, 'd'},
+                                             {"idle-exit", required_argument, NULL, 'i'},
+                                             {"lcm-url", required_argument, NULL, 'u'},
+                                             {"prefix", required_argument, NULL, 'p'},
+                                             {"out", required_argument, NULL, 'o'},
+                                             {"no-plot", no_argument, NULL, 'n'},
+                                             {"quiet", no_argument, NULL, 'q'},
+                                             {"help", no_argument, NULL, 'h'},
+                                             {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        int bad = 0;
+        switch (c) {
+        case 'r':
+            bad = number("rate", optarg, 1.0, 100000.0, &o->rate_hz);
+            break;
+        case 'd':
+            bad = number("duration", optarg, 1e-6, 1e7, &o->duration_s);
+            break;
+        case 'i':
+            bad = number("idle-exit", optarg, 0.01, 1e6, &o->idle_exit_s);
+            break;
+        case 'u':
+            o->url = optarg;
+            break;
+        case 'p':
+            o->prefix = optarg;
+            break;
+        case 'o':
+            o->out_dir = optarg;
+            break;
+        case 'n':
+            o->plot = 0;
+            break;
+        case 'q':
+            o->quiet = 1;
+            break;
+        case 'h':
+            usage(stdout);
+            exit(0);
+        default:
+            usage(stderr);
+            return -1;
+        }
+        if (bad != 0) {
+            return -1;
+        }
+    }
+    if (optind >= argc) {
+        fprintf(stderr, "cdpr-tracker: missing SCENARIO (try --help)\n");
+        return -1;
+    }
+    o->scenario = argv[optind++];
+    if (optind < argc) {
+        fprintf(stderr, "cdpr-tracker: unexpected argument '%s'\n", argv[optind]);
+        return -1;
+    }
+    return 0;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static cdpr_plant_t g_model; /* the controller's own model: IK of the initial pose only */
+static cdpr_rt_tracker_t g_tracker;
+static cdpr_rt_record_t g_record;
+static cdpr_sim_summary_t g_sum;
+
+int main(int argc, char **argv)
+{
+    options_t o = {NULL, NULL, NULL, NULL, 1000.0, 0.0, 5.0, 1, 0};
+    if (parse(argc, argv, &o) != 0) {
+        return EXIT_USAGE;
+    }
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    if (cdpr_scenario_load(o.scenario, &sc, &err) != 0 ||
+        cdpr_plant_model(&g_model, &sc, &err) != 0) {
+        fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
+        return EXIT_USAGE;
+    }
+    const double duration = (o.duration_s > 0.0) ? o.duration_s : sc.duration_s;
+    cdpr_tracker_gains_t g = sc.gains;
+    g.period_s = 1.0 / o.rate_hz;
+    cdpr_diag_t d;
+    const cdpr_status_t st = cdpr_rt_tracker_init(
+        &g_tracker, &g_model.params, &g_model.winch_params, &sc.traj, &g, o.prefix, &d);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-tracker: controller: field '%s': %s\n", d.field, cdpr_status_str(st));
+        return EXIT_USAGE;
+    }
+    g_record.traj = &sc.traj;
+    g_record.period_s = g.period_s;
+    if (cdpr_sim_rec_open(&g_record.rec, &sc, o.out_dir, g_model.robot.p.n_cables, duration, &g_sum,
+                          &err) != 0) {
+        fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
+        return EXIT_LCM;
+    }
+    g_tracker.on_step = cdpr_rt_tracker_record_step;
+    g_tracker.on_step_ctx = &g_record;
+
+    lcm_t *lcm = lcm_create(o.url);
+    if (lcm == NULL) {
+        fprintf(stderr,
+                "cdpr-tracker: lcm_create(%s) failed (udpm on loopback needs a multicast "
+                "route: ip route add 224.0.0.0/4 dev lo)\n",
+                (o.url != NULL) ? o.url : "default URL");
+        return EXIT_LCM;
+    }
+    if (cdpr_rt_tracker_attach(&g_tracker, lcm) != 0) {
+        fprintf(stderr, "cdpr-tracker: cannot subscribe\n");
+        lcm_destroy(lcm);
+        return EXIT_LCM;
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    (void)sigaction(SIGINT, &sa, NULL);
+    (void)sigaction(SIGTERM, &sa, NULL);
+    if (o.quiet == 0) {
+        fprintf(stderr, "cdpr-tracker: %s: waiting for %sCABIN_STATE on %s\n", o.scenario,
+                (o.prefix != NULL) ? o.prefix : "CDPR_", (o.url != NULL) ? o.url : "default URL");
+    }
+    int rc = EXIT_STOPPED;
+    double last_rx = now_s();
+    uint64_t states_seen = 0;
+    const double wall0 = now_s();
+    while (g_stop == 0) {
+        const int h = lcm_handle_timeout(lcm, 50);
+        if (h < 0) {
+            fprintf(stderr, "cdpr-tracker: lcm_handle failed\n");
+            rc = EXIT_LCM;
+            break;
+        }
+        /* Drain what else is queued, then answer only the newest state. */
+        while (h > 0 && lcm_handle_timeout(lcm, 0) > 0) {
+        }
+        (void)cdpr_rt_tracker_service(&g_tracker);
+        const double now = now_s();
+        if (g_tracker.stats.states != states_seen) {
+            states_seen = g_tracker.stats.states;
+            last_rx = now;
+        }
+        if (g_record.periods > 0 && g_record.last_t_s >= duration - 0.5 * g.period_s) {
+            rc = 0;
+            break;
+        }
+        if (states_seen > 0 && now - last_rx > o.idle_exit_s) {
+            fprintf(stderr, "cdpr-tracker: no state for %g s: stopping\n", o.idle_exit_s);
+            break;
+        }
+    }
+    cdpr_rt_tracker_detach(&g_tracker);
+    lcm_destroy(lcm);
+    if (cdpr_sim_rec_close(&g_record.rec) != 0) {
+        fprintf(stderr, "cdpr-tracker: %s/timeseries.csv: write error\n", o.out_dir);
+        rc = EXIT_LCM;
+    }
+    g_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
+    g_sum.ik_failures = g_tracker.tracker.ik_failures;
+    g_sum.wall_time_s = now_s() - wall0;
+    g_sum.status =
+        (rc == 0) ? ((g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK) : CDPR_SIM_FAILED;
+    const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
+    snprintf(g_sum.message, sizeof g_sum.message,
+             "over LCM: %llu states, %llu commands, %llu superseded, %llu clamped",
+             (unsigned long long)s->states, (unsigned long long)s->answered,
+             (unsigned long long)s->superseded, (unsigned long long)g_tracker.clamped);
+    if (o.out_dir != NULL) {
+        char path[1100];
+        snprintf(path, sizeof path, "%s/summary.json", o.out_dir);
+        if (cdpr_sim_write_summary(path, &sc, &g_sum) != 0) {
+            fprintf(stderr, "cdpr-tracker: %s: cannot write\n", path);
+            rc = EXIT_LCM;
+        }
+        if (o.plot != 0) {
+            const char *kind = (sc.traj.type == CDPR_TRAJ_CIRCLE)
+                                   ? "circle"
+                                   : ((sc.traj.type == CDPR_TRAJ_LINE) ? "line" : "hold");
+            (void)cdpr_sim_plot("cdpr-tracker", CDPR_SOURCE_DIR "/scripts/plot_sim.gp", o.out_dir,
+                                kind, (sc.description[0] != '\0') ? sc.description : o.scenario);
+        }
+    }
+    if (o.quiet == 0) {
+        printf("cdpr-tracker: %s\n", g_sum.message);
+        printf("  tracking error  rms %.4g m, max %.4g m, final %.4g m (initial %.4g m); "
+               "attitude rms %.1f mrad, max %.1f mrad\n",
+               g_sum.rms_error_m, g_sum.max_error_m, g_sum.final_error_m, g_sum.initial_error_m,
+               1e3 * g_sum.rms_error_rad, 1e3 * g_sum.max_error_rad);
+        printf("  tensions        %.4g .. %.4g N;  payout |u| <= %.3g m/s; IK failures %lu\n",
+               g_sum.min_tension_N, g_sum.max_tension_N, g_sum.max_payout_m_per_s,
+               g_sum.ik_failures);
+        printf("  segments        %d..%d per cable; decode errors %llu, refused pairs %llu\n",
+               g_sum.nodes_min, g_sum.nodes_max, (unsigned long long)s->decode_errors,
+               (unsigned long long)s->bad_measurement);
+        if (o.out_dir != NULL) {
+            printf("  outputs         %s/timeseries.csv, %s/summary.json, figures\n", o.out_dir,
+                   o.out_dir);
+        }
+    }
+    return rc;
+}

@@ -1,0 +1,130 @@
+/// @file rt_plant.h
+/// The real-time plant node (apps/cdpr-rt): the scenario's plant (plant.h) stepped by a
+/// periodic thread, publishing over LCM through the bridge (lcm_bridge.h), taking winch
+/// commands back.
+///
+/// Threads (docs/realtime.md):
+///  - the caller's thread: cdpr_rt_init (scenario, settling; allocates nothing after) and
+///    cdpr_rt_run, which starts the bridge thread, optionally locks memory (mlockall), creates
+///    the periodic thread (SCHED_FIFO when asked and permitted, else SCHED_OTHER, saying why),
+///    waits for it, stops the bridge and fills the telemetry;
+///  - the bridge thread (SCHED_OTHER): owns the lcm_t (publishes, receives, validates);
+///  - the periodic ("RT") thread: per period, read the newest command from the mailbox, step the
+///    plant by exactly one period (bounded trials), push state/tensions (and at lower rates
+///    the cable shape and diagnostics) into the ring, wake the bridge once. It calls no lcm_*,
+///    no allocator, no stdio, takes no lock; its only system calls are clock_gettime (vDSO),
+///    clock_nanosleep and, when the bridge sleeps, one non-blocking eventfd write.
+///
+/// Free-running mode: periods start at absolute deadlines t0 + k T (clock_nanosleep with
+/// TIMER_ABSTIME on CLOCK_MONOTONIC). A period whose work ends after the next period's start
+/// is a deadline miss; the loop then skips the start times already past (the plant still
+/// advances one period per iteration: plant time falls behind wall time, and the telemetry
+/// says by how many periods). The command used is whatever is newest; none for longer than
+/// the watchdog timeout -> the winches hold (rate 0, FLAG_HOLD) until commands resume.
+///
+/// Lockstep mode: after publishing state k the thread waits for the command answering k
+/// (state_seq == k) — polling the mailbox every 20 us — and steps with it; no answer within
+/// lockstep_timeout_s -> hold for that period (counted). Wall time plays no role, so a loop
+/// over LCM computes exactly what the in-process loop computes.
+///
+/// A failed step (integrator error or trial budget, plant.h) keeps the previous state: it is
+/// published again with FLAG_STEP_FAILED and the same time; the next period tries again.
+#ifndef CDPR_RT_PLANT_H
+#define CDPR_RT_PLANT_H
+
+#include <stdint.h>
+
+#include "cdpr/lcm_bridge.h"
+#include "cdpr/plant.h"
+
+/// Compute-time histogram: 1 us bins up to this many us, plus an overflow bin.
+#define CDPR_RT_HIST_US 20000
+
+/// Options (inputs). cdpr_rt_opts_default fills the defaults.
+typedef struct {
+    double rate_hz;               ///< control rate [Hz]; default 1000
+    double duration_s;            ///< plant time to run [s] (> 0); default: the scenario's
+    int lockstep;                 ///< 1: lockstep mode; default 0
+    double lockstep_timeout_s;    ///< lockstep: wait this long for the answer [s]; default 2
+    int realtime;                 ///< 1: try SCHED_FIFO + mlockall; default 0
+    int rt_priority;              ///< SCHED_FIFO priority 1..99; default 80
+    int max_trials;               ///< RKF45 trials per period (bounded work); default 50
+    double shape_rate_hz;         ///< cable shape messages [Hz] (0: none); default 10
+    double diag_rate_hz;          ///< diagnostics messages [Hz] (0: only at the end); default 1
+    double start_delay_s;         ///< free-running: wait this long before the first period [s],
+                                  ///< e.g. for a controller to subscribe; default 0
+    cdpr_lcm_bridge_params_t lcm; ///< URL, prefix, watchdog timeout, hooks (n_cables and the
+                                  ///< winch limits are set from the scenario)
+    const volatile int *stop;     ///< optional: non-zero stops the run early (signal handler)
+    /// Optional instrumentation, called on the periodic thread right before its first period
+    /// (phase 0) and right after its last (phase 1): tests count allocations/lcm calls there.
+    void (*on_rt_thread)(int phase, void *ctx);
+    void *on_rt_thread_ctx;
+} cdpr_rt_opts_t;
+
+/// Telemetry (outputs of cdpr_rt_run).
+typedef struct {
+    long periods;              ///< periods run (state seq of the last state published)
+    long deadline_misses;      ///< free-running: periods that ended after the next start
+    long periods_skipped;      ///< free-running: start times skipped after misses
+    int64_t compute_ns_min;    ///< per-period compute time: read command .. publish done
+    int64_t compute_ns_median; ///< (1 us resolution above CDPR_RT_HIST_US: the max)
+    int64_t compute_ns_p99;
+    int64_t compute_ns_max;
+    double wall_s;                 ///< wall time of the periodic loop [s]
+    long hold_periods;             ///< periods stepped with the hold command
+    long commands_applied;         ///< periods stepped with a new command
+    long lockstep_timeouts;        ///< lockstep: periods whose answer did not come in time
+    long step_failures;            ///< periods whose step failed (state kept)
+    long substep_limit_hits;       ///< periods whose step met the trial bound
+    long min_length_periods;       ///< winch-periods held at the minimum length
+    long capacity_periods;         ///< periods whose node events met the capacity
+    unsigned long node_insertions; ///< all cables
+    unsigned long node_removals;   ///< all cables
+    cdpr_lcm_stats_t lcm;          ///< bridge statistics at the end
+    int sched_fifo;                ///< 1 if the periodic thread ran under SCHED_FIFO
+    int mlocked;                   ///< 1 if mlockall succeeded
+    char rt_note[256];             ///< why SCHED_FIFO/mlockall were not used ("" if they were
+                                   ///< or were not asked for)
+    double final_time_s;           ///< plant time reached [s]
+} cdpr_rt_telemetry_t;
+
+/// The node (caller-owned, large: declare it static).
+typedef struct {
+    cdpr_plant_t plant;
+    cdpr_lcm_bridge_t bridge;
+    cdpr_rt_opts_t o;
+    cdpr_rt_telemetry_t tel;
+    uint32_t hist[CDPR_RT_HIST_US + 1]; ///< compute-time histogram (RT thread)
+    cdpr_cabin_state_t st_msg;
+    cdpr_cable_tensions_t ten_msg;
+    cdpr_diagnostics_t diag_msg;
+    cdpr_cable_shape_t shape_msg;
+    cdpr_robot_out_t out;
+    int64_t seq;         ///< seq of the newest state published
+    int64_t command_seq; ///< seq of the command applied in the last step (-1: none)
+    long n_periods;      ///< periods to run
+    long shape_every;    ///< periods between shape messages (0: none)
+    long diag_every;     ///< periods between diagnostics (0: none)
+    int64_t period_ns;
+    int hold;       ///< the last step used the hold command
+    int last_flags; ///< plant flags of the last step
+} cdpr_rt_t;
+
+/// Defaults (see the field comments).
+void cdpr_rt_opts_default(cdpr_rt_opts_t *o);
+
+/// Validate the options, build and settle the plant of `sc` at period 1/rate_hz, initialise
+/// the bridge. Returns 0, or 2 with `err` naming the option or scenario key.
+int cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
+                 cdpr_scenario_error_t *err);
+
+/// Run: bridge thread, periodic thread, until duration_s of plant time or *stop. Returns 0
+/// when the run completed, 1 when it was stopped early by *stop, 3 when the bridge or the
+/// thread could not start (`err` says why). Telemetry in rt->tel.
+int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
+
+/// Print the telemetry summary (human-readable) to `f`.
+void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f);
+
+#endif /* CDPR_RT_PLANT_H */

@@ -1,0 +1,125 @@
+/// @file rt_tracker.h
+/// The tracking controller as an LCM node (apps/cdpr-tracker; also run in-process over
+/// memq:// by cdpr-rt --with-tracker). It speaks only LCM: it subscribes to the plant's
+/// `<prefix>CABIN_STATE` and `<prefix>CABLE_TENSIONS`, pairs the two messages of one period
+/// by their sequence number, turns them into the controller's measurement (pose, velocities,
+/// total unstretched lengths), runs cdpr_tracker_step (tracker.h: sag-aware IK feed-forward
+/// plus feedback) and publishes a rate-mode `<prefix>WINCH_COMMAND` that answers that state
+/// (state_seq = its seq; seq strictly increasing).
+///
+/// Time: the controller's time for state k is t = n Δt with n = round(utime_us 1e-6 / Δt)
+/// (Δt = the control period the node was built with, equal to the plant's period), i.e.
+/// exactly the double the plant computes as its own time; so the controller in another process
+/// computes bit for bit what the in-process loop computes (cdpr_rt_meas_from_msgs).
+///
+/// Service: handlers only store the newest message of each kind; cdpr_rt_tracker_service
+/// answers the newest complete pair not answered yet (so a controller that falls behind skips
+/// to the newest state instead of working through a backlog; `superseded` counts the states it
+/// never answered). With `answer_in_handler` the tensions handler calls service itself (the
+/// in-process memq mode, where the handlers run on the plant's bridge thread).
+///
+/// Threads: every function on the thread that owns the lcm_t. The generated *_publish
+/// allocates (liblcm); this node is not real-time code and is never run on the plant's RT
+/// thread.
+#ifndef CDPR_RT_TRACKER_H
+#define CDPR_RT_TRACKER_H
+
+#include <stdint.h>
+
+#include <lcm/lcm.h>
+
+#include "cdpr/sim.h"
+#include "cdpr/tracker.h"
+#include "cdpr/winch.h"
+#include "lcmtypes/cdpr_cable_tensions_t.h"
+#include "lcmtypes/cdpr_cabin_state_t.h"
+#include "lcmtypes/cdpr_winch_command_t.h"
+
+/// Called after each answered state (e.g. to log the period): the measurement, the command
+/// computed, and the two messages it came from.
+typedef void (*cdpr_rt_tracker_step_fn)(const cdpr_tracker_meas_t *m, const cdpr_tracker_cmd_t *c,
+                                        const cdpr_cabin_state_t *st,
+                                        const cdpr_cable_tensions_t *ten, void *ctx);
+
+/// Counters (outputs).
+typedef struct {
+    uint64_t states;          ///< cabin states received
+    uint64_t tensions;        ///< tension messages received
+    uint64_t decode_errors;   ///< messages on our channels that did not decode
+    uint64_t answered;        ///< commands published
+    uint64_t publish_errors;  ///< publications that failed
+    uint64_t superseded;      ///< states replaced by a newer one before they were answered
+    uint64_t bad_measurement; ///< pairs refused (non-finite, cable count, time)
+    uint64_t ik_failures;     ///< periods whose feed-forward IK failed (last good held)
+} cdpr_rt_tracker_stats_t;
+
+/// The node (caller-owned; about 50 kB: declare it static).
+typedef struct {
+    cdpr_tracker_t tracker;
+    double period_s;
+    int n_cables;
+    char ch_state[64];
+    char ch_tensions[64];
+    char ch_command[64];
+    lcm_t *lcm; ///< not owned
+    lcm_subscription_t *sub_state;
+    lcm_subscription_t *sub_tensions;
+    cdpr_cabin_state_t state;              ///< newest state
+    cdpr_cable_tensions_t ten;             ///< newest tensions
+    int have_state;                        ///< a state has been received
+    int have_ten;                          ///< tensions have been received
+    int64_t answered_state_seq;            ///< newest state answered (-1: none)
+    int64_t cmd_seq;                       ///< seq of the last command published (-1: none)
+    double u_max_m_per_s[CDPR_MAX_CABLES]; ///< commands are clamped to +-this (winch limits)
+    uint64_t clamped;                      ///< command values clamped to the winch speed limit
+    int answer_in_handler;                 ///< 1: the tensions handler calls service
+    cdpr_rt_tracker_step_fn on_step;       ///< optional
+    void *on_step_ctx;
+    cdpr_rt_tracker_stats_t stats;
+} cdpr_rt_tracker_t;
+
+/// Build the node: the controller (cdpr_tracker_init with `model` params, `traj`, gains `g`
+/// whose period_s is the control period, t0 = 0), the winch speed limit `winch` (rates are
+/// clamped to +-u_max before publishing: the plant refuses larger ones, and clamps them itself
+/// in the in-process loop, so the result is the same) and the channel names from `prefix`
+/// (NULL: "CDPR_"). Errors as cdpr_tracker_init; CDPR_E_INVALID_ARG for a prefix too long.
+cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params_t *model,
+                                   const cdpr_winch_params_t *winch, const cdpr_traj_t *traj,
+                                   const cdpr_tracker_gains_t *g, const char *prefix,
+                                   cdpr_diag_t *diag);
+
+/// Subscribe on `lcm` (owned by the caller, same thread). 0 or -1.
+int cdpr_rt_tracker_attach(cdpr_rt_tracker_t *t, lcm_t *lcm);
+
+/// Unsubscribe. Safe to call twice.
+void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t);
+
+/// Answer the newest complete (state, tensions) pair if it is newer than the last one
+/// answered. Returns 1 when a command was published, 0 when there was nothing to answer,
+/// -1 when the pair was refused or publishing failed (counted).
+int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t);
+
+/// The controller's measurement from the messages of one period (same seq): t from utime_us
+/// as described above, pose/velocities from the state, lengths from the tensions. Returns 0,
+/// or -1 when the pair does not fit (seq differs, cable count not `n_cables`, non-finite).
+int cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
+                           double period_s, int n_cables, cdpr_tracker_meas_t *m);
+
+/// Recording what the controller sees (the tracker's timeseries.csv and summary, in
+/// cdpr-sim's format): use cdpr_rt_tracker_record_step as on_step with a cdpr_rt_record_t.
+typedef struct {
+    cdpr_sim_rec_t rec;        ///< recorder (cdpr_sim_rec_open before the run)
+    const cdpr_traj_t *traj;   ///< desired trajectory
+    double period_s;           ///< control period
+    double max_payout_m_per_s; ///< largest |payout| seen
+    double last_t_s;           ///< time of the last period recorded
+    long periods;              ///< periods recorded
+} cdpr_rt_record_t;
+
+/// on_step callback: record one period into ((cdpr_rt_record_t *)ctx)->rec. Tensions, payout
+/// rates and node counts come from the tensions message (the plant's values at that state).
+void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracker_cmd_t *c,
+                                 const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
+                                 void *ctx);
+
+#endif /* CDPR_RT_TRACKER_H */

@@ -1,0 +1,447 @@
+/// @file rt_plant.c
+/// The real-time plant node (rt_plant.h).
+#include "cdpr/rt_plant.h"
+
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <sched.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <time.h>
+
+#include "cdpr/lcm_pack.h"
+
+/* Lockstep: how often the periodic thread looks at the mailbox while it waits [ns]. */
+static const int64_t LOCKSTEP_POLL_NS = 20000;
+/* Stack the periodic thread touches before its first period (page faults happen up front). */
+#define PREFAULT_STACK_BYTES (64 * 1024)
+
+void cdpr_rt_opts_default(cdpr_rt_opts_t *o)
+{
+    memset(o, 0, sizeof *o);
+    o->rate_hz = 1000.0;
+    o->duration_s = 0.0;
+    o->lockstep = 0;
+    o->lockstep_timeout_s = 2.0;
+    o->realtime = 0;
+    o->rt_priority = 80;
+    o->max_trials = 50;
+    o->shape_rate_hz = 10.0;
+    o->diag_rate_hz = 1.0;
+    o->start_delay_s = 0.0;
+    cdpr_lcm_bridge_params_default(&o->lcm);
+}
+
+static int opt_error(const char *opt, const char *what, cdpr_scenario_error_t *err)
+{
+    snprintf(err->msg, sizeof err->msg, "option %s: %s", opt, what);
+    return 2;
+}
+
+int cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
+                 cdpr_scenario_error_t *err)
+{
+    memset(rt, 0, sizeof *rt);
+    rt->o = *o;
+    cdpr_rt_opts_t *op = &rt->o;
+    if (!(op->rate_hz >= 1.0 && op->rate_hz <= 100000.0)) {
+        return opt_error("rate", "must be in [1, 100000] Hz", err);
+    }
+    if (!(op->duration_s >= 0.0) || !isfinite(op->duration_s)) {
+        return opt_error("duration", "must be a finite number >= 0 s", err);
+    }
+    if (op->duration_s <= 0.0) {
+        op->duration_s = sc->duration_s;
+    }
+    if (!(op->lockstep_timeout_s > 0.0 && op->lockstep_timeout_s <= 3600.0)) {
+        return opt_error("lockstep-timeout", "must be in (0, 3600] s", err);
+    }
+    if (op->rt_priority < 1 || op->rt_priority > 99) {
+        return opt_error("priority", "must be in 1..99", err);
+    }
+    if (op->max_trials < 1 || op->max_trials > 1000000) {
+        return opt_error("max-trials", "must be in 1..1000000", err);
+    }
+    if (!(op->shape_rate_hz >= 0.0 && op->shape_rate_hz <= op->rate_hz) ||
+        !(op->diag_rate_hz >= 0.0 && op->diag_rate_hz <= op->rate_hz)) {
+        return opt_error("shape-rate/diag-rate", "must be in [0, rate]", err);
+    }
+    if (!(op->start_delay_s >= 0.0 && op->start_delay_s <= 3600.0)) {
+        return opt_error("start-delay", "must be in [0, 3600] s", err);
+    }
+    const double period = 1.0 / op->rate_hz;
+    rt->period_ns = (int64_t)llround(period * 1e9);
+    rt->n_periods = (long)llround(op->duration_s * op->rate_hz);
+    if (rt->n_periods < 1) {
+        return opt_error("duration", "shorter than one period", err);
+    }
+    rt->shape_every =
+        (op->shape_rate_hz > 0.0) ? (long)llround(op->rate_hz / op->shape_rate_hz) : 0;
+    rt->diag_every = (op->diag_rate_hz > 0.0) ? (long)llround(op->rate_hz / op->diag_rate_hz) : 0;
+    const int rc = cdpr_plant_init(&rt->plant, sc, period, op->max_trials, err);
+    if (rc != 0) {
+        return rc;
+    }
+    cdpr_lcm_bridge_params_t bp = op->lcm;
+    bp.n_cables = rt->plant.robot.p.n_cables;
+    double longest = 0.0;
+    for (int j = 0; j < bp.n_cables; ++j) {
+        bp.winch[j] = rt->plant.winch_params;
+        longest = fmax(longest, rt->plant.initial.cable[j].length_m);
+    }
+    bp.max_length_m = fmax(bp.max_length_m, 4.0 * longest);
+    cdpr_diag_t d;
+    memset(&d, 0, sizeof d);
+    if (cdpr_lcm_bridge_init(&rt->bridge, &bp, &d) != CDPR_OK) {
+        char what[256];
+        snprintf(what, sizeof what, "field '%s': %s", d.field, cdpr_status_str(d.status));
+        return opt_error("lcm", what, err);
+    }
+    rt->seq = 0;
+    rt->command_seq = -1;
+    return 0;
+}
+
+/* ------------------------------------------------------------------ periodic thread */
+
+static void sleep_until(int64_t t_ns)
+{
+    struct timespec ts;
+    ts.tv_sec = (time_t)(t_ns / 1000000000);
+    ts.tv_nsec = (long)(t_ns % 1000000000);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR) {
+    }
+}
+
+static int64_t hist_quantile(const uint32_t *hist, long total, double q)
+{
+    if (total <= 0) {
+        return 0;
+    }
+    const long want = (long)ceil(q * (double)total);
+    long acc = 0;
+    for (int i = 0; i <= CDPR_RT_HIST_US; ++i) {
+        acc += (long)hist[i];
+        if (acc >= want) {
+            return (int64_t)i * 1000;
+        }
+    }
+    return (int64_t)CDPR_RT_HIST_US * 1000;
+}
+
+static void record(cdpr_rt_t *rt, int64_t ns)
+{
+    cdpr_rt_telemetry_t *t = &rt->tel;
+    const int64_t us = ns / 1000;
+    rt->hist[(us < CDPR_RT_HIST_US) ? us : CDPR_RT_HIST_US]++;
+    if (t->periods == 1 || ns < t->compute_ns_min) {
+        t->compute_ns_min = ns;
+    }
+    if (ns > t->compute_ns_max) {
+        t->compute_ns_max = ns;
+    }
+}
+
+static void fill_stats(cdpr_rt_t *rt)
+{
+    cdpr_rt_telemetry_t *t = &rt->tel;
+    const cdpr_plant_t *p = &rt->plant;
+    t->compute_ns_median = hist_quantile(rt->hist, t->periods, 0.5);
+    t->compute_ns_p99 = hist_quantile(rt->hist, t->periods, 0.99);
+    if (t->compute_ns_p99 > t->compute_ns_max) {
+        t->compute_ns_p99 = t->compute_ns_max;
+    }
+    if (t->compute_ns_median > t->compute_ns_max) {
+        t->compute_ns_median = t->compute_ns_max;
+    }
+    t->step_failures = (long)p->stats.step_failures;
+    t->substep_limit_hits = (long)p->stats.substep_limit_hits;
+    t->min_length_periods = (long)p->stats.min_length_periods;
+    t->capacity_periods = (long)p->stats.capacity_periods;
+    t->node_insertions = 0;
+    t->node_removals = 0;
+    for (int j = 0; j < p->robot.p.n_cables; ++j) {
+        t->node_insertions += p->nodes.insertions[j];
+        t->node_removals += p->nodes.removals[j];
+    }
+    t->final_time_s = cdpr_plant_time(p);
+}
+
+static void push_diagnostics(cdpr_rt_t *rt)
+{
+    cdpr_diagnostics_t *m = &rt->diag_msg;
+    cdpr_rt_telemetry_t *t = &rt->tel;
+    fill_stats(rt);
+    memset(m, 0, sizeof *m);
+    cdpr_lcm_stats_t s;
+    cdpr_lcm_bridge_stats(&rt->bridge, &s);
+    cdpr_lcm_pack_diagnostics(m, &s);
+    m->utime_us = cdpr_lcm_utime_us(cdpr_plant_time(&rt->plant));
+    m->seq = rt->seq;
+    m->periods = t->periods;
+    m->deadline_misses = t->deadline_misses;
+    m->compute_ns_min = t->compute_ns_min;
+    m->compute_ns_median = t->compute_ns_median;
+    m->compute_ns_p99 = t->compute_ns_p99;
+    m->compute_ns_max = t->compute_ns_max;
+    m->hold_periods = t->hold_periods;
+    m->node_insertions = (int64_t)t->node_insertions;
+    m->node_removals = (int64_t)t->node_removals;
+    m->capacity_hits = t->capacity_periods;
+    m->substep_limit_hits = t->substep_limit_hits;
+    (void)cdpr_lcm_bridge_push_diagnostics(&rt->bridge, m);
+}
+
+/* State rt->seq of the plant as it is now: cabin state, tensions, shape and diagnostics when
+ * due; one wake-up of the bridge. */
+static void publish(cdpr_rt_t *rt, int plant_flags)
+{
+    cdpr_plant_t *p = &rt->plant;
+    cdpr_tracker_meas_t m;
+    cdpr_plant_measure(p, &m);
+    int32_t flags = (int32_t)plant_flags;
+    if (rt->hold != 0) {
+        flags |= CDPR_CABIN_STATE_T_FLAG_HOLD;
+    }
+    if (rt->o.lockstep != 0) {
+        flags |= CDPR_CABIN_STATE_T_FLAG_LOCKSTEP;
+    }
+    cdpr_lcm_pack_cabin_motion(&rt->st_msg, &m.cabin, m.t_s, rt->seq, rt->command_seq, flags);
+    (void)cdpr_lcm_bridge_push_cabin_state(&rt->bridge, &rt->st_msg);
+    cdpr_robot_outputs(&p->robot, m.t_s, p->y, &rt->out);
+    cdpr_lcm_pack_tensions(&rt->ten_msg, &p->robot, p->y, &rt->out, m.t_s, rt->seq);
+    (void)cdpr_lcm_bridge_push_tensions(&rt->bridge, &rt->ten_msg);
+    if (rt->shape_every > 0 && rt->seq % rt->shape_every == 0) {
+        cdpr_lcm_pack_shape(&rt->shape_msg, &p->robot, p->y, m.t_s, rt->seq);
+        (void)cdpr_lcm_bridge_push_shape(&rt->bridge, &rt->shape_msg);
+    }
+    if (rt->diag_every > 0 && rt->seq > 0 && rt->seq % rt->diag_every == 0) {
+        push_diagnostics(rt);
+    }
+    cdpr_lcm_bridge_wake(&rt->bridge);
+}
+
+/* Lockstep: wait for the command answering state rt->seq. 1 when it came, 0 on timeout. */
+static int wait_answer(cdpr_rt_t *rt, cdpr_lcm_command_t *cmd, int *read_flags)
+{
+    const int64_t t0 = cdpr_lcm_now_ns();
+    const int64_t limit = t0 + (int64_t)llround(rt->o.lockstep_timeout_s * 1e9);
+    for (;;) {
+        const int64_t now = cdpr_lcm_now_ns();
+        *read_flags = cdpr_lcm_bridge_read_command(&rt->bridge, now, cmd);
+        if ((*read_flags & CDPR_LCM_READ_HOLD) == 0 && cmd->state_seq == rt->seq) {
+            return 1;
+        }
+        if (now >= limit || (rt->o.stop != NULL && *rt->o.stop != 0)) {
+            return 0;
+        }
+        sleep_until(now + LOCKSTEP_POLL_NS);
+    }
+}
+
+static void prefault_stack(void)
+{
+    volatile unsigned char buf[PREFAULT_STACK_BYTES];
+    for (size_t i = 0; i < sizeof buf; i += 4096) {
+        buf[i] = 0;
+    }
+}
+
+static void *periodic(void *arg)
+{
+    cdpr_rt_t *rt = arg;
+    cdpr_rt_telemetry_t *t = &rt->tel;
+    const cdpr_rt_opts_t *o = &rt->o;
+    prefault_stack();
+    if (o->on_rt_thread != NULL) {
+        o->on_rt_thread(0, o->on_rt_thread_ctx);
+    }
+    const int64_t T = rt->period_ns;
+    int64_t start = cdpr_lcm_now_ns();
+    if (o->lockstep == 0) {
+        start += (int64_t)llround(o->start_delay_s * 1e9);
+        sleep_until(start);
+    }
+    rt->hold = 1;
+    publish(rt, 0);
+    int64_t next = start + T;
+    for (long k = 0; k < rt->n_periods; ++k) {
+        if (o->stop != NULL && *o->stop != 0) {
+            break;
+        }
+        cdpr_lcm_command_t cmd;
+        int rf = 0;
+        int64_t t0;
+        if (o->lockstep != 0) {
+            if (wait_answer(rt, &cmd, &rf) == 0) {
+                t->lockstep_timeouts++;
+                cdpr_lcm_command_hold(rt->plant.robot.p.n_cables, &cmd);
+                rf = CDPR_LCM_READ_HOLD;
+            } else {
+                rf |= CDPR_LCM_READ_NEW;
+            }
+            t0 = cdpr_lcm_now_ns();
+        } else {
+            sleep_until(next);
+            t0 = cdpr_lcm_now_ns();
+            rf = cdpr_lcm_bridge_read_command(&rt->bridge, t0, &cmd);
+        }
+        rt->hold = ((rf & CDPR_LCM_READ_HOLD) != 0) ? 1 : 0;
+        if (rt->hold != 0) {
+            t->hold_periods++;
+        } else if ((rf & CDPR_LCM_READ_NEW) != 0) {
+            t->commands_applied++;
+        }
+        const cdpr_winch_mode_t mode =
+            (cmd.mode == CDPR_WINCH_LENGTH) ? CDPR_WINCH_LENGTH : CDPR_WINCH_RATE;
+        int pf = 0;
+        const cdpr_status_t st = cdpr_plant_step(&rt->plant, mode, cmd.value, &pf);
+        if (st >= 0) {
+            rt->command_seq = cmd.seq;
+        }
+        rt->last_flags = pf;
+        rt->seq++;
+        t->periods++;
+        publish(rt, pf);
+        const int64_t t1 = cdpr_lcm_now_ns();
+        record(rt, t1 - t0);
+        if (o->lockstep == 0) {
+            next += T;
+            if (t1 > next) {
+                t->deadline_misses++;
+                while (t1 - next >= T) {
+                    next += T;
+                    t->periods_skipped++;
+                }
+            }
+        }
+    }
+    t->wall_s = 1e-9 * (double)(cdpr_lcm_now_ns() - start);
+    push_diagnostics(rt);
+    cdpr_lcm_bridge_wake(&rt->bridge);
+    if (o->on_rt_thread != NULL) {
+        o->on_rt_thread(1, o->on_rt_thread_ctx);
+    }
+    return NULL;
+}
+
+int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
+{
+    cdpr_rt_telemetry_t *t = &rt->tel;
+    cdpr_diag_t d;
+    memset(&d, 0, sizeof d);
+    /* The bridge thread first, under the caller's (normal) policy: liblcm's receive thread
+     * inherits the policy of the thread that creates it. */
+    if (cdpr_lcm_bridge_start(&rt->bridge, &d) != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "LCM: cannot start the bridge (%s): %s", d.field,
+                 cdpr_status_str(d.status));
+        return 3;
+    }
+    t->rt_note[0] = '\0';
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    int fifo = 0;
+    if (rt->o.realtime != 0) {
+        if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+            t->mlocked = 1;
+        } else {
+            snprintf(t->rt_note, sizeof t->rt_note, "mlockall failed (%s); ", strerror(errno));
+        }
+        struct sched_param sp;
+        memset(&sp, 0, sizeof sp);
+        sp.sched_priority = rt->o.rt_priority;
+        if (pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED) == 0 &&
+            pthread_attr_setschedpolicy(&attr, SCHED_FIFO) == 0 &&
+            pthread_attr_setschedparam(&attr, &sp) == 0) {
+            fifo = 1;
+        }
+    }
+    pthread_t th;
+    int rc = pthread_create(&th, &attr, periodic, rt);
+    if (rc != 0 && fifo != 0) {
+        const size_t len = strlen(t->rt_note);
+        snprintf(t->rt_note + len, sizeof t->rt_note - len,
+                 "SCHED_FIFO priority %d not permitted (%s): running SCHED_OTHER",
+                 rt->o.rt_priority, strerror(rc));
+        pthread_attr_destroy(&attr);
+        pthread_attr_init(&attr);
+        fifo = 0;
+        rc = pthread_create(&th, &attr, periodic, rt);
+    }
+    pthread_attr_destroy(&attr);
+    if (rc != 0) {
+        cdpr_lcm_bridge_stop(&rt->bridge);
+        snprintf(err->msg, sizeof err->msg, "cannot create the periodic thread: %s", strerror(rc));
+        return 3;
+    }
+    t->sched_fifo = fifo;
+    pthread_join(th, NULL);
+    cdpr_lcm_bridge_stop(&rt->bridge);
+    if (t->mlocked != 0) {
+        (void)munlockall();
+    }
+    fill_stats(rt);
+    cdpr_lcm_bridge_stats(&rt->bridge, &t->lcm);
+    return (rt->o.stop != NULL && *rt->o.stop != 0 && t->periods < rt->n_periods) ? 1 : 0;
+}
+
+static double us(int64_t ns)
+{
+    return 1e-3 * (double)ns;
+}
+
+void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
+{
+    const cdpr_rt_telemetry_t *t = &rt->tel;
+    const cdpr_lcm_stats_t *s = &t->lcm;
+    const double period_us = 1e-3 * (double)rt->period_ns;
+    fprintf(f, "cdpr-rt telemetry\n");
+    fprintf(f, "  mode               %s, %.0f Hz, %s%s\n",
+            (rt->o.lockstep != 0) ? "lockstep" : "free-running", rt->o.rate_hz,
+            (t->sched_fifo != 0) ? "SCHED_FIFO" : "SCHED_OTHER",
+            (t->mlocked != 0) ? " + mlockall" : "");
+    if (t->rt_note[0] != '\0') {
+        fprintf(f, "  real-time note     %s\n", t->rt_note);
+    }
+    fprintf(f, "  periods            %ld (plant time %.3f s, wall %.3f s)\n", t->periods,
+            t->final_time_s, t->wall_s);
+    fprintf(f,
+            "  compute time [us]  min %.1f  median %.0f  p99 %.0f  max %.1f  (%.1f %% of the "
+            "period at p99)\n",
+            us(t->compute_ns_min), us(t->compute_ns_median), us(t->compute_ns_p99),
+            us(t->compute_ns_max), 100.0 * us(t->compute_ns_p99) / period_us);
+    if (rt->o.lockstep == 0) {
+        fprintf(f, "  deadline misses    %ld (start times skipped: %ld)\n", t->deadline_misses,
+                t->periods_skipped);
+    } else {
+        fprintf(f, "  lockstep timeouts  %ld\n", t->lockstep_timeouts);
+    }
+    fprintf(f, "  commands           %ld periods with a new command, %ld on hold (entries %llu)\n",
+            t->commands_applied, t->hold_periods, (unsigned long long)s->hold_entries);
+    unsigned long long bad = 0;
+    for (int i = 0; i < CDPR_LCM_N_REJECT; ++i) {
+        bad += (unsigned long long)s->rejected[i];
+    }
+    fprintf(f, "  received           %llu accepted, %llu ignored",
+            (unsigned long long)s->commands_accepted, bad);
+    for (int i = 0; i < CDPR_LCM_N_REJECT; ++i) {
+        if (s->rejected[i] != 0) {
+            fprintf(f, " [%s %llu]", cdpr_lcm_reject_str((cdpr_lcm_reject_t)i),
+                    (unsigned long long)s->rejected[i]);
+        }
+    }
+    fprintf(f, "\n");
+    fprintf(f,
+            "  published          %llu (ring dropped %llu, shape dropped %llu, publish "
+            "errors %llu)\n",
+            (unsigned long long)s->published, (unsigned long long)s->ring.dropped,
+            (unsigned long long)s->shape_ring.dropped, (unsigned long long)s->publish_errors);
+    fprintf(f, "  nodes              %lu insertions, %lu removals, capacity hit in %ld periods\n",
+            t->node_insertions, t->node_removals, t->capacity_periods);
+    fprintf(f, "  accuracy bound     %ld periods at the trial limit, %ld failed steps\n",
+            t->substep_limit_hits, t->step_failures);
+    fprintf(f, "  winches            %ld winch-periods at the minimum length\n",
+            t->min_length_periods);
+}

@@ -1,0 +1,212 @@
+/// @file rt_tracker.c
+/// The tracking controller as an LCM node (rt_tracker.h).
+#include "cdpr/rt_tracker.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static int all_finite(const double *v, int n)
+{
+    for (int i = 0; i < n; ++i) {
+        if (!isfinite(v[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+int cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
+                           double period_s, int n_cables, cdpr_tracker_meas_t *m)
+{
+    if (st->seq != ten->seq || ten->n_cables != n_cables || !(period_s > 0.0) ||
+        all_finite(st->position_m, 3) == 0 || all_finite(st->orientation, 4) == 0 ||
+        all_finite(st->velocity_m_per_s, 3) == 0 ||
+        all_finite(st->angular_velocity_rad_per_s, 3) == 0 ||
+        all_finite(ten->length_m, n_cables) == 0 || st->utime_us < 0) {
+        return -1;
+    }
+    /* n = round(utime 1e-6 / dt); t = n dt is the plant's own k dt. */
+    const double n = (double)llround((double)st->utime_us * 1e-6 / period_s);
+    m->t_s = n * period_s;
+    m->cabin.p_m = cdpr_v3(st->position_m[0], st->position_m[1], st->position_m[2]);
+    m->cabin.q.w = st->orientation[0];
+    m->cabin.q.x = st->orientation[1];
+    m->cabin.q.y = st->orientation[2];
+    m->cabin.q.z = st->orientation[3];
+    m->cabin.v_m_per_s =
+        cdpr_v3(st->velocity_m_per_s[0], st->velocity_m_per_s[1], st->velocity_m_per_s[2]);
+    m->cabin.w_rad_per_s =
+        cdpr_v3(st->angular_velocity_rad_per_s[0], st->angular_velocity_rad_per_s[1],
+                st->angular_velocity_rad_per_s[2]);
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        m->length_m[j] = (j < n_cables) ? ten->length_m[j] : 0.0;
+    }
+    return 0;
+}
+
+cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params_t *model,
+                                   const cdpr_winch_params_t *winch, const cdpr_traj_t *traj,
+                                   const cdpr_tracker_gains_t *g, const char *prefix,
+                                   cdpr_diag_t *diag)
+{
+    memset(t, 0, sizeof *t);
+    const char *pre = (prefix != NULL) ? prefix : "CDPR_";
+    if (strlen(pre) > 40) {
+        if (diag != NULL) {
+            memset(diag, 0, sizeof *diag);
+            diag->status = CDPR_E_INVALID_ARG;
+            diag->field = "channel_prefix";
+        }
+        return CDPR_E_INVALID_ARG;
+    }
+    snprintf(t->ch_state, sizeof t->ch_state, "%sCABIN_STATE", pre);
+    snprintf(t->ch_tensions, sizeof t->ch_tensions, "%sCABLE_TENSIONS", pre);
+    snprintf(t->ch_command, sizeof t->ch_command, "%sWINCH_COMMAND", pre);
+    const cdpr_status_t st = cdpr_tracker_init(&t->tracker, model, traj, g, 0.0, diag);
+    if (st != CDPR_OK) {
+        return st;
+    }
+    t->period_s = g->period_s;
+    t->n_cables = model->n_cables;
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        t->u_max_m_per_s[j] = winch->u_max_m_per_s;
+    }
+    t->answered_state_seq = -1;
+    t->cmd_seq = -1;
+    return CDPR_OK;
+}
+
+static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    cdpr_rt_tracker_t *t = user;
+    cdpr_cabin_state_t msg;
+    if (cdpr_cabin_state_t_decode(rbuf->data, 0, (int)rbuf->data_size, &msg) !=
+        (int)rbuf->data_size) {
+        t->stats.decode_errors++;
+        return;
+    }
+    t->stats.states++;
+    if (t->have_state != 0 && t->state.seq > t->answered_state_seq && msg.seq > t->state.seq) {
+        t->stats.superseded++;
+    }
+    t->state = msg;
+    t->have_state = 1;
+}
+
+static void on_tensions(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    cdpr_rt_tracker_t *t = user;
+    cdpr_cable_tensions_t msg;
+    if (cdpr_cable_tensions_t_decode(rbuf->data, 0, (int)rbuf->data_size, &msg) !=
+        (int)rbuf->data_size) {
+        t->stats.decode_errors++;
+        return;
+    }
+    t->stats.tensions++;
+    t->ten = msg;
+    t->have_ten = 1;
+    if (t->answer_in_handler != 0) {
+        (void)cdpr_rt_tracker_service(t);
+    }
+}
+
+int cdpr_rt_tracker_attach(cdpr_rt_tracker_t *t, lcm_t *lcm)
+{
+    t->lcm = lcm;
+    t->sub_state = lcm_subscribe(lcm, t->ch_state, on_state, t);
+    t->sub_tensions = lcm_subscribe(lcm, t->ch_tensions, on_tensions, t);
+    if (t->sub_state == NULL || t->sub_tensions == NULL) {
+        cdpr_rt_tracker_detach(t);
+        return -1;
+    }
+    return 0;
+}
+
+void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t)
+{
+    if (t->lcm != NULL) {
+        if (t->sub_state != NULL) {
+            (void)lcm_unsubscribe(t->lcm, t->sub_state);
+        }
+        if (t->sub_tensions != NULL) {
+            (void)lcm_unsubscribe(t->lcm, t->sub_tensions);
+        }
+    }
+    t->sub_state = NULL;
+    t->sub_tensions = NULL;
+    t->lcm = NULL;
+}
+
+int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
+{
+    if (t->have_state == 0 || t->have_ten == 0 || t->state.seq != t->ten.seq ||
+        t->state.seq <= t->answered_state_seq || t->lcm == NULL) {
+        return 0;
+    }
+    t->answered_state_seq = t->state.seq;
+    cdpr_tracker_meas_t m;
+    cdpr_tracker_cmd_t c;
+    if (cdpr_rt_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m) != 0 ||
+        cdpr_tracker_step(&t->tracker, &m, &c) != CDPR_OK) {
+        t->stats.bad_measurement++;
+        return -1;
+    }
+    t->stats.ik_failures = t->tracker.ik_failures;
+    cdpr_winch_command_t cmd;
+    memset(&cmd, 0, sizeof cmd);
+    cmd.utime_us = t->state.utime_us;
+    cmd.seq = t->cmd_seq + 1;
+    cmd.state_seq = t->state.seq;
+    cmd.mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
+    cmd.n_cables = (int8_t)t->n_cables;
+    for (int j = 0; j < t->n_cables; ++j) {
+        const double u = fmax(-t->u_max_m_per_s[j], fmin(t->u_max_m_per_s[j], c.rate_m_per_s[j]));
+        if (fabs(u - c.rate_m_per_s[j]) > 0.0) {
+            t->clamped++;
+        }
+        cmd.value[j] = u;
+    }
+    unsigned char buf[256];
+    const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &cmd);
+    if (len <= 0 || lcm_publish(t->lcm, t->ch_command, buf, (unsigned int)len) != 0) {
+        t->stats.publish_errors++;
+        return -1;
+    }
+    t->cmd_seq = cmd.seq;
+    t->stats.answered++;
+    if (t->on_step != NULL) {
+        t->on_step(&m, &c, &t->state, &t->ten, t->on_step_ctx);
+    }
+    return 1;
+}
+
+void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracker_cmd_t *c,
+                                 const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
+                                 void *ctx)
+{
+    (void)st;
+    cdpr_rt_record_t *r = ctx;
+    cdpr_traj_sample_t des;
+    cdpr_traj_eval(r->traj, m->t_s, &des);
+    int segments[CDPR_MAX_CABLES] = {0};
+    const int nc = (ten->n_cables <= CDPR_MAX_CABLES) ? ten->n_cables : CDPR_MAX_CABLES;
+    for (int j = 0; j < nc; ++j) {
+        segments[j] = (int)ten->n_segments[j];
+        r->max_payout_m_per_s = fmax(r->max_payout_m_per_s, fabs(ten->payout_m_per_s[j]));
+    }
+    const cdpr_sim_row_t row = {m->t_s,
+                                &des,
+                                m,
+                                ten->tension_cabin_N,
+                                ten->tension_winch_N,
+                                c->l_ff_m,
+                                ten->payout_m_per_s,
+                                segments};
+    const long k = (long)llround(m->t_s / r->period_s);
+    cdpr_sim_rec_period(&r->rec, k, 0, &row);
+    r->last_t_s = m->t_s;
+    r->periods++;
+}
