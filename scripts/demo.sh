@@ -1,21 +1,22 @@
 #!/usr/bin/env bash
 # The main job. Installs what is missing, builds the Release configuration, and runs
 #  1. the validation case of the foundation: one cable released from the straight chord
-#     between two fixed points settles into its sagging shape; the settled mid-span sag and
-#     end tensions are printed next to Irvine's elastic catenary for N = 8..64 segments, node
-#     positions go to out/settle/nodes.csv and the shape to out/settle/settled_shape.png;
-#  2. the paper's two simulations (Duan et al. 2010, §4) from their scenario files: the
-#     six-cable 50 m model tracking a circle (with the paper's initial offset) and a line,
-#     closed by the sag-aware feed-forward controller. Each run writes out/<scenario>/
-#     timeseries.csv, summary.json and figures (figure4.png / figure5.png, tensions.png) and
-#     prints its summary. (The real-time issue replaces these batch runs with the closed loop
-#     over LCM.)
+#     between two fixed points settles into its sagging shape; mid-span sag and end tensions
+#     next to Irvine's elastic catenary for N = 8..64 segments (out/settle/);
+#  2. the paper's circle scenario (Duan et al. 2010, §4; scenarios/paper-circle.yaml) through
+#     the real-time loop: cdpr-rt (the plant, 1 kHz periodic thread) and cdpr-tracker (the
+#     external controller) as two processes exchanging cabin state, cable tensions and winch
+#     commands over LCM UDP multicast on loopback, recorded by lcm-logger. When multicast
+#     cannot be set up, both sides run in one process over memq:// instead, and it says so.
+#     Writes out/paper-circle-rt/ (timeseries.csv, summary.json, figure4.png, errors.png,
+#     tensions.png, circle.lcmlog) and prints the tracking summary and the plant telemetry;
+#  3. the paper's line scenario as a batch run (cdpr-sim; out/paper-line/).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source scripts/setup.sh
 
 cmake --preset release >/dev/null
-cmake --build --preset release --target cdpr-settle cdpr-sim
+cmake --build --preset release --target cdpr-settle cdpr-sim cdpr-rt cdpr-tracker
 
 out=out/settle
 mkdir -p "$out"
@@ -23,8 +24,51 @@ build/release/apps/cdpr-settle --out "$out"
 gnuplot -e "dir='$out'" scripts/plot_settle.gp
 echo "plot: $out/settled_shape.png"
 
-for scenario in paper-circle paper-line; do
-    echo
-    echo "==== scenarios/$scenario.yaml"
-    build/release/apps/cdpr-sim "scenarios/$scenario.yaml" --out "out/$scenario"
-done
+bin=build/release/apps
+scenario=scenarios/paper-circle.yaml
+out=out/paper-circle-rt
+rm -rf "$out"
+mkdir -p "$out"
+url='udpm://239.255.76.67:7667?ttl=0'
+echo
+echo "==== $scenario: closed loop over LCM at 1 kHz (cdpr-rt + cdpr-tracker)"
+# udpm on loopback needs a multicast route through lo (../shared/PLATFORM.md).
+multicast=1
+if ! ip route show table all 2>/dev/null | grep -q '^multicast 224.0.0.0/4\|^224.0.0.0/4'; then
+    if ! ip route add 224.0.0.0/4 dev lo 2>/dev/null; then
+        multicast=0
+        why="cannot add the multicast route 224.0.0.0/4 via lo (not root, or no ip tool)"
+    fi
+fi
+if [[ $multicast -eq 1 ]]; then
+    lcm-logger --lcm-url="$url" --quiet "$out/circle.lcmlog" &
+    logger=$!
+    sleep 0.3
+    if ! kill -0 "$logger" 2>/dev/null; then
+        multicast=0
+        why="lcm-logger could not open $url"
+    fi
+fi
+if [[ $multicast -eq 1 ]]; then
+    echo "two processes over $url; lcm-logger records to $out/circle.lcmlog"
+    "$bin/cdpr-tracker" "$scenario" --rate 1000 --lcm-url "$url" --out "$out" &
+    tracker=$!
+    status=0
+    "$bin/cdpr-rt" "$scenario" --rate 1000 --lcm-url "$url" --start-delay 0.5 --realtime \
+        || status=$?
+    wait "$tracker" || status=$?
+    sleep 0.2
+    kill -INT "$logger" 2>/dev/null || true
+    wait "$logger" 2>/dev/null || true
+    [[ $status -eq 0 ]] || { echo "demo: the closed loop failed (exit $status)"; exit "$status"; }
+else
+    echo "NOTE: UDP multicast unavailable ($why):"
+    echo "      running plant and tracker in one process over memq:// instead"
+    "$bin/cdpr-rt" "$scenario" --rate 1000 --lcm-url memq:// --realtime --with-tracker \
+        --tracker-out "$out"
+fi
+echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png"
+
+echo
+echo "==== scenarios/paper-line.yaml (batch run)"
+"$bin/cdpr-sim" scenarios/paper-line.yaml --out out/paper-line

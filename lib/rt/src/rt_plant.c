@@ -15,6 +15,8 @@
 
 /* Lockstep: how often the periodic thread looks at the mailbox while it waits [ns]. */
 static const int64_t LOCKSTEP_POLL_NS = 20000;
+/* Lockstep: how long before the state waiting for its answer is sent again [ns]. */
+static const int64_t LOCKSTEP_RESEND_NS = 100000000;
 /* Stack the periodic thread touches before its first period (page faults happen up front). */
 #define PREFAULT_STACK_BYTES (64 * 1024)
 
@@ -223,11 +225,14 @@ static void publish(cdpr_rt_t *rt, int plant_flags)
     cdpr_lcm_bridge_wake(&rt->bridge);
 }
 
-/* Lockstep: wait for the command answering state rt->seq. 1 when it came, 0 on timeout. */
+/* Lockstep: wait for the command answering state rt->seq, sending the state again every
+ * LOCKSTEP_RESEND_NS (a controller that subscribed late, or a datagram lost on udpm). 1 when
+ * the answer came, 0 on timeout. */
 static int wait_answer(cdpr_rt_t *rt, cdpr_lcm_command_t *cmd, int *read_flags)
 {
     const int64_t t0 = cdpr_lcm_now_ns();
     const int64_t limit = t0 + (int64_t)llround(rt->o.lockstep_timeout_s * 1e9);
+    int64_t resend = t0 + LOCKSTEP_RESEND_NS;
     for (;;) {
         const int64_t now = cdpr_lcm_now_ns();
         *read_flags = cdpr_lcm_bridge_read_command(&rt->bridge, now, cmd);
@@ -236,6 +241,13 @@ static int wait_answer(cdpr_rt_t *rt, cdpr_lcm_command_t *cmd, int *read_flags)
         }
         if (now >= limit || (rt->o.stop != NULL && *rt->o.stop != 0)) {
             return 0;
+        }
+        if (now >= resend) {
+            (void)cdpr_lcm_bridge_push_cabin_state(&rt->bridge, &rt->st_msg);
+            (void)cdpr_lcm_bridge_push_tensions(&rt->bridge, &rt->ten_msg);
+            cdpr_lcm_bridge_wake(&rt->bridge);
+            rt->tel.lockstep_resends++;
+            resend = now + LOCKSTEP_RESEND_NS;
         }
         sleep_until(now + LOCKSTEP_POLL_NS);
     }
@@ -416,7 +428,8 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
         fprintf(f, "  deadline misses    %ld (start times skipped: %ld)\n", t->deadline_misses,
                 t->periods_skipped);
     } else {
-        fprintf(f, "  lockstep timeouts  %ld\n", t->lockstep_timeouts);
+        fprintf(f, "  lockstep           %ld timeouts, %ld states sent again\n",
+                t->lockstep_timeouts, t->lockstep_resends);
     }
     fprintf(f, "  commands           %ld periods with a new command, %ld on hold (entries %llu)\n",
             t->commands_applied, t->hold_periods, (unsigned long long)s->hold_entries);

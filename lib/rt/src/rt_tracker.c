@@ -88,6 +88,16 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         return;
     }
     t->stats.states++;
+    if (msg.seq == t->answered_state_seq && t->cmd_len > 0) {
+        /* The plant sent the state we answered again (lockstep resend): our answer was lost
+         * or late; send the same command again (the plant ignores it as replayed if it had
+         * it). */
+        if (lcm_publish(t->lcm, t->ch_command, t->cmd_buf, (unsigned int)t->cmd_len) != 0) {
+            t->stats.publish_errors++;
+        }
+        t->stats.resent++;
+        return;
+    }
     if (t->have_state != 0 && t->state.seq > t->answered_state_seq && msg.seq > t->state.seq) {
         t->stats.superseded++;
     }
@@ -169,9 +179,9 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
         }
         cmd.value[j] = u;
     }
-    unsigned char buf[256];
-    const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &cmd);
-    if (len <= 0 || lcm_publish(t->lcm, t->ch_command, buf, (unsigned int)len) != 0) {
+    const int len = cdpr_winch_command_t_encode(t->cmd_buf, 0, (int)sizeof t->cmd_buf, &cmd);
+    t->cmd_len = (len > 0) ? len : 0;
+    if (len <= 0 || lcm_publish(t->lcm, t->ch_command, t->cmd_buf, (unsigned int)len) != 0) {
         t->stats.publish_errors++;
         return -1;
     }

@@ -23,8 +23,9 @@
 /// the watchdog timeout -> the winches hold (rate 0, FLAG_HOLD) until commands resume.
 ///
 /// Lockstep mode: after publishing state k the thread waits for the command answering k
-/// (state_seq == k) — polling the mailbox every 20 us — and steps with it; no answer within
-/// lockstep_timeout_s -> hold for that period (counted). Wall time plays no role, so a loop
+/// (state_seq == k) — polling the mailbox every 20 us, sending state k again every 0.1 s (a
+/// controller that subscribed late, a datagram lost on udpm) — and steps with it; no answer
+/// within lockstep_timeout_s -> hold for that period (counted). Wall time plays no role, so a loop
 /// over LCM computes exactly what the in-process loop computes.
 ///
 /// A failed step (integrator error or trial budget, plant.h) keeps the previous state: it is
@@ -75,6 +76,7 @@ typedef struct {
     long hold_periods;             ///< periods stepped with the hold command
     long commands_applied;         ///< periods stepped with a new command
     long lockstep_timeouts;        ///< lockstep: periods whose answer did not come in time
+    long lockstep_resends;         ///< lockstep: states sent again while waiting (every 0.1 s)
     long step_failures;            ///< periods whose step failed (state kept)
     long substep_limit_hits;       ///< periods whose step met the trial bound
     long min_length_periods;       ///< winch-periods held at the minimum length

@@ -51,6 +51,7 @@ typedef struct {
     uint64_t superseded;      ///< states replaced by a newer one before they were answered
     uint64_t bad_measurement; ///< pairs refused (non-finite, cable count, time)
     uint64_t ik_failures;     ///< periods whose feed-forward IK failed (last good held)
+    uint64_t resent;          ///< commands sent again for a state the plant sent again
 } cdpr_rt_tracker_stats_t;
 
 /// The node (caller-owned; about 50 kB: declare it static).
@@ -70,6 +71,8 @@ typedef struct {
     int have_ten;                          ///< tensions have been received
     int64_t answered_state_seq;            ///< newest state answered (-1: none)
     int64_t cmd_seq;                       ///< seq of the last command published (-1: none)
+    unsigned char cmd_buf[256];            ///< the last command, encoded
+    int cmd_len;                           ///< its length (0: none)
     double u_max_m_per_s[CDPR_MAX_CABLES]; ///< commands are clamped to +-this (winch limits)
     uint64_t clamped;                      ///< command values clamped to the winch speed limit
     int answer_in_handler;                 ///< 1: the tensions handler calls service
