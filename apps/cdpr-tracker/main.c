@@ -16,6 +16,7 @@
 #include <string.h>
 #include <time.h>
 
+#include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 
 #include "cdpr/plant.h"
@@ -41,6 +42,7 @@ typedef struct {
     const char *url;
     const char *prefix;
     const char *out_dir;
+    const char *replay;
     double rate_hz;
     double duration_s;
     double idle_exit_s;
@@ -50,23 +52,28 @@ typedef struct {
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage: cdpr-tracker SCENARIO [options]\n"
-            "Example tracking controller over LCM: answers every <prefix>CABIN_STATE (+ the\n"
-            "CABLE_TENSIONS of the same period) with a <prefix>WINCH_COMMAND following the\n"
-            "scenario's trajectory (sag-aware IK feed-forward + feedback; docs/realtime.md).\n\n"
-            "  --rate HZ        control rate; must equal cdpr-rt's --rate (default 1000)\n"
-            "  --duration S     run length; exits after answering the state at S (default: the\n"
-            "                   scenario's run.duration_s)\n"
-            "  --idle-exit S    exit when no state came for S seconds after the first (default 5)\n"
-            "  --lcm-url URL    LCM provider (default: liblcm's)\n"
-            "  --prefix P       channel prefix (default CDPR_)\n"
-            "  --out DIR        write DIR/timeseries.csv, summary.json and figures\n"
-            "  --no-plot        no figures\n"
-            "  --quiet          no summary on stdout\n"
-            "  --help           this text\n\n"
-            "exit codes: 0 finished, 1 stopped (signal or silence), 2 bad command line or\n"
-            "            scenario, 3 LCM or output failure\n");
+    fprintf(
+        f, "usage: cdpr-tracker SCENARIO [options]\n"
+           "Example tracking controller over LCM: answers every <prefix>CABIN_STATE (+ the\n"
+           "CABLE_TENSIONS of the same period) with a <prefix>WINCH_COMMAND following the\n"
+           "scenario's trajectory (sag-aware IK feed-forward + feedback; docs/realtime.md).\n\n"
+           "  --rate HZ        control rate; must equal cdpr-rt's --rate (default 1000)\n"
+           "  --duration S     run length; exits after answering the state at S (default: the\n"
+           "                   scenario's run.duration_s)\n"
+           "  --idle-exit S    exit when no state came for S seconds after the first (default 5)\n"
+           "  --lcm-url URL    LCM provider (default: liblcm's)\n"
+           "  --prefix P       channel prefix (default CDPR_)\n"
+           "  --out DIR        write DIR/timeseries.csv, summary.json and figures\n"
+           "  --replay LOG     instead of computing commands, answer each state k with the\n"
+           "                   command recorded for k in the lcm-logger LOG of a lockstep run and\n"
+           "                   compare every state with the recorded one (HIL regression: run\n"
+           "                   cdpr-rt --lockstep with the same scenario, rate and trials); exit\n"
+           "                   0 when every recorded state was reproduced bit for bit\n"
+           "  --no-plot        no figures\n"
+           "  --quiet          no summary on stdout\n"
+           "  --help           this text\n\n"
+           "exit codes: 0 finished, 1 stopped (signal or silence), 2 bad command line or\n"
+           "            scenario, 3 LCM or output failure\n");
 }
 
 static int number(const char *opt, const char *arg, double lo, double hi, double *out)
@@ -91,6 +98,7 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"prefix", required_argument, NULL, 'p'},
                                              {"out", required_argument, NULL, 'o'},
                                              {"no-plot", no_argument, NULL, 'n'},
+                                             {"replay", required_argument, NULL, 'R'},
                                              {"quiet", no_argument, NULL, 'q'},
                                              {"help", no_argument, NULL, 'h'},
                                              {NULL, 0, NULL, 0}};
@@ -118,6 +126,9 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 'n':
             o->plot = 0;
+            break;
+        case 'R':
+            o->replay = optarg;
             break;
         case 'q':
             o->quiet = 1;
@@ -152,6 +163,172 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* ------------------------------------------------------------------------ replay */
+
+typedef struct {
+    cdpr_winch_command_t *cmd; /* by state_seq */
+    unsigned char *have_cmd;
+    cdpr_cabin_state_t *state; /* by seq */
+    unsigned char *have_state;
+    long n;        /* array length (largest seq + 1) */
+    long last_cmd; /* largest state_seq with a command */
+    lcm_t *lcm;
+    char ch_command[80];
+    long compared, mismatched, answered;
+    long done_seq; /* state seq after which the replay is complete */
+    int finished;
+} replay_t;
+static replay_t g_replay;
+
+/* Read the recorded commands and states of a lockstep run. 0 or -1. */
+static int replay_load(replay_t *r, const char *path, const char *prefix)
+{
+    char ch_state[80];
+    snprintf(ch_state, sizeof ch_state, "%sCABIN_STATE", prefix);
+    snprintf(r->ch_command, sizeof r->ch_command, "%sWINCH_COMMAND", prefix);
+    for (int pass = 0; pass < 2; ++pass) {
+        lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
+        if (log == NULL) {
+            fprintf(stderr, "cdpr-tracker: --replay %s: cannot open: %s\n", path, strerror(errno));
+            return -1;
+        }
+        lcm_eventlog_event_t *ev;
+        while ((ev = lcm_eventlog_read_next_event(log)) != NULL) {
+            if (strcmp(ev->channel, r->ch_command) == 0) {
+                cdpr_winch_command_t c;
+                if (cdpr_winch_command_t_decode(ev->data, 0, (int)ev->datalen, &c) > 0 &&
+                    c.state_seq >= 0 && c.state_seq < 100000000) {
+                    if (pass == 0) {
+                        r->n = (c.state_seq + 1 > r->n) ? (long)c.state_seq + 1 : r->n;
+                    } else if (r->have_cmd[c.state_seq] == 0) {
+                        r->cmd[c.state_seq] = c;
+                        r->have_cmd[c.state_seq] = 1;
+                        r->last_cmd =
+                            ((long)c.state_seq > r->last_cmd) ? (long)c.state_seq : r->last_cmd;
+                    }
+                }
+            } else if (strcmp(ev->channel, ch_state) == 0) {
+                cdpr_cabin_state_t st;
+                if (cdpr_cabin_state_t_decode(ev->data, 0, (int)ev->datalen, &st) > 0 &&
+                    st.seq >= 0 && st.seq < 100000000) {
+                    if (pass == 0) {
+                        r->n = (st.seq + 1 > r->n) ? (long)st.seq + 1 : r->n;
+                    } else if (st.seq < r->n && r->have_state[st.seq] == 0) {
+                        r->state[st.seq] = st;
+                        r->have_state[st.seq] = 1;
+                    }
+                }
+            }
+            lcm_eventlog_free_event(ev);
+        }
+        lcm_eventlog_destroy(log);
+        if (pass == 0) {
+            if (r->n == 0) {
+                fprintf(stderr, "cdpr-tracker: --replay %s: no %s / %s events\n", path, ch_state,
+                        r->ch_command);
+                return -1;
+            }
+            r->cmd = calloc((size_t)r->n, sizeof *r->cmd);
+            r->have_cmd = calloc((size_t)r->n, 1);
+            r->state = calloc((size_t)r->n, sizeof *r->state);
+            r->have_state = calloc((size_t)r->n, 1);
+            if (r->cmd == NULL || r->have_cmd == NULL || r->state == NULL ||
+                r->have_state == NULL) {
+                fprintf(stderr, "cdpr-tracker: out of memory\n");
+                return -1;
+            }
+            r->last_cmd = -1;
+        }
+    }
+    r->done_seq = r->n - 1; /* the last recorded state */
+    return 0;
+}
+
+/* Same state: every field the plant computes (the flags may differ only in FLAG_HOLD, which
+ * depends on timing, never in lockstep). */
+static int same_state(const cdpr_cabin_state_t *a, const cdpr_cabin_state_t *b)
+{
+    return a->utime_us == b->utime_us && a->seq == b->seq &&
+           memcmp(a->position_m, b->position_m, sizeof a->position_m) == 0 &&
+           memcmp(a->orientation, b->orientation, sizeof a->orientation) == 0 &&
+           memcmp(a->euler_rad, b->euler_rad, sizeof a->euler_rad) == 0 &&
+           memcmp(a->velocity_m_per_s, b->velocity_m_per_s, sizeof a->velocity_m_per_s) == 0 &&
+           memcmp(a->angular_velocity_rad_per_s, b->angular_velocity_rad_per_s,
+                  sizeof a->angular_velocity_rad_per_s) == 0;
+}
+
+static void replay_on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    replay_t *r = user;
+    cdpr_cabin_state_t st;
+    if (cdpr_cabin_state_t_decode(rbuf->data, 0, (int)rbuf->data_size, &st) <= 0 || st.seq < 0 ||
+        st.seq >= r->n) {
+        return;
+    }
+    if (r->have_state[st.seq] == 1) {
+        r->have_state[st.seq] = 2; /* compared (a resent state is not counted twice) */
+        r->compared++;
+        if (same_state(&st, &r->state[st.seq]) == 0) {
+            if (r->mismatched == 0) {
+                fprintf(stderr, "cdpr-tracker: replay: state %lld differs from the log\n",
+                        (long long)st.seq);
+            }
+            r->mismatched++;
+        }
+    }
+    if (r->have_cmd[st.seq] != 0) {
+        unsigned char buf[256];
+        const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &r->cmd[st.seq]);
+        if (len > 0 && lcm_publish(r->lcm, r->ch_command, buf, (unsigned int)len) == 0) {
+            r->answered++;
+        }
+    }
+    if (st.seq >= r->done_seq) {
+        r->finished = 1;
+    }
+}
+
+static int replay_run(const options_t *o)
+{
+    replay_t *r = &g_replay;
+    const char *prefix = (o->prefix != NULL) ? o->prefix : "CDPR_";
+    if (replay_load(r, o->replay, prefix) != 0) {
+        return EXIT_USAGE;
+    }
+    r->lcm = lcm_create(o->url);
+    if (r->lcm == NULL) {
+        fprintf(stderr, "cdpr-tracker: lcm_create failed\n");
+        return EXIT_LCM;
+    }
+    char ch_state[80];
+    snprintf(ch_state, sizeof ch_state, "%sCABIN_STATE", prefix);
+    (void)lcm_subscribe(r->lcm, ch_state, replay_on_state, r);
+    if (o->quiet == 0) {
+        fprintf(stderr, "cdpr-tracker: replaying %ld recorded commands from %s\n", r->last_cmd + 1,
+                o->replay);
+    }
+    double last_rx = now_s();
+    long seen = 0;
+    while (g_stop == 0 && r->finished == 0) {
+        if (lcm_handle_timeout(r->lcm, 50) < 0) {
+            break;
+        }
+        if (r->compared != seen) {
+            seen = r->compared;
+            last_rx = now_s();
+        } else if (seen > 0 && now_s() - last_rx > o->idle_exit_s) {
+            fprintf(stderr, "cdpr-tracker: replay: no state for %g s\n", o->idle_exit_s);
+            break;
+        }
+    }
+    lcm_destroy(r->lcm);
+    printf("cdpr-tracker: replay of %s: %ld commands sent, %ld states compared, %ld differ\n",
+           o->replay, r->answered, r->compared, r->mismatched);
+    const int ok = r->finished != 0 && r->mismatched == 0 && r->compared == r->n;
+    return ok ? 0 : EXIT_STOPPED;
+}
+
 static cdpr_plant_t g_model; /* the controller's own model: IK of the initial pose only */
 static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_record_t g_record;
@@ -159,9 +336,18 @@ static cdpr_sim_summary_t g_sum;
 
 int main(int argc, char **argv)
 {
-    options_t o = {NULL, NULL, NULL, NULL, 1000.0, 0.0, 5.0, 1, 0};
+    options_t o = {NULL, NULL, NULL, NULL, NULL, 1000.0, 0.0, 5.0, 1, 0};
     if (parse(argc, argv, &o) != 0) {
         return EXIT_USAGE;
+    }
+    if (o.replay != NULL) {
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_signal;
+        sigemptyset(&sa.sa_mask);
+        (void)sigaction(SIGINT, &sa, NULL);
+        (void)sigaction(SIGTERM, &sa, NULL);
+        return replay_run(&o);
     }
     cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
