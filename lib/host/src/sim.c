@@ -415,7 +415,7 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
          * (what the real-time node publishes for state k), L_ff(t_k). */
         cdpr_robot_out_t out;
         cdpr_robot_outputs(r, t, p->y, &out);
-        int segments[CDPR_MAX_CABLES];
+        int segments[CDPR_MAX_CABLES] = {0};
         for (int j = 0; j < nc; ++j) {
             segments[j] = r->cable[j].n;
         }

@@ -399,7 +399,7 @@ int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     return (rt->o.stop != NULL && *rt->o.stop != 0 && t->periods < rt->n_periods) ? 1 : 0;
 }
 
-static double us(int64_t ns)
+static double to_us(int64_t ns)
 {
     return 1e-3 * (double)ns;
 }
@@ -422,8 +422,8 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
     fprintf(f,
             "  compute time [us]  min %.1f  median %.0f  p99 %.0f  max %.1f  (%.1f %% of the "
             "period at p99)\n",
-            us(t->compute_ns_min), us(t->compute_ns_median), us(t->compute_ns_p99),
-            us(t->compute_ns_max), 100.0 * us(t->compute_ns_p99) / period_us);
+            to_us(t->compute_ns_min), to_us(t->compute_ns_median), to_us(t->compute_ns_p99),
+            to_us(t->compute_ns_max), 100.0 * to_us(t->compute_ns_p99) / period_us);
     if (rt->o.lockstep == 0) {
         fprintf(f, "  deadline misses    %ld (start times skipped: %ld)\n", t->deadline_misses,
                 t->periods_skipped);
