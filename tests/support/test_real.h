@@ -20,6 +20,8 @@
 #include "cdpr/config.h"
 #include "unity.h"
 
+#include <math.h>
+
 #ifdef CDPR_REAL_IS_FLOAT
 #define TOL(double_tol, float_tol) (float_tol)
 /// Ends the current test case as IGNORE, with the reason, in the float build only.
@@ -31,5 +33,14 @@
 
 /// Unit round-off of cdpr_real_t: 2^-53 (double) or 2^-24 (float).
 #define U_REAL (0.5 * (double)CDPR_EPS)
+
+/// NaN and +infinity typed for what they initialise: double (_D) or cdpr_real_t (_R).
+/// <math.h>'s NAN and INFINITY are float constants, so where a double is meant they are an
+/// implicit float -> double promotion, which clang's -Wdouble-promotion reports (GCC 12's
+/// does not). The conversions are exact; the types just say what is meant.
+#define NAN_D ((double)NAN)
+#define INF_D ((double)INFINITY)
+#define NAN_R ((cdpr_real_t)NAN)
+#define INF_R ((cdpr_real_t)INFINITY)
 
 #endif /* CDPR_TEST_REAL_H */

@@ -670,15 +670,15 @@ typedef struct {
 static void test_validation_names_the_field(void)
 {
     static const cabin_case_t cases[] = {
-        {"mass NaN", 0, 0, 0, NAN, CDPR_E_NOT_FINITE, "cabin.mass_kg", -1},
-        {"mass Inf", 0, 0, 0, INFINITY, CDPR_E_NOT_FINITE, "cabin.mass_kg", -1},
+        {"mass NaN", 0, 0, 0, NAN_D, CDPR_E_NOT_FINITE, "cabin.mass_kg", -1},
+        {"mass Inf", 0, 0, 0, INF_D, CDPR_E_NOT_FINITE, "cabin.mass_kg", -1},
         {"mass 0", 0, 0, 0, 0.0, CDPR_E_NOT_POSITIVE, "cabin.mass_kg", -1},
         {"mass -1", 0, 0, 0, -1.0, CDPR_E_NOT_POSITIVE, "cabin.mass_kg", -1},
-        {"com NaN", 1, 0, 0, NAN, CDPR_E_NOT_FINITE, "cabin.com_body_m", -1},
-        {"com -Inf", 1, 0, 0, -INFINITY, CDPR_E_NOT_FINITE, "cabin.com_body_m", -1},
-        {"inertia NaN (1,2)", 2, 1, 2, NAN, CDPR_E_NOT_FINITE, "cabin.inertia_com_kg_m2", 5},
-        {"inertia NaN (0,0)", 2, 0, 0, NAN, CDPR_E_NOT_FINITE, "cabin.inertia_com_kg_m2", 0},
-        {"inertia Inf (2,0)", 2, 2, 0, INFINITY, CDPR_E_NOT_FINITE, "cabin.inertia_com_kg_m2", 6},
+        {"com NaN", 1, 0, 0, NAN_D, CDPR_E_NOT_FINITE, "cabin.com_body_m", -1},
+        {"com -Inf", 1, 0, 0, -INF_D, CDPR_E_NOT_FINITE, "cabin.com_body_m", -1},
+        {"inertia NaN (1,2)", 2, 1, 2, NAN_D, CDPR_E_NOT_FINITE, "cabin.inertia_com_kg_m2", 5},
+        {"inertia NaN (0,0)", 2, 0, 0, NAN_D, CDPR_E_NOT_FINITE, "cabin.inertia_com_kg_m2", 0},
+        {"inertia Inf (2,0)", 2, 2, 0, INF_D, CDPR_E_NOT_FINITE, "cabin.inertia_com_kg_m2", 6},
         {"asymmetric (0,1)", 3, 0, 1, 2.0, CDPR_E_OUT_OF_RANGE, "cabin.inertia_com_kg_m2", 1},
         {"asymmetric (1,2)", 3, 1, 2, -3.0, CDPR_E_OUT_OF_RANGE, "cabin.inertia_com_kg_m2", 5},
         {"negative diagonal", 2, 2, 2, -1.0, CDPR_E_NOT_POSITIVE, "cabin.inertia_com_kg_m2", -1},
@@ -747,12 +747,12 @@ static void test_point_mass_validation(void)
     TEST_ASSERT_EQUAL_STRING("point_mass_kg", d.field);
     TEST_ASSERT_EQUAL_INT(2, d.index);
     m[2] = 0.3;
-    m[1] = NAN;
+    m[1] = NAN_R;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_cabin_init(&cab, &p, 3, m, b, &d));
     TEST_ASSERT_EQUAL_STRING("point_mass_kg", d.field);
     TEST_ASSERT_EQUAL_INT(1, d.index);
     m[1] = 0.2;
-    b[1].z = INFINITY;
+    b[1].z = INF_R;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_cabin_init(&cab, &p, 3, m, b, &d));
     TEST_ASSERT_EQUAL_STRING("point_body_m", d.field);
     TEST_ASSERT_EQUAL_INT(1, d.index);

@@ -535,7 +535,7 @@ static void check_hanging_chain(int n)
     p.ea_N = 1.0e4;
     cdpr_cable_t c;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_cable_init(&c, &p, n, (double)n, NULL));
-    double lu_min = INFINITY, m_min = INFINITY;
+    double lu_min = INF_D, m_min = INF_D;
     for (int k = 0; k < n; ++k) {
         lu[k] = 0.5 + 0.1 * (double)(k % 7);
         c.lu_m[k] = lu[k];
@@ -744,7 +744,7 @@ static void test_init_rejects_bad_counts_and_leaves_cable_untouched(void)
     TEST_ASSERT_EQUAL_STRING("n_segments", d.field);
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_POSITIVE, cdpr_cable_init(&c, &p, 3, 0.0, &d));
     TEST_ASSERT_EQUAL_STRING("length_m", d.field);
-    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_cable_init(&c, &p, 3, NAN, &d));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_cable_init(&c, &p, 3, NAN_R, &d));
     TEST_ASSERT_EQUAL_STRING("length_m", d.field);
     p.ea_N = -1.0;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_POSITIVE, cdpr_cable_init(&c, &p, 3, 1.0, &d));

@@ -24,6 +24,7 @@
 #include "cdpr/gsl_ref.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
+#include "test_real.h"
 
 #define WORK_LEN (CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX)
 
@@ -101,7 +102,7 @@ static void stretch_range(const double *y, double *lo, double *hi)
     const cdpr_cable_t *c = &robot.cable[0];
     const int nf = c->n - 1;
     const double *pos = y + robot.offset[0] + 1;
-    *lo = INFINITY;
+    *lo = INF_D;
     *hi = 0.0;
     for (int k = 0; k < c->n; ++k) {
         const double a[3] = {(k == 0) ? 0.0 : pos[3 * (k - 1)],
@@ -625,7 +626,7 @@ static void test_invalid_arguments(void)
         cdpr_gsl_integrate(decay_rhs, &k, 2, y, 1.0, 1.0, 1e-8, 1e-9, NULL, 1e-3, 10ul, &st));
     TEST_ASSERT_EQUAL_INT(
         CDPR_E_INVALID_ARG,
-        cdpr_gsl_integrate(decay_rhs, &k, 2, y, 0.0, NAN, 1e-8, 1e-9, NULL, 1e-3, 10ul, &st));
+        cdpr_gsl_integrate(decay_rhs, &k, 2, y, 0.0, NAN_D, 1e-8, 1e-9, NULL, 1e-3, 10ul, &st));
     TEST_ASSERT_EQUAL_INT(
         CDPR_E_INVALID_ARG,
         cdpr_gsl_integrate(decay_rhs, &k, 2, y, 0.0, 1.0, -1e-8, 1e-9, NULL, 1e-3, 10ul, &st));
@@ -638,7 +639,7 @@ static void test_invalid_arguments(void)
                                                                  1e-8, 1e-9, NULL, 0.0, 10ul, &st));
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_gsl_integrate(decay_rhs, &k, 2, y, 0.0, 1.0,
                                                                  1e-8, 1e-9, NULL, 1e-3, 0ul, &st));
-    y[1] = INFINITY;
+    y[1] = INF_D;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_gsl_integrate(decay_rhs, &k, 2, y, 0.0, 1.0, 1e-8,
                                                                 1e-9, NULL, 1e-3, 10ul, &st));
 

@@ -82,7 +82,7 @@ static cdpr_status_t rhs_nan_far(cdpr_real_t t, const cdpr_real_t *y, cdpr_real_
     unsigned long *nan_calls = ctx;
     if (fabs(y[0] - exp(-t)) > 1e-3) {
         (*nan_calls)++;
-        dydt[0] = NAN;
+        dydt[0] = NAN_R;
     } else {
         dydt[0] = -y[0];
     }
@@ -134,9 +134,13 @@ static double decay_max_error(double tol)
     double emax = 0.0;
     int guard = 0;
     while (t < 10.0 && guard++ < 100000) {
+        const double t_before = t;
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_step(&solver, rhs_decay, &ctx, &t, y, 10.0));
         /* rkf45.h: a step is accepted only when its weighted error norm is <= 1. */
         TEST_ASSERT_TRUE(solver.last_err <= 1.0);
+        if (t < 10.0) { /* h_ok_s: the step just accepted (t - t_before up to one rounding) */
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(4e-16, 2e-7) * 10.0, t - t_before, solver.h_ok_s);
+        }
         const double e = fabs(y[0] - exp(-t));
         emax = (e > emax) ? e : emax;
     }
@@ -185,7 +189,7 @@ static const double tols[] = {TOL(1e-4, 1e-2), TOL(1e-6, 1e-3), TOL(1e-8, 1e-4),
 
 static void test_decay_error_shrinks_with_tolerance(void)
 {
-    double prev = INFINITY;
+    double prev = INF_D;
     for (int i = 0; i < N_TOLS; ++i) {
         const double e = decay_max_error(tols[i]);
         TEST_ASSERT_TRUE_MESSAGE(e < prev, "error must decrease strictly with the tolerance");
@@ -197,7 +201,7 @@ static void test_decay_error_shrinks_with_tolerance(void)
 static void test_oscillator_error_shrinks_with_tolerance(void)
 {
     const double w = 2.0 * PI_D;
-    double prev = INFINITY;
+    double prev = INF_D;
     for (int i = 0; i < N_TOLS; ++i) {
         const double e = osc_max_error(tols[i], 1e-4, w, 5.0);
         TEST_ASSERT_TRUE_MESSAGE(e < prev, "error must decrease strictly with the tolerance");
@@ -258,24 +262,36 @@ static void test_trial_exact_for_quartic_quadrature(void)
 static void test_advance_substep_limit(void)
 {
     /* lambda = 1000 over dt = 1 needs hundreds of steps (stability limits h to ~3/lambda).
-     * With 2 trials the call must still reach t + dt exactly, warn, and count it. */
+     * With 2 trials the rest of the interval would be two equal steps of 0.5 s, lambda h = 500:
+     * the fallback accepted those without the error test and returned CDPR_WARN_SUBSTEP_LIMIT
+     * with y = 5e25 (an explicit scheme far past its stability limit). Now an equal step is
+     * accepted only within force_err_max (rkf45.h), so the call fails transactionally:
+     * CDPR_E_SUBSTEP_LIMIT, y and t bit-identical, counted, work still bounded. */
     decay_t ctx = {1000.0};
     const cdpr_rkf45_params_t p = params_tol(1e-6);
     init_solver(&p, 1);
     const cdpr_real_t t0 = 0.3, dt = 1.0;
     cdpr_real_t t = t0, y[1] = {1.0};
+    const cdpr_real_t y_before = y[0];
     const int max_trials = 2;
     const cdpr_status_t st = cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, max_trials);
-    TEST_ASSERT_EQUAL_INT(CDPR_WARN_SUBSTEP_LIMIT, st);
-    const cdpr_real_t t_expected = t0 + dt;
-    TEST_ASSERT_EQUAL_MEMORY(&t_expected, &t, sizeof t); /* exactly t0 + dt */
-    TEST_ASSERT_TRUE(isfinite(y[0]));                    /* consistent (if inaccurate) state */
-    TEST_ASSERT_EQUAL_UINT(1u, (unsigned)solver.stats.substep_limit_hits);
-    TEST_ASSERT_TRUE(solver.stats.forced_steps >= 1u);
-    TEST_ASSERT_TRUE(solver.stats.rhs_evals <= 6u * (unsigned)max_trials);
-    TEST_ASSERT_EQUAL_UINT(0u, (unsigned)solver.stats.failures);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT, st);
+    TEST_ASSERT_EQUAL_MEMORY(&t0, &t, sizeof t);
+    TEST_ASSERT_EQUAL_MEMORY(&y_before, &y[0], sizeof y[0]);
+    TEST_ASSERT_EQUAL_UINT(1u, (unsigned)solver.stats.substep_limit_failures);
+    TEST_ASSERT_EQUAL_UINT(1u, (unsigned)solver.stats.failures);
+    TEST_ASSERT_EQUAL_UINT(0u, (unsigned)solver.stats.substep_limit_hits);
+    TEST_ASSERT_EQUAL_UINT(0u, (unsigned)solver.stats.forced_steps);
+    /* The adaptive steps from h_init = 1e-4 cannot cover 1 s in 2 trials, so the first trial is
+     * already an equal step (0.5 s); its refusal ends the call at once: 6 RHS calls, not 12,
+     * and the step size stays where it was (the refused 0.5 s step does not raise it). */
+    TEST_ASSERT_EQUAL_UINT(6u, (unsigned)solver.stats.rhs_evals);
+    TEST_ASSERT_TRUE(solver.h_s <= p.h_init_s);
+    TEST_ASSERT_EQUAL_INT(1, solver.retry);
+    TEST_ASSERT_EQUAL_STRING("CDPR_E_SUBSTEP_LIMIT", cdpr_status_str(st));
 
     /* Generous bound: tolerance met, CDPR_OK, work still within 6 * max_trials. */
+    const cdpr_real_t t_expected = t0 + dt;
     const int generous = 5000;
     init_solver(&p, 1);
     t = t0;
@@ -298,6 +314,245 @@ static void test_advance_substep_limit(void)
     TEST_ASSERT_DOUBLE_WITHIN(GLOBAL_FACTOR * 1e-6, exp(-5.0), y[0]);
 }
 
+static void test_advance_stiff_small_budget_never_grows(void)
+{
+    /* y' = -lambda y from y = 1, 40 calls per case, budgets far below what the stability limit
+     * (h < ~3/lambda) or the tolerance needs. Every call must either advance, with |y| not
+     * above its value before the call (plus atol: below atol the error test itself lets y
+     * wander at that level), or fail with CDPR_E_SUBSTEP_LIMIT and y, t bit-identical; the
+     * work bound holds either way. Over the same 40 calls the former fallback (equal steps
+     * accepted unconditionally) let |y| grow to 8.6e282, 4.5e54 and 1.13 in the first, second
+     * and fifth case, and ended the third at y = 0.245 instead of ~0; the fourth it got through
+     * with two warnings (error 7e-3), which now needs more trials (its forced steps would have
+     * error norms up to 1.5e5). The last two cases are stable but short of trials for the
+     * tolerance: they advance with warnings, bit-identical to the former fallback. */
+    const struct {
+        double lambda, dt;
+        int trials;
+    } cases[] = {{1000.0, 1.0, 2}, {1000.0, 0.01, 2}, {1000.0, 0.01, 5}, {1000.0, 0.01, 8},
+                 {1.0e4, 1e-3, 4}, {1000.0, 1e-3, 1}, {1000.0, 1e-3, 2}};
+    const double atol = 1e-6;
+    unsigned long failed = 0, warned = 0;
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        decay_t ctx = {cases[c].lambda};
+        const cdpr_rkf45_params_t p = params_tol(atol);
+        init_solver(&p, 1);
+        const cdpr_real_t dt = (cdpr_real_t)cases[c].dt;
+        cdpr_real_t t = 0.0, y[1] = {1.0};
+        for (int k = 0; k < 40; ++k) {
+            const cdpr_real_t t_before = t, y_before = y[0];
+            const unsigned long rhs_before = solver.stats.rhs_evals;
+            const cdpr_status_t st =
+                cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, cases[c].trials);
+            TEST_ASSERT_TRUE(solver.stats.rhs_evals - rhs_before <= 6u * (unsigned)cases[c].trials);
+            if (st < 0) {
+                TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT, st);
+                TEST_ASSERT_EQUAL_MEMORY(&t_before, &t, sizeof t);
+                TEST_ASSERT_EQUAL_MEMORY(&y_before, &y[0], sizeof y[0]);
+                failed++;
+            } else {
+                TEST_ASSERT_TRUE(st == CDPR_OK || st == CDPR_WARN_SUBSTEP_LIMIT);
+                const cdpr_real_t t_expected = t_before + dt;
+                TEST_ASSERT_EQUAL_MEMORY(&t_expected, &t, sizeof t);
+                TEST_ASSERT_TRUE(fabs(y[0]) <= fabs(y_before) + atol);
+                warned += (st == CDPR_WARN_SUBSTEP_LIMIT) ? 1u : 0u;
+            }
+        }
+        TEST_ASSERT_TRUE(fabs(y[0]) <= 1.0);
+    }
+    /* Both outcomes were exercised. */
+    TEST_ASSERT_TRUE(failed > 0u);
+    TEST_ASSERT_TRUE(warned > 0u);
+}
+
+static void test_advance_sufficient_budget_does_not_matter(void)
+{
+    /* The budget matters only through the fallback: with exactly the trials a generous call
+     * used, the same call gives bit-identical y, t, next step and counters (the adaptive steps
+     * never stop fitting: every accepted step is at most h_s grown by grow_max per step, which
+     * is what can_reach assumes). One trial fewer must reach the fallback. Oscillator w = 10
+     * over 0.37 s, starting from a deliberately large h_init so that trials are rejected too. */
+    osc_t ctx = {10.0};
+    cdpr_rkf45_params_t p = params_tol(TOL(1e-8, 1e-5));
+    p.h_init_s = 0.5;
+    const cdpr_real_t dt = 0.37;
+    cdpr_rkf45_t runs[2];
+    cdpr_real_t ys[2][2];
+    cdpr_real_t ts[2];
+    unsigned long used = 0;
+    for (int r = 0; r < 2; ++r) {
+        init_solver(&p, 2);
+        ts[r] = 0.25;
+        ys[r][0] = 1.0;
+        ys[r][1] = 0.0;
+        const int budget = (r == 0) ? 100000 : (int)used;
+        TEST_ASSERT_EQUAL_INT(
+            CDPR_OK, cdpr_rkf45_advance(&solver, rhs_osc, &ctx, &ts[r], ys[r], dt, budget));
+        runs[r] = solver;
+        if (r == 0) {
+            used = solver.stats.steps_accepted + solver.stats.steps_rejected +
+                   solver.stats.nonfinite_rejected;
+            TEST_ASSERT_TRUE(solver.stats.steps_rejected > 0u);
+            TEST_ASSERT_TRUE(used > 3u);
+        }
+    }
+    TEST_ASSERT_EQUAL_MEMORY(ys[0], ys[1], sizeof ys[0]);
+    TEST_ASSERT_EQUAL_MEMORY(&ts[0], &ts[1], sizeof ts[0]);
+    TEST_ASSERT_EQUAL_MEMORY(&runs[0].h_s, &runs[1].h_s, sizeof runs[0].h_s);
+    TEST_ASSERT_EQUAL_MEMORY(&runs[0].stats, &runs[1].stats, sizeof runs[0].stats);
+
+    /* One trial fewer: the last one is spent on an equal step over what is left. */
+    init_solver(&p, 2);
+    cdpr_real_t t = 0.25, y[2] = {1.0, 0.0};
+    const cdpr_status_t st = cdpr_rkf45_advance(&solver, rhs_osc, &ctx, &t, y, dt, (int)used - 1);
+    TEST_ASSERT_TRUE(st != CDPR_OK || memcmp(y, ys[0], sizeof y) != 0);
+}
+
+static void test_advance_failure_keeps_learned_step_and_repeat_advances(void)
+{
+    /* y' = -1000 y over 2 ms (float: 5 ms at tol 1e-4) with 3 trials, from h_init = 1e-2: the
+     * first trials are rejected down to a few 1e-4 s, the rest cannot be covered within
+     * force_err_max, and the call fails (transactionally) keeping the step size it learned.
+     * The repeated call, same budget, starts from that step and advances. Without the kept
+     * step (h_s restored to its value at entry) the repeat would retrace the first call and
+     * fail again. (The former fallback returned a warning after one forced step instead:
+     * y = 0.097 against exp(-2) = 0.135 in the double build.) Not a general guarantee
+     * (rkf45.h): this checks the mechanism on a case where the kept step is what matters. */
+    const double tol = TOL(1e-6, 1e-4);
+    const cdpr_real_t dt = TOL(2e-3, 5e-3);
+    const int trials = 3;
+    decay_t ctx = {1000.0};
+    cdpr_rkf45_params_t p = params_tol(tol);
+    p.h_init_s = 1e-2;
+    init_solver(&p, 1);
+    cdpr_real_t t = 0.0, y[1] = {1.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT,
+                          cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, trials));
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, t);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 1.0, y[0]);
+    TEST_ASSERT_TRUE(solver.h_s < 1e-3); /* learned, not restored to 1e-2 */
+    TEST_ASSERT_EQUAL_INT(1, solver.retry);
+
+    /* Counter-check: the same repeat with the entry step size fails again. */
+    cdpr_rkf45_t restored = solver;
+    restored.h_s = p.h_init_s;
+    cdpr_real_t t_r = 0.0, y_r[1] = {1.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT,
+                          cdpr_rkf45_advance(&restored, rhs_decay, &ctx, &t_r, y_r, dt, trials));
+
+    /* Repeats with the kept step advance (at most a few calls; here the first repeat). */
+    cdpr_status_t st = CDPR_E_SUBSTEP_LIMIT;
+    int calls = 0;
+    while (st == CDPR_E_SUBSTEP_LIMIT && calls < 3) {
+        st = cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, trials);
+        calls++;
+    }
+    TEST_ASSERT_TRUE(st == CDPR_OK || st == CDPR_WARN_SUBSTEP_LIMIT);
+    TEST_ASSERT_EQUAL_INT(1, calls);
+    TEST_ASSERT_EQUAL_INT(0, solver.retry);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, dt, t);
+    /* Accuracy against exp(-lambda t), within the bound of the next test: each forced step
+     * within force_err_max (atol + rtol |y|max), |y|max = 1; the passing ones 100 tol. */
+    const double exact = exp(-1000.0 * (double)dt);
+    const double bound = (double)solver.stats.forced_steps * (double)p.force_err_max * 2.0 * tol +
+                         GLOBAL_FACTOR * tol;
+    TEST_ASSERT_DOUBLE_WITHIN(bound, exact, y[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-3, 1e-2), exact, y[0]); /* measured 2.3e-4 (5.7e-3) */
+}
+
+static void test_advance_repeat_plans_equal_steps_early(void)
+{
+    /* y' = -y over 1 s with 12 trials at tol 1e-8 (natural step ~0.1 s) from h = 1e-4 s. An
+     * ordinary call spends 5 trials growing the step (1e-4 ... 0.06 s), so its last trial is
+     * an equal step of 0.32 s, forced (error norm ~160): a warning. White-box, through the
+     * documented fields: the same call as a repeat (retry = 1) with h_ok_s = 0.1 s takes
+     * adaptive steps only while one more rejection would still leave equal steps <= h_ok_s:
+     * after two (1e-4 and 5e-4 s, which do not lower h_ok_s: it only grows during a repeat)
+     * the 10 trials left go to 10 equal steps of 0.09994 s, which all pass. Float: tol 1e-5,
+     * natural step ~0.4 s, so 4 s with h_ok_s = 0.4 s, the same sequence. */
+    const double tol = TOL(1e-8, 1e-5);
+    const cdpr_real_t dt = TOL(1.0, 4.0);
+    decay_t ctx = {1.0};
+    const cdpr_rkf45_params_t p = params_tol(tol);
+    init_solver(&p, 1);
+    cdpr_real_t t = 0.0, y[1] = {1.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_WARN_SUBSTEP_LIMIT,
+                          cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, 12));
+    TEST_ASSERT_TRUE(solver.stats.forced_steps >= 1u);
+
+    init_solver(&p, 1);
+    solver.retry = 1;
+    solver.h_ok_s = TOL(0.1, 0.4);
+    t = 0.0;
+    y[0] = 1.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, 12));
+    TEST_ASSERT_EQUAL_UINT(12u, (unsigned)solver.stats.steps_accepted);
+    TEST_ASSERT_EQUAL_UINT(0u, (unsigned)solver.stats.steps_rejected);
+    TEST_ASSERT_EQUAL_UINT(0u, (unsigned)solver.stats.forced_steps);
+    TEST_ASSERT_EQUAL_INT(0, solver.retry);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, dt, t);
+    TEST_ASSERT_DOUBLE_WITHIN(GLOBAL_FACTOR * tol, exp(-(double)dt), y[0]);
+}
+
+static void test_advance_forced_steps_accuracy(void)
+{
+    /* y' = -1000 y in 1 ms periods with 2 trials (float: tol 1e-4, 1 trial): the early periods
+     * need more steps for the tolerance, so they end with equal steps that miss it (stable:
+     * lambda h <= 1) and warn; once y has decayed the steps grow and the periods pass. Against
+     * exp(-lambda t), in every warned period the error stays within the documented bound,
+     * forced_steps x force_err_max x (atol + rtol |y|max) (each forced step's estimated local
+     * error is within force_err_max times its scale; the propagated 5th-order solution is more
+     * accurate than the embedded estimate, and the decay damps earlier errors), and at least
+     * once it exceeds the tolerance (the forced steps are real). Passing periods stay within
+     * the usual 100 tol plus what the warned ones left. With force_err_max = 1 no step is
+     * forced: each period passes the error test or fails transactionally. */
+    const double tol = TOL(1e-6, 1e-4);
+    const int trials = TOL(2, 1);
+    decay_t ctx = {1000.0};
+    cdpr_rkf45_params_t p = params_tol(tol);
+    init_solver(&p, 1);
+    const cdpr_real_t dt = 1e-3;
+    cdpr_real_t t = 0.0, y[1] = {1.0};
+    double worst_warned = 0.0;
+    int warned = 0;
+    for (int k = 0; k < 50; ++k) {
+        const cdpr_status_t st = cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, trials);
+        TEST_ASSERT_TRUE(st == CDPR_OK || st == CDPR_WARN_SUBSTEP_LIMIT);
+        const double e = fabs(y[0] - exp(-1000.0 * t));
+        if (st == CDPR_WARN_SUBSTEP_LIMIT) {
+            warned++;
+            const double bound =
+                (double)solver.stats.forced_steps * (double)p.force_err_max * 2.0 * tol;
+            TEST_ASSERT_TRUE(e <= bound);
+            worst_warned = (e > worst_warned) ? e : worst_warned;
+        } else {
+            TEST_ASSERT_TRUE(e <= GLOBAL_FACTOR * tol + worst_warned);
+        }
+    }
+    TEST_ASSERT_TRUE(warned > 0);
+    TEST_ASSERT_TRUE(worst_warned > tol); /* forced steps are less accurate than passing ones */
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-15, 1e-5), 0.05, t); /* 50 sums of 1e-3 */
+    TEST_ASSERT_EQUAL_UINT(0u, (unsigned)solver.stats.substep_limit_failures);
+
+    /* force_err_max = 1: never a forced step; OK or a transactional failure. */
+    p.force_err_max = 1.0;
+    init_solver(&p, 1);
+    t = 0.0;
+    y[0] = 1.0;
+    for (int k = 0; k < 50; ++k) {
+        const cdpr_real_t t_before = t, y_before = y[0];
+        const cdpr_status_t st = cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, trials);
+        if (st == CDPR_E_SUBSTEP_LIMIT) {
+            TEST_ASSERT_EQUAL_MEMORY(&t_before, &t, sizeof t);
+            TEST_ASSERT_EQUAL_MEMORY(&y_before, &y[0], sizeof y[0]);
+        } else {
+            TEST_ASSERT_EQUAL_INT(CDPR_OK, st);
+            TEST_ASSERT_DOUBLE_WITHIN(GLOBAL_FACTOR * tol, exp(-1000.0 * t), y[0]);
+        }
+    }
+    TEST_ASSERT_EQUAL_UINT(0u, (unsigned)solver.stats.forced_steps);
+}
+
 static void test_advance_rejects_a_trial_above_tolerance(void)
 {
     /* Oracle: cdpr_rkf45_trial gives the error norm of one trial of size dt. Pick dt such that
@@ -307,7 +562,7 @@ static void test_advance_rejects_a_trial_above_tolerance(void)
     decay_t ctx = {1.0};
     cdpr_rkf45_params_t p = params_tol(1e-8);
     double dt = 2.0;
-    cdpr_real_t err = INFINITY;
+    cdpr_real_t err = INF_R;
     for (int k = 0; k < 100 && !(err < 100.0); ++k) {
         dt *= 0.8;
         init_solver(&p, 1);
@@ -330,18 +585,47 @@ static void test_advance_rejects_a_trial_above_tolerance(void)
 
 static void test_advance_work_bound_over_many_budgets(void)
 {
-    /* For every budget 1..40 the RHS count of one call is <= 6 * max_trials, and t lands
-     * exactly on t0 + dt whatever the status. */
+    /* For every budget the RHS count of one call is <= 6 * max_trials, and t lands exactly on
+     * t0 + dt, or (CDPR_E_SUBSTEP_LIMIT) t and y are unchanged. lambda = 1000 from y = 1 at
+     * tol 1e-8 needs ~1e-4 s steps at first, so 10 ms in up to 40 trials is out of reach within
+     * force_err_max (the former fallback forced it); a few hundred trials suffice. */
     decay_t ctx = {1000.0};
     const cdpr_rkf45_params_t p = params_tol(1e-8);
-    for (int m = 1; m <= 40; ++m) {
+    int advanced = 0;
+    for (int m = 1; m <= 440; m += (m < 40) ? 1 : 100) {
         init_solver(&p, 1);
         cdpr_real_t t = 0.0, y[1] = {1.0};
         const cdpr_status_t st = cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, 0.01, m);
-        TEST_ASSERT_TRUE(st == CDPR_OK || st == CDPR_WARN_SUBSTEP_LIMIT);
+        TEST_ASSERT_TRUE(st == CDPR_OK || st == CDPR_WARN_SUBSTEP_LIMIT ||
+                         st == CDPR_E_SUBSTEP_LIMIT);
         TEST_ASSERT_TRUE(solver.stats.rhs_evals <= 6u * (unsigned)m);
-        TEST_ASSERT_DOUBLE_WITHIN(0.0, CDPR_R(0.01), t);
+        if (st < 0) {
+            TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, t);
+            TEST_ASSERT_DOUBLE_WITHIN(0.0, 1.0, y[0]);
+        } else {
+            TEST_ASSERT_DOUBLE_WITHIN(0.0, CDPR_R(0.01), t);
+            advanced++;
+        }
     }
+    TEST_ASSERT_TRUE(advanced > 0); /* the larger budgets suffice */
+}
+
+static void test_advance_nan_in_an_equal_step_is_a_substep_failure(void)
+{
+    /* rhs_nan_far gives NaN for stage states far from exp(-t): over dt = 2 with 2 trials the
+     * equal steps of 1 s produce NaN. The starting point is fine, so this is not
+     * CDPR_E_STATE_NOT_FINITE (the state is valid) but a failure to cover dt within the
+     * budget: CDPR_E_SUBSTEP_LIMIT, y and t bit-identical, the NaN trial counted. */
+    unsigned long nan_calls = 0;
+    const cdpr_rkf45_params_t p = params_tol(1e-9);
+    init_solver(&p, 1);
+    cdpr_real_t t = 0.0, y[1] = {1.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT,
+                          cdpr_rkf45_advance(&solver, rhs_nan_far, &nan_calls, &t, y, 2.0, 2));
+    TEST_ASSERT_TRUE(nan_calls > 0u);
+    TEST_ASSERT_TRUE(solver.stats.nonfinite_rejected > 0u);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, t);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 1.0, y[0]);
 }
 
 /* ---------------------------------------------------------------- failures are transactional */
@@ -382,7 +666,7 @@ static void test_nan_in_state_is_refused_bit_identical(void)
     osc_t ctx = {3.0};
     const cdpr_rkf45_params_t p = params_tol(1e-8);
     init_solver(&p, 2);
-    cdpr_real_t t = 1.5, y[2] = {0.4, NAN};
+    cdpr_real_t t = 1.5, y[2] = {0.4, NAN_R};
     const cdpr_real_t t_before = t;
     cdpr_real_t y_before[2];
     memcpy(y_before, y, sizeof y); /* includes the NaN's exact bits */
@@ -395,7 +679,7 @@ static void test_nan_in_state_is_refused_bit_identical(void)
     TEST_ASSERT_EQUAL_MEMORY(y_before, y, sizeof y);
     TEST_ASSERT_EQUAL_MEMORY(&t_before, &t, sizeof t);
     /* Inf in the first component as well. */
-    y[0] = INFINITY;
+    y[0] = INF_R;
     y[1] = 0.0;
     memcpy(y_before, y, sizeof y);
     TEST_ASSERT_EQUAL_INT(CDPR_E_STATE_NOT_FINITE,
@@ -448,13 +732,13 @@ static void test_invalid_call_arguments(void)
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG,
                           cdpr_rkf45_advance(&solver, rhs_osc, &ctx, &t, y, -0.1, 10));
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG,
-                          cdpr_rkf45_advance(&solver, rhs_osc, &ctx, &t, y, NAN, 10));
+                          cdpr_rkf45_advance(&solver, rhs_osc, &ctx, &t, y, NAN_R, 10));
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG,
                           cdpr_rkf45_advance(&solver, rhs_osc, &ctx, &t, y, 0.1, 0));
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_rkf45_step(&solver, rhs_osc, &ctx, &t, y, 0.0));
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_rkf45_step(&solver, rhs_osc, &ctx, &t, y, -1.0));
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_rkf45_step(&solver, NULL, &ctx, &t, y, 1.0));
-    t = NAN;
+    t = NAN_R;
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG,
                           cdpr_rkf45_advance(&solver, rhs_osc, &ctx, &t, y, 0.1, 10));
     TEST_ASSERT_DOUBLE_WITHIN(0.0, 1.0, y[0]);
@@ -474,26 +758,50 @@ typedef struct {
 #define FIELD(name) offsetof(cdpr_rkf45_params_t, name), #name
 
 static const bad_param_t bad_params[] = {
-    {FIELD(rtol), NAN, CDPR_E_NOT_FINITE},         {FIELD(rtol), INFINITY, CDPR_E_NOT_FINITE},
-    {FIELD(rtol), -INFINITY, CDPR_E_NOT_FINITE},   {FIELD(rtol), -1e-6, CDPR_E_OUT_OF_RANGE},
-    {FIELD(atol), NAN, CDPR_E_NOT_FINITE},         {FIELD(atol), INFINITY, CDPR_E_NOT_FINITE},
-    {FIELD(atol), 0.0, CDPR_E_NOT_POSITIVE},       {FIELD(atol), -1e-8, CDPR_E_NOT_POSITIVE},
-    {FIELD(h_init_s), NAN, CDPR_E_NOT_FINITE},     {FIELD(h_init_s), INFINITY, CDPR_E_NOT_FINITE},
-    {FIELD(h_init_s), 0.0, CDPR_E_NOT_POSITIVE},   {FIELD(h_init_s), -1e-3, CDPR_E_NOT_POSITIVE},
-    {FIELD(h_min_s), NAN, CDPR_E_NOT_FINITE},      {FIELD(h_min_s), INFINITY, CDPR_E_NOT_FINITE},
-    {FIELD(h_min_s), 0.0, CDPR_E_NOT_POSITIVE},    {FIELD(h_min_s), -1e-12, CDPR_E_NOT_POSITIVE},
-    {FIELD(h_max_s), NAN, CDPR_E_NOT_FINITE},      {FIELD(h_max_s), INFINITY, CDPR_E_NOT_FINITE},
-    {FIELD(h_max_s), 0.0, CDPR_E_NOT_POSITIVE},    {FIELD(h_max_s), -1.0, CDPR_E_NOT_POSITIVE},
+    {FIELD(rtol), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(rtol), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(rtol), -INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(rtol), -1e-6, CDPR_E_OUT_OF_RANGE},
+    {FIELD(atol), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(atol), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(atol), 0.0, CDPR_E_NOT_POSITIVE},
+    {FIELD(atol), -1e-8, CDPR_E_NOT_POSITIVE},
+    {FIELD(h_init_s), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(h_init_s), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(h_init_s), 0.0, CDPR_E_NOT_POSITIVE},
+    {FIELD(h_init_s), -1e-3, CDPR_E_NOT_POSITIVE},
+    {FIELD(h_min_s), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(h_min_s), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(h_min_s), 0.0, CDPR_E_NOT_POSITIVE},
+    {FIELD(h_min_s), -1e-12, CDPR_E_NOT_POSITIVE},
+    {FIELD(h_max_s), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(h_max_s), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(h_max_s), 0.0, CDPR_E_NOT_POSITIVE},
+    {FIELD(h_max_s), -1.0, CDPR_E_NOT_POSITIVE},
     {FIELD(h_max_s), 1e-13, CDPR_E_OUT_OF_RANGE}, /* below h_min_s = 1e-12 */
-    {FIELD(safety), NAN, CDPR_E_NOT_FINITE},       {FIELD(safety), INFINITY, CDPR_E_NOT_FINITE},
-    {FIELD(safety), 0.0, CDPR_E_NOT_POSITIVE},     {FIELD(safety), -0.5, CDPR_E_NOT_POSITIVE},
-    {FIELD(safety), 1.0, CDPR_E_OUT_OF_RANGE},     {FIELD(safety), 1.5, CDPR_E_OUT_OF_RANGE},
-    {FIELD(shrink_min), NAN, CDPR_E_NOT_FINITE},   {FIELD(shrink_min), INFINITY, CDPR_E_NOT_FINITE},
-    {FIELD(shrink_min), 0.0, CDPR_E_NOT_POSITIVE}, {FIELD(shrink_min), -0.2, CDPR_E_NOT_POSITIVE},
-    {FIELD(shrink_min), 1.0, CDPR_E_OUT_OF_RANGE}, {FIELD(shrink_min), 2.0, CDPR_E_OUT_OF_RANGE},
-    {FIELD(grow_max), NAN, CDPR_E_NOT_FINITE},     {FIELD(grow_max), INFINITY, CDPR_E_NOT_FINITE},
-    {FIELD(grow_max), 1.0, CDPR_E_OUT_OF_RANGE},   {FIELD(grow_max), 0.5, CDPR_E_OUT_OF_RANGE},
-    {FIELD(grow_max), 0.0, CDPR_E_OUT_OF_RANGE},   {FIELD(grow_max), -5.0, CDPR_E_OUT_OF_RANGE},
+    {FIELD(safety), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(safety), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(safety), 0.0, CDPR_E_NOT_POSITIVE},
+    {FIELD(safety), -0.5, CDPR_E_NOT_POSITIVE},
+    {FIELD(safety), 1.0, CDPR_E_OUT_OF_RANGE},
+    {FIELD(safety), 1.5, CDPR_E_OUT_OF_RANGE},
+    {FIELD(shrink_min), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(shrink_min), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(shrink_min), 0.0, CDPR_E_NOT_POSITIVE},
+    {FIELD(shrink_min), -0.2, CDPR_E_NOT_POSITIVE},
+    {FIELD(shrink_min), 1.0, CDPR_E_OUT_OF_RANGE},
+    {FIELD(shrink_min), 2.0, CDPR_E_OUT_OF_RANGE},
+    {FIELD(grow_max), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(grow_max), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(grow_max), 1.0, CDPR_E_OUT_OF_RANGE},
+    {FIELD(grow_max), 0.5, CDPR_E_OUT_OF_RANGE},
+    {FIELD(grow_max), 0.0, CDPR_E_OUT_OF_RANGE},
+    {FIELD(grow_max), -5.0, CDPR_E_OUT_OF_RANGE},
+    {FIELD(force_err_max), NAN_D, CDPR_E_NOT_FINITE},
+    {FIELD(force_err_max), INF_D, CDPR_E_NOT_FINITE},
+    {FIELD(force_err_max), 0.999, CDPR_E_OUT_OF_RANGE},
+    {FIELD(force_err_max), 0.0, CDPR_E_OUT_OF_RANGE},
+    {FIELD(force_err_max), -10.0, CDPR_E_OUT_OF_RANGE},
 };
 
 static void test_bad_parameters_named(void)
@@ -535,6 +843,12 @@ static void test_valid_edge_parameters(void)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_params_validate(&p, 1, NULL));
     p.h_max_s = p.h_min_s;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_params_validate(&p, 1, NULL));
+    cdpr_rkf45_params_default(&p);
+    p.force_err_max = 1.0; /* no forced steps at all */
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_params_validate(&p, 1, NULL));
+    /* The documented default: (safety / shrink_min)^5 of the default safety and shrink_min. */
+    cdpr_rkf45_params_default(&p);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, pow(0.9 / 0.2, 5.0), p.force_err_max);
     cdpr_rkf45_params_default(&p);
     p.h_init_s = 10.0;
     p.h_max_s = 0.5;
@@ -584,11 +898,11 @@ static void test_atol_vec_bad_entry_index(void)
         int index;
         double value;
         cdpr_status_t expected;
-    } cases[] = {{0, NAN, CDPR_E_NOT_FINITE},
-                 {3, NAN, CDPR_E_NOT_FINITE},
+    } cases[] = {{0, NAN_D, CDPR_E_NOT_FINITE},
+                 {3, NAN_D, CDPR_E_NOT_FINITE},
                  {5, 0.0, CDPR_E_NOT_POSITIVE},
                  {2, -1e-9, CDPR_E_NOT_POSITIVE},
-                 {5, INFINITY, CDPR_E_NOT_FINITE}};
+                 {5, INF_D, CDPR_E_NOT_FINITE}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         cdpr_real_t atol[6] = {1e-8, 1e-8, 1e-8, 1e-8, 1e-8, 1e-8};
         atol[cases[i].index] = cases[i].value;
@@ -605,7 +919,7 @@ static void test_atol_vec_bad_entry_index(void)
         TEST_ASSERT_EQUAL_INT(cases[i].index, d.index);
     }
     /* Entries beyond dim are not read: a bad entry at index 5 with dim = 5 is fine. */
-    cdpr_real_t atol[6] = {1e-8, 1e-8, 1e-8, 1e-8, 1e-8, NAN};
+    cdpr_real_t atol[6] = {1e-8, 1e-8, 1e-8, 1e-8, 1e-8, NAN_R};
     cdpr_rkf45_params_t p;
     cdpr_rkf45_params_default(&p);
     p.atol_vec = atol;
@@ -662,8 +976,10 @@ static void test_set_dim(void)
     cdpr_real_t t = 0.0, y[2] = {1.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_advance(&solver, rhs_osc, &osc, &t, y, 1.0, 10000));
     TEST_ASSERT_TRUE(solver.h_s > p.h_init_s); /* grew from 1e-4 */
+    TEST_ASSERT_TRUE(solver.h_ok_s > 0.0);     /* steps passed the error test */
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_set_dim(&solver, 1));
     TEST_ASSERT_DOUBLE_WITHIN(0.0, p.h_init_s, solver.h_s);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, solver.h_ok_s); /* nothing known for the new system */
     y[0] = 1.0;
     y[1] = 12345.0; /* sentinel outside the active dimension */
     t = 0.0;
@@ -749,8 +1065,14 @@ int main(void)
     RUN_TEST(test_huge_first_step_is_rejected_and_result_accurate);
     RUN_TEST(test_trial_exact_for_quartic_quadrature);
     RUN_TEST(test_advance_substep_limit);
+    RUN_TEST(test_advance_stiff_small_budget_never_grows);
+    RUN_TEST(test_advance_sufficient_budget_does_not_matter);
+    RUN_TEST(test_advance_failure_keeps_learned_step_and_repeat_advances);
+    RUN_TEST(test_advance_repeat_plans_equal_steps_early);
+    RUN_TEST(test_advance_forced_steps_accuracy);
     RUN_TEST(test_advance_rejects_a_trial_above_tolerance);
     RUN_TEST(test_advance_work_bound_over_many_budgets);
+    RUN_TEST(test_advance_nan_in_an_equal_step_is_a_substep_failure);
     RUN_TEST(test_failing_rhs_leaves_state_bit_identical);
     RUN_TEST(test_nan_in_state_is_refused_bit_identical);
     RUN_TEST(test_nan_from_large_steps_is_rejected_not_fatal);

@@ -131,8 +131,8 @@ typedef struct {
 } robot_case_t;
 
 static const robot_case_t robot_cases[] = {
-    {"g NaN", K_G, NAN, CDPR_E_NOT_FINITE, "g_m_per_s2", -1},
-    {"g Inf", K_G, INFINITY, CDPR_E_NOT_FINITE, "g_m_per_s2", -1},
+    {"g NaN", K_G, NAN_D, CDPR_E_NOT_FINITE, "g_m_per_s2", -1},
+    {"g Inf", K_G, INF_D, CDPR_E_NOT_FINITE, "g_m_per_s2", -1},
     {"g 0", K_G, 0.0, CDPR_E_NOT_POSITIVE, "g_m_per_s2", -1},
     {"g -9.8", K_G, -9.8, CDPR_E_NOT_POSITIVE, "g_m_per_s2", -1},
     {"mode 2", K_MODE, 2.0, CDPR_E_OUT_OF_RANGE, "mode", ANY_INDEX},
@@ -145,41 +145,41 @@ static const robot_case_t robot_cases[] = {
     {"n_segments -1", K_NSEG, -1.0, CDPR_E_CAPACITY, "n_segments", CABLE_J},
     {"n_segments max+1", K_NSEG, (double)(CDPR_MAX_SEGMENTS + 1), CDPR_E_CAPACITY, "n_segments",
      CABLE_J},
-    {"length NaN", K_LENGTH, NAN, CDPR_E_NOT_FINITE, "length_m", CABLE_J},
-    {"length Inf", K_LENGTH, INFINITY, CDPR_E_NOT_FINITE, "length_m", CABLE_J},
+    {"length NaN", K_LENGTH, NAN_D, CDPR_E_NOT_FINITE, "length_m", CABLE_J},
+    {"length Inf", K_LENGTH, INF_D, CDPR_E_NOT_FINITE, "length_m", CABLE_J},
     {"length 0", K_LENGTH, 0.0, CDPR_E_NOT_POSITIVE, "length_m", CABLE_J},
     {"length -1", K_LENGTH, -1.0, CDPR_E_NOT_POSITIVE, "length_m", CABLE_J},
-    {"exit x NaN", K_EXIT_X, NAN, CDPR_E_NOT_FINITE, "exit_point_m", CABLE_J},
-    {"exit y Inf", K_EXIT_Y, INFINITY, CDPR_E_NOT_FINITE, "exit_point_m", CABLE_J},
-    {"exit z NaN", K_EXIT_Z, NAN, CDPR_E_NOT_FINITE, "exit_point_m", CABLE_J},
-    {"attach x NaN", K_ATT_X, NAN, CDPR_E_NOT_FINITE, "attach_body_m", CABLE_J},
-    {"attach y -Inf", K_ATT_Y, -INFINITY, CDPR_E_NOT_FINITE, "attach_body_m", CABLE_J},
-    {"attach z NaN", K_ATT_Z, NAN, CDPR_E_NOT_FINITE, "attach_body_m", CABLE_J},
-    {"d0 NaN", K_D0, NAN, CDPR_E_NOT_FINITE, "d0_m", CABLE_J},
-    {"d0 Inf", K_D0, INFINITY, CDPR_E_NOT_FINITE, "d0_m", CABLE_J},
+    {"exit x NaN", K_EXIT_X, NAN_D, CDPR_E_NOT_FINITE, "exit_point_m", CABLE_J},
+    {"exit y Inf", K_EXIT_Y, INF_D, CDPR_E_NOT_FINITE, "exit_point_m", CABLE_J},
+    {"exit z NaN", K_EXIT_Z, NAN_D, CDPR_E_NOT_FINITE, "exit_point_m", CABLE_J},
+    {"attach x NaN", K_ATT_X, NAN_D, CDPR_E_NOT_FINITE, "attach_body_m", CABLE_J},
+    {"attach y -Inf", K_ATT_Y, -INF_D, CDPR_E_NOT_FINITE, "attach_body_m", CABLE_J},
+    {"attach z NaN", K_ATT_Z, NAN_D, CDPR_E_NOT_FINITE, "attach_body_m", CABLE_J},
+    {"d0 NaN", K_D0, NAN_D, CDPR_E_NOT_FINITE, "d0_m", CABLE_J},
+    {"d0 Inf", K_D0, INF_D, CDPR_E_NOT_FINITE, "d0_m", CABLE_J},
     {"d0 0", K_D0, 0.0, CDPR_E_NOT_POSITIVE, "d0_m", CABLE_J},
     {"d0 -1", K_D0, -1.0, CDPR_E_NOT_POSITIVE, "d0_m", CABLE_J},
-    {"rho NaN", K_RHO, NAN, CDPR_E_NOT_FINITE, "rho_kg_per_m", CABLE_J},
-    {"rho Inf", K_RHO, INFINITY, CDPR_E_NOT_FINITE, "rho_kg_per_m", CABLE_J},
+    {"rho NaN", K_RHO, NAN_D, CDPR_E_NOT_FINITE, "rho_kg_per_m", CABLE_J},
+    {"rho Inf", K_RHO, INF_D, CDPR_E_NOT_FINITE, "rho_kg_per_m", CABLE_J},
     {"rho 0", K_RHO, 0.0, CDPR_E_NOT_POSITIVE, "rho_kg_per_m", CABLE_J},
     {"rho -1", K_RHO, -1.0, CDPR_E_NOT_POSITIVE, "rho_kg_per_m", CABLE_J},
-    {"EA NaN", K_EA, NAN, CDPR_E_NOT_FINITE, "ea_N", CABLE_J},
-    {"EA Inf", K_EA, INFINITY, CDPR_E_NOT_FINITE, "ea_N", CABLE_J},
+    {"EA NaN", K_EA, NAN_D, CDPR_E_NOT_FINITE, "ea_N", CABLE_J},
+    {"EA Inf", K_EA, INF_D, CDPR_E_NOT_FINITE, "ea_N", CABLE_J},
     {"EA 0", K_EA, 0.0, CDPR_E_NOT_POSITIVE, "ea_N", CABLE_J},
     {"EA -1", K_EA, -1.0, CDPR_E_NOT_POSITIVE, "ea_N", CABLE_J},
-    {"damping NaN", K_DAMP, NAN, CDPR_E_NOT_FINITE, "damping_Ns", CABLE_J},
-    {"damping Inf", K_DAMP, INFINITY, CDPR_E_NOT_FINITE, "damping_Ns", CABLE_J},
+    {"damping NaN", K_DAMP, NAN_D, CDPR_E_NOT_FINITE, "damping_Ns", CABLE_J},
+    {"damping Inf", K_DAMP, INF_D, CDPR_E_NOT_FINITE, "damping_Ns", CABLE_J},
     {"damping -1", K_DAMP, -1.0, CDPR_E_OUT_OF_RANGE, "damping_Ns", CABLE_J},
-    {"cd NaN", K_CD, NAN, CDPR_E_NOT_FINITE, "cd", CABLE_J},
-    {"cd Inf", K_CD, INFINITY, CDPR_E_NOT_FINITE, "cd", CABLE_J},
+    {"cd NaN", K_CD, NAN_D, CDPR_E_NOT_FINITE, "cd", CABLE_J},
+    {"cd Inf", K_CD, INF_D, CDPR_E_NOT_FINITE, "cd", CABLE_J},
     {"cd -1", K_CD, -1.0, CDPR_E_OUT_OF_RANGE, "cd", CABLE_J},
-    {"cm NaN", K_CM, NAN, CDPR_E_NOT_FINITE, "cm", CABLE_J},
-    {"cm Inf", K_CM, INFINITY, CDPR_E_NOT_FINITE, "cm", CABLE_J},
+    {"cm NaN", K_CM, NAN_D, CDPR_E_NOT_FINITE, "cm", CABLE_J},
+    {"cm Inf", K_CM, INF_D, CDPR_E_NOT_FINITE, "cm", CABLE_J},
     {"cm -1", K_CM, -1.0, CDPR_E_OUT_OF_RANGE, "cm", CABLE_J},
-    {"rho_air NaN", K_RHOAIR, NAN, CDPR_E_NOT_FINITE, "rho_air_kg_per_m3", CABLE_J},
-    {"rho_air Inf", K_RHOAIR, INFINITY, CDPR_E_NOT_FINITE, "rho_air_kg_per_m3", CABLE_J},
+    {"rho_air NaN", K_RHOAIR, NAN_D, CDPR_E_NOT_FINITE, "rho_air_kg_per_m3", CABLE_J},
+    {"rho_air Inf", K_RHOAIR, INF_D, CDPR_E_NOT_FINITE, "rho_air_kg_per_m3", CABLE_J},
     {"rho_air -1", K_RHOAIR, -1.0, CDPR_E_OUT_OF_RANGE, "rho_air_kg_per_m3", CABLE_J},
-    {"cabin mass NaN", K_MASS, NAN, CDPR_E_NOT_FINITE, "cabin.mass_kg", -1},
+    {"cabin mass NaN", K_MASS, NAN_D, CDPR_E_NOT_FINITE, "cabin.mass_kg", -1},
     {"cabin mass 0", K_MASS, 0.0, CDPR_E_NOT_POSITIVE, "cabin.mass_kg", -1},
     {"cabin inertia asymmetric", K_INERTIA_ASYM, 5.0, CDPR_E_OUT_OF_RANGE,
      "cabin.inertia_com_kg_m2", 1},
@@ -322,9 +322,9 @@ static void test_inactive_cables_are_not_validated(void)
     cdpr_robot_params_t p;
     hexagon_params(&p, CDPR_MAX_CABLES, 4, 6.0);
     p.n_cables = 1;
-    p.cables[1].cable.ea_N = NAN;
+    p.cables[1].cable.ea_N = NAN_R;
     p.cables[1].n_segments = 0;
-    p.cables[1].exit_point_m.x = NAN;
+    p.cables[1].exit_point_m.x = NAN_R;
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&robot, &p, &d));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, d.status);
@@ -751,7 +751,7 @@ static void test_nan_in_robot_state_is_refused_by_the_integrator(void)
     static cdpr_real_t before[CDPR_ROBOT_STATE_MAX];
     for (int k = 0; k < 2; ++k) {
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_place_straight(&robot, &m, y_state));
-        y_state[where[k]] = NAN;
+        y_state[where[k]] = NAN_R;
         memcpy(before, y_state, sizeof y_state);
         cdpr_real_t t = 0.5;
         const cdpr_real_t t_before = t;

@@ -3,6 +3,10 @@
 /// wrench (checked here from the returned forces), each cable's catenary closes on both end
 /// points, forward statics inverts IK, infeasible poses are reported, and the lumped-mass
 /// robot settled by its own dynamics converges to the statics solution as segments increase.
+///
+/// Float build (Cortex-M4): the same cases with tolerances from TOL(double, float)
+/// (test_real.h), each argued at the assertion from the float defaults of
+/// cdpr_statics_opts_default (statics.h); the two settled cases are skipped there (below).
 #include <math.h>
 #include <string.h>
 
@@ -11,6 +15,8 @@
 #include "cdpr/rkf45.h"
 #include "cdpr/settle.h"
 #include "cdpr/statics.h"
+#include "ref_mat3.h"
+#include "test_real.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -87,19 +93,28 @@ static void test_ik_balances_the_cabin_and_closes_every_catenary(void)
             const cdpr_vec3_t d =
                 cdpr_v3_sub(robot.p.cables[j].exit_point_m, res.cable[j].attach_world_m);
             const cdpr_catenary_cable_t c = {0.14 * 9.80665, 2.0e6};
-            double l;
-            double h;
+            cdpr_real_t l;
+            cdpr_real_t h;
             TEST_ASSERT_EQUAL_INT(CDPR_OK,
                                   cdpr_catenary_spans(&c, res.cable[j].H_N, res.cable[j].v_cabin_N,
                                                       res.cable[j].length_m, &l, &h));
-            TEST_ASSERT_DOUBLE_WITHIN(1e-8, sqrt(d.x * d.x + d.y * d.y), l);
-            TEST_ASSERT_DOUBLE_WITHIN(1e-8, d.z, h);
+            /* float: the inner solve stops at |dl| + |dh| <= span_tol_m (1e-4 m), and
+             * recomputing the spans here rounds ~30 times on lengths <= 40 m (30 u_f 40 m =
+             * 7e-5 m, as in test_catenary): 2e-4 m. */
+            const double tol_span = TOL(1e-8, 2e-4);
+            TEST_ASSERT_DOUBLE_WITHIN(tol_span, sqrt(d.x * d.x + d.y * d.y), l);
+            TEST_ASSERT_DOUBLE_WITHIN(tol_span, d.z, h);
             /* The horizontal force points from the attachment toward the tower. */
             TEST_ASSERT_TRUE(F.x * d.x + F.y * d.y > 0.0);
         }
+        /* float: the IK stops once the residual norm is below force_tol_N + 1e3 eps weight
+         * = 2e-2 + 1e3 x 1.19e-7 x 392 = 0.067 N (statics.h); recomputing it here from the
+         * float forces and attachment points adds the rounding of six products of ~200 N by
+         * ~2 m (6 x 2 u_f x 400 N m = 3e-4): 0.07 N and N m. */
+        const double tol_wrench = TOL(1e-6, 0.07);
         for (int i = 0; i < 3; ++i) {
-            TEST_ASSERT_DOUBLE_WITHIN(1e-6, 0.0, f[i]); /* N, of a 392 N weight */
-            TEST_ASSERT_DOUBLE_WITHIN(1e-6, 0.0, m[i]); /* N m */
+            TEST_ASSERT_DOUBLE_WITHIN(tol_wrench, 0.0, f[i]); /* N, of a 392 N weight */
+            TEST_ASSERT_DOUBLE_WITHIN(tol_wrench, 0.0, m[i]); /* N m */
         }
     }
 }
@@ -131,30 +146,44 @@ static void test_forward_statics_inverts_ik(void)
     const cdpr_cabin_motion_t pose = pose_of(1.0, -0.5, 12.0, 0.03, -0.02, 0.1);
     cdpr_statics_result_t res;
     ik(&pose, &res);
-    double L[6];
+    cdpr_real_t L[6];
     for (int j = 0; j < 6; ++j) {
         L[j] = res.cable[j].length_m;
     }
-    cdpr_cabin_motion_t guess = pose_of(1.3, -0.2, 11.5, 0.0, 0.0, 0.0);
+    /* float: start 0.03/0.03/0.05 m and 10 % of the angles away instead of 0.3/0.3/0.5 m and
+     * all of them. The far guess stretches a cable to H = 37 kN, whose catenary float resolves
+     * only to ~u_f H / w = 1.6e-3 m of span (w = 1.37 N/m), above span_tol_m: the forward solve
+     * cannot even evaluate its first residual there (statics.h). */
+    const double far = TOL(1.0, 0.1);
+    cdpr_cabin_motion_t guess = pose_of(1.0 + 0.3 * far, -0.5 + 0.3 * far, 12.0 - 0.5 * far,
+                                        0.03 * (1.0 - far), -0.02 * (1.0 - far), 0.1 * (1.0 - far));
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
+    /* float: the forward residual is a wrench at a rounded pose; u_f |p| (7e-7 m at 12 m)
+     * times the cables' stiffness (6 EA / L = 4e5 N/m) is ~0.3 N, above the IK default
+     * (statics.h), so the forward solve gets 0.3 N. */
+    o.force_tol_N = TOL(o.force_tol_N, 0.3);
     cdpr_statics_result_t fw;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_forward(&robot, L, &guess, &o, &fw));
-    /* Issue 3 asks mm / mrad; the solvers' tolerances give ~1e-8. */
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6, pose.p_m.x, fw.pose.p_m.x);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6, pose.p_m.y, fw.pose.p_m.y);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6, pose.p_m.z, fw.pose.p_m.z);
-    double a0;
-    double b0;
-    double g0;
-    double a1;
-    double b1;
-    double g1;
+    /* Issue 3 asks mm / mrad; the solvers' tolerances give ~1e-8.
+     * float: a residual r <= 0.3 + 0.047 N leaves the pose off by up to r over the stiffness
+     * of the softest mode, M omega^2 = 40 kg x 6 1/s^2 = 240 N/m (1.5e-3 m), and the angles by
+     * r over I omega^2 = 45 kg m^2 x 6 1/s^2 (1.3e-3 rad): 2e-3 for both. */
+    const double tol_pose = TOL(1e-6, 2e-3);
+    TEST_ASSERT_DOUBLE_WITHIN(tol_pose, pose.p_m.x, fw.pose.p_m.x);
+    TEST_ASSERT_DOUBLE_WITHIN(tol_pose, pose.p_m.y, fw.pose.p_m.y);
+    TEST_ASSERT_DOUBLE_WITHIN(tol_pose, pose.p_m.z, fw.pose.p_m.z);
+    cdpr_real_t a0;
+    cdpr_real_t b0;
+    cdpr_real_t g0;
+    cdpr_real_t a1;
+    cdpr_real_t b1;
+    cdpr_real_t g1;
     cdpr_quat_to_euler(pose.q, &a0, &b0, &g0);
     cdpr_quat_to_euler(fw.pose.q, &a1, &b1, &g1);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6, a0, a1);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6, b0, b1);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-6, g0, g1);
+    TEST_ASSERT_DOUBLE_WITHIN(tol_pose, a0, a1);
+    TEST_ASSERT_DOUBLE_WITHIN(tol_pose, b0, b1);
+    TEST_ASSERT_DOUBLE_WITHIN(tol_pose, g0, g1);
 }
 
 static void test_infeasible_and_bad_poses_are_reported(void)
@@ -222,8 +251,21 @@ static void settle_vs_statics(int segments, const cdpr_statics_result_t *res, do
     }
 }
 
+/* Why the float build skips the two settled cases below (measured on the host's float build,
+ * same sources): the node accelerations at rest keep the rounding of the segment forces,
+ * EA 2 u_f / m_node = 2e6 N x 1.2e-7 / 0.27 kg = 0.9 m/s^2 for 16 segments; cdpr_robot_settle
+ * stalls at 0.6-2.5 m/s^2, far above its float default (1e-2 m/s^2, settle.h), and a tolerance
+ * that loose would leave the cabin's softest mode (omega^2 ~ 6 1/s^2) up to 0.4 m from rest.
+ * The convergence case also needs end tensions to ~1e-3 N (the N = 16 discretisation error is
+ * 0.02 N), while float resolves them only to EA u_f = 0.12 N per segment. docs/firmware.md
+ * compares the float build's IK with the double build's instead. */
+#define SKIP_SETTLED_IN_FLOAT()                                                                    \
+    SKIP_IN_FLOAT("settling a 2 MN rope to rest needs node forces below float rounding "           \
+                  "(test_statics.c)")
+
 static void test_settled_lumped_robot_converges_to_statics(void)
 {
+    SKIP_SETTLED_IN_FLOAT();
     cdpr_statics_result_t res;
     const cdpr_cabin_motion_t pose = pose_of(0.5, -0.3, 10.0, 0.0, 0.0, 0.0);
     ik(&pose, &res);
@@ -244,6 +286,7 @@ static void test_settled_lumped_robot_converges_to_statics(void)
 
 static void test_robot_initialised_at_equilibrium_stays_at_rest(void)
 {
+    SKIP_SETTLED_IN_FLOAT();
     cdpr_statics_result_t res;
     const cdpr_cabin_motion_t pose = pose_of(0.0, 0.0, 9.135, 0.0, 0.0, 0.0);
     ik(&pose, &res);
@@ -258,7 +301,7 @@ static void test_robot_initialised_at_equilibrium_stays_at_rest(void)
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rkf45_init(&s, &sp, work, (int)(sizeof work / sizeof work[0]),
                                           CDPR_ROBOT_STATE_MAX, robot.dim, NULL));
-    double t = 0.0;
+    cdpr_real_t t = 0.0;
     double drift = 0.0;
     for (int k = 0; k < 1000; ++k) { /* 10 s in 10 ms periods */
         TEST_ASSERT_EQUAL_INT(CDPR_OK,
@@ -273,6 +316,153 @@ static void test_robot_initialised_at_equilibrium_stays_at_rest(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-5, 0.0, drift);
 }
 
+/* ---------------------------------------------------------------- IK under an external wrench */
+
+/* Set A with an offset centre of mass (body axes) so that "moments about the CoM" differs
+ * from "moments about the body origin" in the checks below. */
+static void init_50m_com(double cx, double cy, double cz)
+{
+    cdpr_robot_params_t p;
+    params_50m(&p, 8, NULL);
+    p.cabin.com_body_m = cdpr_v3(cx, cy, cz);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&robot, &p, NULL));
+}
+
+/* Residual of the cabin's equilibrium recomputed here from the returned cable forces and
+ * attachment points: force sum_j F_j - M g z + f_ext and moment about the CoM
+ * sum_j (P_j - c_w) x F_j + tau_ext, with c_w = p + R c and R from ref_mat3.h (not the core's
+ * quaternion code). */
+static void loaded_residual(const cdpr_statics_result_t *res, const double pose[6],
+                            const double com[3], const double fe[3], const double te[3],
+                            double f[3], double m[3])
+{
+    const mat_t R = euler_matrix(pose[3], pose[4], pose[5]);
+    double cw[3];
+    for (int i = 0; i < 3; ++i) {
+        cw[i] = pose[i] + R.m[i][0] * com[0] + R.m[i][1] * com[1] + R.m[i][2] * com[2];
+        f[i] = fe[i];
+        m[i] = te[i];
+    }
+    f[2] -= 40.0 * 9.80665;
+    for (int j = 0; j < 6; ++j) {
+        const double F[3] = {res->cable[j].force_on_cabin_N.x, res->cable[j].force_on_cabin_N.y,
+                             res->cable[j].force_on_cabin_N.z};
+        const double a[3] = {res->cable[j].attach_world_m.x - cw[0],
+                             res->cable[j].attach_world_m.y - cw[1],
+                             res->cable[j].attach_world_m.z - cw[2]};
+        for (int i = 0; i < 3; ++i) {
+            f[i] += F[i];
+        }
+        m[0] += a[1] * F[2] - a[2] * F[1];
+        m[1] += a[2] * F[0] - a[0] * F[2];
+        m[2] += a[0] * F[1] - a[1] * F[0];
+    }
+}
+
+static void test_ik_wrench_balances_weight_plus_external_load(void)
+{
+    /* Loads of the size the tracker feeds in: the circle's centripetal 80 N (m v^2 / r at
+     * 2 m/s on r = 2 m), and mixed forces and torques; one robot with its CoM at the body
+     * origin, one with it 0.1 / 0.05 / 0.15 m off. */
+    typedef struct {
+        double com[3];
+        double pose[6];
+        double f[3];
+        double t[3];
+    } load_case_t;
+    static const load_case_t cases[4] = {
+        {{0.0, 0.0, 0.0}, {0.0, 0.0, 9.135, 0.0, 0.0, 0.0}, {0.0, -80.0, 0.0}, {0.0, 0.0, 0.0}},
+        {{0.0, 0.0, 0.0},
+         {2.0, 1.0, 16.0, 0.0889, -0.1756, -0.03359},
+         {-30.0, 20.0, 15.0},
+         {5.0, -3.0, 8.0}},
+        {{0.1, -0.05, 0.15},
+         {1.0, -0.5, 12.0, 0.03, -0.02, 0.1},
+         {40.0, -20.0, -10.0},
+         {-4.0, 6.0, 2.0}},
+        {{0.1, -0.05, 0.15}, {0.0, -2.0, 9.135, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}},
+    };
+    for (int k = 0; k < 4; ++k) {
+        const load_case_t *c = &cases[k];
+        init_50m_com(c->com[0], c->com[1], c->com[2]);
+        const cdpr_cabin_motion_t pose =
+            pose_of(c->pose[0], c->pose[1], c->pose[2], c->pose[3], c->pose[4], c->pose[5]);
+        cdpr_statics_opts_t o;
+        cdpr_statics_opts_default(&o);
+        cdpr_statics_result_t res;
+        TEST_ASSERT_EQUAL_INT(
+            CDPR_OK, cdpr_statics_ik_wrench(&robot, &pose, cdpr_v3(c->f[0], c->f[1], c->f[2]),
+                                            cdpr_v3(c->t[0], c->t[1], c->t[2]), &o, &res));
+        double f[3];
+        double m[3];
+        loaded_residual(&res, c->pose, c->com, c->f, c->t, f, m);
+        /* float: the IK stops below force_tol_N + 1e3 eps (weight + |f| + |tau|) = 2e-2 +
+         * 1e3 x 1.19e-7 x (392 + 54 + 11) = 0.075 N; recomputing from float forces adds
+         * 3e-4 (test above): 0.08 N and N m. */
+        const double tol_wrench = TOL(1e-6, 0.08);
+        for (int i = 0; i < 3; ++i) {
+            TEST_ASSERT_DOUBLE_WITHIN(tol_wrench, 0.0, f[i]);
+            TEST_ASSERT_DOUBLE_WITHIN(tol_wrench, 0.0, m[i]);
+        }
+        for (int j = 0; j < 6; ++j) {
+            /* Every cable pulls and its catenary spans attachment -> exit point. */
+            TEST_ASSERT_TRUE(res.cable[j].H_N > 0.0);
+            const cdpr_vec3_t d =
+                cdpr_v3_sub(robot.p.cables[j].exit_point_m, res.cable[j].attach_world_m);
+            const cdpr_catenary_cable_t cat = {0.14 * 9.80665, 2.0e6};
+            cdpr_real_t l;
+            cdpr_real_t h;
+            TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_catenary_spans(&cat, res.cable[j].H_N,
+                                                               res.cable[j].v_cabin_N,
+                                                               res.cable[j].length_m, &l, &h));
+            const double tol_span = TOL(1e-8, 2e-4); /* as in the test above */
+            TEST_ASSERT_DOUBLE_WITHIN(tol_span, sqrt(d.x * d.x + d.y * d.y), l);
+            TEST_ASSERT_DOUBLE_WITHIN(tol_span, d.z, h);
+        }
+        /* The zero wrench (last case) is cdpr_statics_ik, bit for bit. */
+        if (k == 3) {
+            cdpr_statics_result_t plain;
+            TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&robot, &pose, &o, &plain));
+            for (int j = 0; j < 6; ++j) {
+                TEST_ASSERT_EQUAL_MEMORY(&plain.cable[j], &res.cable[j], sizeof plain.cable[j]);
+            }
+        }
+    }
+}
+
+static void test_ik_wrench_infeasible_and_bad_loads_are_reported(void)
+{
+    init_50m_com(0.0, 0.0, 0.0);
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    cdpr_statics_result_t res;
+    const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
+    /* Outside the tower circle at x = 30 m every exit point lies at x <= 25 m < x of every
+     * attachment (checked here), so every cable's horizontal pull H_j e_j has a negative x
+     * component whatever its sag: no cable tension can balance a load pushing the cabin
+     * toward -x (nor the weight alone, which needs the pulls to cancel). */
+    const cdpr_cabin_motion_t out = pose_of(30.0, 0.0, 10.0, 0.0, 0.0, 0.0);
+    for (int j = 0; j < 6; ++j) {
+        TEST_ASSERT_TRUE(robot.p.cables[j].exit_point_m.x < 30.0 - 2.0);
+    }
+    const double fx[3] = {0.0, -100.0, -400.0};
+    for (int k = 0; k < 3; ++k) {
+        TEST_ASSERT_EQUAL_INT(
+            CDPR_E_INFEASIBLE,
+            cdpr_statics_ik_wrench(&robot, &out, cdpr_v3(fx[k], 0.0, 0.0), zero, &o, &res));
+    }
+    const cdpr_cabin_motion_t pose = pose_of(0.0, 0.0, 9.135, 0.0, 0.0, 0.0);
+    TEST_ASSERT_EQUAL_INT(
+        CDPR_E_NOT_FINITE,
+        cdpr_statics_ik_wrench(&robot, &pose, cdpr_v3(0.0, NAN_R, 0.0), zero, &o, &res));
+    TEST_ASSERT_EQUAL_INT(
+        CDPR_E_NOT_FINITE,
+        cdpr_statics_ik_wrench(&robot, &pose, zero, cdpr_v3(INF_R, 0.0, 0.0), &o, &res));
+    o.max_iter = 0;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG,
+                          cdpr_statics_ik_wrench(&robot, &pose, zero, zero, &o, &res));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -282,5 +472,7 @@ int main(void)
     RUN_TEST(test_infeasible_and_bad_poses_are_reported);
     RUN_TEST(test_settled_lumped_robot_converges_to_statics);
     RUN_TEST(test_robot_initialised_at_equilibrium_stays_at_rest);
+    RUN_TEST(test_ik_wrench_balances_weight_plus_external_load);
+    RUN_TEST(test_ik_wrench_infeasible_and_bad_loads_are_reported);
     return UNITY_END() ? 1 : 0;
 }

@@ -153,10 +153,11 @@ static void settle(void)
 
 /* Why the float build skips the two settled cases below: the node forces carry rounding of
  * EA x 2 u_f = 2.4e-4 N per segment, ~1.4e-3 m/s^2 on 0.35 kg nodes (7e-3 on the 0.07 kg
- * nodes of the capacity case), above cdpr_settle_default's float tolerance of 1e-3 m/s^2, so
- * the settled start never converges (measured: CDPR_E_NO_CONVERGENCE). With a looser
- * tolerance the round trip still cannot count events exactly: 20 m is exactly 8 Delta, and
- * the payout integrated in float ends 3e-4 m short of the 8th insertion threshold. */
+ * nodes of the capacity case). Measured on the host's float build: the round trip's start
+ * settles under cdpr_settle_default's float tolerance of 1e-2 m/s^2 (at 8e-3), the capacity
+ * case's stalls at ~7e-2 m/s^2 (CDPR_E_NO_CONVERGENCE). And the round trip still cannot count
+ * events exactly: 20 m is exactly 8 Delta, and the payout integrated in float ends 3e-4 m
+ * short of the 8th insertion threshold. */
 #define SKIP_SETTLED_IN_FLOAT()                                                                    \
     SKIP_IN_FLOAT("settling to rest needs node forces below float rounding (test_winch.c)")
 
@@ -259,7 +260,7 @@ static void test_winch_rate_and_acceleration_limits(void)
         TEST_ASSERT_DOUBLE_WITHIN(1e-12, fmin(0.5 * k, 4.0), w.u_m_per_s);
     }
     /* Bad commands are refused and the last good one kept. */
-    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_winch_command(&w, CDPR_WINCH_RATE, NAN));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_winch_command(&w, CDPR_WINCH_RATE, NAN_R));
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_winch_command(&w, CDPR_WINCH_LENGTH, -1.0));
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_winch_command(&w, (cdpr_winch_mode_t)7, 1.0));
     TEST_ASSERT_EQUAL_INT(CDPR_WINCH_RATE, w.mode);
@@ -302,7 +303,7 @@ static void test_winch_length_mode_and_minimum_length(void)
     TEST_ASSERT_TRUE(w.u_m_per_s > 0.0);
     /* Invalid limits are named. */
     cdpr_diag_t d;
-    p.a_max_m_per_s2 = INFINITY;
+    p.a_max_m_per_s2 = INF_R;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_winch_init(&w, &p, &d));
     TEST_ASSERT_EQUAL_STRING("a_max_m_per_s2", d.field);
 }

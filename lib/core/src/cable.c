@@ -108,14 +108,24 @@ void cdpr_cable_place_straight(const cdpr_cable_t *c, cdpr_vec3_t r0_m, cdpr_vec
 
 /* Result of one segment inside the RHS: elastic force vector S = T t, drag F, tension T. */
 typedef struct {
-    cdpr_real_t sx, sy, sz;
-    cdpr_real_t fx, fy, fz;
+    cdpr_real_t sx;
+    cdpr_real_t sy;
+    cdpr_real_t sz;
+    cdpr_real_t fx;
+    cdpr_real_t fy;
+    cdpr_real_t fz;
     cdpr_real_t t;
 } seg_t;
 
 /* Constants of the segment model, hoisted out of the loop. */
 typedef struct {
-    cdpr_real_t ea, c, drag_k, cm, wx, wy, wz;
+    cdpr_real_t ea;
+    cdpr_real_t c;
+    cdpr_real_t drag_k;
+    cdpr_real_t cm;
+    cdpr_real_t wx;
+    cdpr_real_t wy;
+    cdpr_real_t wz;
 } seg_k_t;
 
 static void seg_constants(const cdpr_cable_params_t *p, cdpr_real_t drag_k, cdpr_vec3_t wind,
@@ -216,10 +226,18 @@ void cdpr_cable_segment_eval(const cdpr_cable_params_t *p, cdpr_vec3_t ra, cdpr_
 /* Structure-of-arrays scratch for one RHS call (on the stack: 13 arrays of
  * CDPR_MAX_SEGMENTS + 1 reals, 6.8 KB for 64 segments in double). */
 typedef struct {
-    cdpr_real_t x[CDPR_MAX_SEGMENTS + 1], y[CDPR_MAX_SEGMENTS + 1], z[CDPR_MAX_SEGMENTS + 1];
-    cdpr_real_t vx[CDPR_MAX_SEGMENTS + 1], vy[CDPR_MAX_SEGMENTS + 1], vz[CDPR_MAX_SEGMENTS + 1];
-    cdpr_real_t sx[CDPR_MAX_SEGMENTS], sy[CDPR_MAX_SEGMENTS], sz[CDPR_MAX_SEGMENTS];
-    cdpr_real_t fx[CDPR_MAX_SEGMENTS], fy[CDPR_MAX_SEGMENTS], fz[CDPR_MAX_SEGMENTS];
+    cdpr_real_t x[CDPR_MAX_SEGMENTS + 1];
+    cdpr_real_t y[CDPR_MAX_SEGMENTS + 1];
+    cdpr_real_t z[CDPR_MAX_SEGMENTS + 1];
+    cdpr_real_t vx[CDPR_MAX_SEGMENTS + 1];
+    cdpr_real_t vy[CDPR_MAX_SEGMENTS + 1];
+    cdpr_real_t vz[CDPR_MAX_SEGMENTS + 1];
+    cdpr_real_t sx[CDPR_MAX_SEGMENTS];
+    cdpr_real_t sy[CDPR_MAX_SEGMENTS];
+    cdpr_real_t sz[CDPR_MAX_SEGMENTS];
+    cdpr_real_t fx[CDPR_MAX_SEGMENTS];
+    cdpr_real_t fy[CDPR_MAX_SEGMENTS];
+    cdpr_real_t fz[CDPR_MAX_SEGMENTS];
     cdpr_real_t t[CDPR_MAX_SEGMENTS];
 } soa_t;
 

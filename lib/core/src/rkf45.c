@@ -62,6 +62,7 @@ void cdpr_rkf45_params_default(cdpr_rkf45_params_t *p)
     p->safety = CDPR_R(0.9);
     p->shrink_min = CDPR_R(0.2);
     p->grow_max = CDPR_R(5.0);
+    p->force_err_max = CDPR_R(1845.28125); /* (safety / shrink_min)^5 = 4.5^5 */
 }
 
 cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, cdpr_diag_t *diag)
@@ -94,6 +95,10 @@ cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, 
     if (!(p->grow_max > CDPR_R(1.0))) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "grow_max", -1);
     }
+    CDPR_TRY(check_finite(p->force_err_max, "force_err_max", -1, diag));
+    if (!(p->force_err_max >= CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "force_err_max", -1);
+    }
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -118,6 +123,8 @@ cdpr_status_t cdpr_rkf45_init(cdpr_rkf45_t *s, const cdpr_rkf45_params_t *p, cdp
     s->dim_max = dim_max;
     s->dim = dim;
     s->h_s = (p->h_init_s < p->h_max_s) ? p->h_init_s : p->h_max_s;
+    s->h_ok_s = CDPR_R(0.0);
+    s->retry = 0;
     s->last_err = CDPR_R(0.0);
     s->stats.steps_accepted = 0;
     s->stats.steps_rejected = 0;
@@ -125,6 +132,7 @@ cdpr_status_t cdpr_rkf45_init(cdpr_rkf45_t *s, const cdpr_rkf45_params_t *p, cdp
     s->stats.rhs_evals = 0;
     s->stats.forced_steps = 0;
     s->stats.substep_limit_hits = 0;
+    s->stats.substep_limit_failures = 0;
     s->stats.failures = 0;
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
@@ -138,6 +146,7 @@ cdpr_status_t cdpr_rkf45_set_dim(cdpr_rkf45_t *s, int dim)
     if (s->h_s > s->p.h_init_s) {
         s->h_s = s->p.h_init_s;
     }
+    s->h_ok_s = CDPR_R(0.0);
     return CDPR_OK;
 }
 
@@ -264,6 +273,15 @@ static void copy(cdpr_real_t *dst, const cdpr_real_t *src, int n)
     }
 }
 
+/* Record a step of size h accepted by the error test (rkf45.h, h_ok_s): it replaces h_ok_s
+ * when `replace`, otherwise it can only raise it. */
+static void note_accepted(cdpr_rkf45_t *s, cdpr_real_t h, int replace)
+{
+    if (replace != 0 || h > s->h_ok_s) {
+        s->h_ok_s = h;
+    }
+}
+
 cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                               cdpr_real_t *y, cdpr_real_t t_end)
 {
@@ -298,6 +316,7 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
             copy(y, yn, s->dim);
             *t = (last != 0) ? t_end : *t + h;
             s->stats.steps_accepted++;
+            note_accepted(s, h, !last); /* a step shortened to reach t_end only raises it */
             const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
             /* A step clipped to reach t_end says little about the natural step size. */
             s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
@@ -317,9 +336,9 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
 }
 
 /* 1 if `budget` accepted steps starting at h, each growing by grow_max (capped at h_max),
- * could cover `remaining`. The budget is spent on equal forced steps only when even this
- * cannot reach t_end: a step size that collapsed at a kink of the RHS (a slack segment turning
- * taut) recovers geometrically and is given the chance. O(budget), no RHS calls. */
+ * could cover `remaining`. The adaptive steps are given up for equal steps only when even
+ * this cannot reach t_end: a step size that collapsed at a kink of the RHS (a slack segment
+ * turning taut) recovers geometrically and is given the chance. O(budget), no RHS calls. */
 static int can_reach(const cdpr_rkf45_t *s, cdpr_real_t h, int budget, cdpr_real_t remaining)
 {
     cdpr_real_t sum = CDPR_R(0.0);
@@ -333,6 +352,15 @@ static int can_reach(const cdpr_rkf45_t *s, cdpr_real_t h, int budget, cdpr_real
         hi = (hi < s->p.h_max_s) ? hi : s->p.h_max_s;
     }
     return 0;
+}
+
+/* Next step size after a rejected trial of size h: h * factor. An equal step of advance was
+ * not the controller's choice (it is usually longer than h_s): its rejection must not raise
+ * h_s. */
+static cdpr_real_t shrink_after(const cdpr_rkf45_t *s, cdpr_real_t h, cdpr_real_t factor, int equal)
+{
+    const cdpr_real_t h_next = h * factor;
+    return (equal != 0 && s->h_s < h_next) ? s->h_s : h_next;
 }
 
 cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
@@ -357,18 +385,35 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
     cdpr_real_t tc = t0;
     int have_k1 = 0;
     int trials = 0;
-    int forced = 0;
+    int equal = 0;              /* 1: the rest is covered by equal steps, one per trial left */
+    const int retry = s->retry; /* this call repeats one that returned CDPR_E_SUBSTEP_LIMIT */
+    int fresh = !retry;         /* the next step of the controller's own size resets h_ok_s */
     int missed = 0;
     cdpr_status_t st = CDPR_OK;
     while (tc < t_end) {
         const cdpr_real_t remaining = t_end - tc;
         const int budget = max_trials - trials;
-        cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
-        if (forced == 0 && (budget == 1 || can_reach(s, h, budget, remaining) == 0)) {
-            forced = 1; /* the adaptive steps no longer fit: equal steps over the rest */
+        if (budget < 1) {
+            st = CDPR_E_SUBSTEP_LIMIT; /* not reached: the last trial is always an equal step */
+            break;
         }
-        if (forced != 0) {
-            h = remaining / (cdpr_real_t)budget;
+        cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        const cdpr_real_t h_eq = remaining / (cdpr_real_t)budget;
+        if (equal == 0) {
+            /* Equal steps when the adaptive ones no longer fit even growing at grow_max, or,
+             * when repeating an interval, as soon as one more rejection would make them
+             * larger than h_ok_s (h_ok_s only grows during a repeat). */
+            const int last_chance =
+                (retry != 0 && h_eq <= s->h_ok_s &&
+                 (budget == 1 || remaining / (cdpr_real_t)(budget - 1) > s->h_ok_s))
+                    ? 1
+                    : 0;
+            if (budget == 1 || last_chance != 0 || can_reach(s, h, budget, remaining) == 0) {
+                equal = 1;
+            }
+        }
+        if (equal != 0) {
+            h = h_eq;
         }
         /* Do not leave a sliver much shorter than the step: take the rest now. */
         const int last = (h >= remaining * CDPR_R(0.999)) ? 1 : 0;
@@ -383,13 +428,16 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
         }
         have_k1 = 1; /* until a step is accepted, the next trial starts from the same point */
         if (!isfinite(err)) {
-            if (forced != 0 || start_is_bad(s, y) != 0) {
+            if (start_is_bad(s, y) != 0) {
                 st = CDPR_E_STATE_NOT_FINITE;
                 break;
             }
             s->stats.nonfinite_rejected++;
-            s->h_s = h * s->p.shrink_min;
-        } else if (forced != 0 || err <= CDPR_R(1.0)) {
+            s->h_s = shrink_after(s, h, s->p.shrink_min, equal);
+        } else if (err <= CDPR_R(1.0) || (equal != 0 && err <= s->p.force_err_max)) {
+            /* An equal step that misses the tolerance is accepted ("forced") only within
+             * force_err_max: a mode that the step amplifies is refused as soon as its share of
+             * the error estimate reaches that bound, whatever the budget. */
             copy(y, yn, n);
             have_k1 = 0;
             tc = (last != 0) ? t_end : tc + h;
@@ -397,12 +445,18 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
             if (err > CDPR_R(1.0)) {
                 s->stats.forced_steps++;
                 missed++;
+            } else {
+                /* A step shortened to reach t_end or an equal step is not the controller's
+                 * choice: it only raises h_ok_s. */
+                const int own = (last == 0 && equal == 0) ? 1 : 0;
+                note_accepted(s, h, fresh & own);
+                fresh &= !own;
             }
             const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
             s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
         } else {
             s->stats.steps_rejected++;
-            s->h_s = h * step_factor(s, err);
+            s->h_s = shrink_after(s, h, step_factor(s, err), equal);
         }
         if (s->h_s < s->p.h_min_s) {
             if (h <= s->p.h_min_s) {
@@ -411,19 +465,29 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
             }
             s->h_s = s->p.h_min_s;
         }
-        if (tc < t_end && trials >= max_trials) {
-            st = CDPR_E_STEP_TOO_SMALL; /* unreachable: forced steps always finish */
+        if (equal != 0 && have_k1 != 0) {
+            /* An equal step was refused (have_k1: not accepted): the rest cannot be covered
+             * within the budget. Give up now rather than spend the other trials. */
+            st = CDPR_E_SUBSTEP_LIMIT;
             break;
         }
     }
     if (st < 0) {
         copy(y, bak, n);
         *t = t0;
-        s->h_s = (s->h_s < h_saved) ? s->h_s : h_saved;
+        if (st == CDPR_E_SUBSTEP_LIMIT) {
+            /* Keep h_s and h_ok_s as learned: the next call starts from them instead of
+             * repeating the same rejections, and plans its equal steps early (retry). */
+            s->retry = 1;
+            s->stats.substep_limit_failures++;
+        } else {
+            s->h_s = (s->h_s < h_saved) ? s->h_s : h_saved;
+        }
         s->stats.failures++;
         return st;
     }
     *t = t_end;
+    s->retry = 0;
     if (missed != 0) {
         s->stats.substep_limit_hits++;
         return CDPR_WARN_SUBSTEP_LIMIT;

@@ -10,7 +10,10 @@ void cdpr_settle_default(cdpr_settle_t *cfg)
     cfg->max_steps = 2000000L;
     cfg->max_step_s = CDPR_R(0.01);
 #ifdef CDPR_REAL_IS_FLOAT
-    cfg->acc_tol_m_per_s2 = CDPR_R(1e-3);
+    /* Float rounding of the node forces leaves a residual acceleration of a few
+     * EA 2 u_f / m_node at rest (settle.h): measured 2e-3 - 9e-3 m/s^2 on the soft
+     * validation cables, so 1e-3 never converged there. */
+    cfg->acc_tol_m_per_s2 = CDPR_R(1e-2);
 #else
     cfg->acc_tol_m_per_s2 = CDPR_R(1e-6);
 #endif
@@ -109,7 +112,7 @@ cdpr_status_t cdpr_robot_settle(const cdpr_robot_t *r, cdpr_rkf45_t *solver, cdp
         }
         const cdpr_status_t st =
             cdpr_rkf45_step(solver, cdpr_robot_rhs, ctx, &t, y, t + cfg->max_step_s);
-        if (st < 0) {
+        if (st < CDPR_OK) {
             cfg->time_s = t;
             return st;
         }

@@ -37,6 +37,8 @@ const char *cdpr_status_str(cdpr_status_t st)
         return "CDPR_E_NO_CONVERGENCE";
     case CDPR_E_INFEASIBLE:
         return "CDPR_E_INFEASIBLE";
+    case CDPR_E_SUBSTEP_LIMIT:
+        return "CDPR_E_SUBSTEP_LIMIT";
     default:
         return "CDPR_UNKNOWN";
     }

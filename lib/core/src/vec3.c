@@ -82,9 +82,16 @@ cdpr_quat_t cdpr_quat_normalize(cdpr_quat_t q)
 
 void cdpr_quat_to_mat3(cdpr_quat_t q, cdpr_mat3_t *r)
 {
-    const cdpr_real_t ww = q.w * q.w, xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
-    const cdpr_real_t xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
-    const cdpr_real_t wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+    const cdpr_real_t ww = q.w * q.w;
+    const cdpr_real_t xx = q.x * q.x;
+    const cdpr_real_t yy = q.y * q.y;
+    const cdpr_real_t zz = q.z * q.z;
+    const cdpr_real_t xy = q.x * q.y;
+    const cdpr_real_t xz = q.x * q.z;
+    const cdpr_real_t yz = q.y * q.z;
+    const cdpr_real_t wx = q.w * q.x;
+    const cdpr_real_t wy = q.w * q.y;
+    const cdpr_real_t wz = q.w * q.z;
     r->m[0][0] = ww + xx - yy - zz;
     r->m[0][1] = CDPR_R(2.0) * (xy - wz);
     r->m[0][2] = CDPR_R(2.0) * (xz + wy);

@@ -86,6 +86,8 @@ static void shift(cdpr_real_t *y, int from, int end, int delta)
         for (int i = from; i < end; ++i) {
             y[i + delta] = y[i];
         }
+    } else {
+        /* delta == 0: nothing moves. */
     }
 }
 

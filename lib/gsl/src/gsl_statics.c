@@ -6,7 +6,10 @@
 #include <stddef.h>
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multiroots.h>
+#include <gsl/gsl_permutation.h>
 #include <gsl/gsl_vector.h>
 
 #include "cdpr/catenary.h"
@@ -20,7 +23,9 @@ typedef struct {
     cdpr_vec3_t e[NCAB];   /* horizontal unit toward the exit point */
     double l[NCAB];
     double h[NCAB];
-    double force_scale; /* cabin weight: equations in comparable units */
+    double force_scale;  /* cabin weight: equations in comparable units */
+    cdpr_vec3_t f_ext;   /* external force at the CoM, world */
+    cdpr_vec3_t tau_ext; /* external torque about the CoM, world */
 } problem_t;
 
 /* Unknowns x = (H_0, V_0, L_0, H_1, ...). Equations: wrench / weight (6), then per cable the
@@ -29,8 +34,9 @@ static int equations(const gsl_vector *x, void *params, gsl_vector *f)
 {
     const problem_t *p = (const problem_t *)params;
     const cdpr_robot_t *r = p->r;
-    cdpr_vec3_t force = cdpr_v3(0.0, 0.0, -r->p.cabin.mass_kg * r->p.g_m_per_s2);
-    cdpr_vec3_t moment = cdpr_v3(0.0, 0.0, 0.0);
+    cdpr_vec3_t force =
+        cdpr_v3(p->f_ext.x, p->f_ext.y, p->f_ext.z - r->p.cabin.mass_kg * r->p.g_m_per_s2);
+    cdpr_vec3_t moment = p->tau_ext;
     for (int j = 0; j < NCAB; ++j) {
         const double H = gsl_vector_get(x, 3u * (size_t)j);
         const double V = gsl_vector_get(x, 3u * (size_t)j + 1u);
@@ -62,22 +68,73 @@ static int equations(const gsl_vector *x, void *params, gsl_vector *f)
     return GSL_SUCCESS;
 }
 
+/* Massless start: tensions t_j along the straight chords balancing the same load, from the
+ * 6 x 6 system [u_j; arm_j x u_j] t = -(load), solved with GSL's LU. 0, or -1 if singular or
+ * a tension is not positive. */
+static int massless_start(const problem_t *p, double t[NCAB], double chord[NCAB])
+{
+    const cdpr_robot_t *r = p->r;
+    gsl_matrix *A = gsl_matrix_alloc(6, NCAB);
+    gsl_vector *b = gsl_vector_alloc(6);
+    gsl_vector *sol = gsl_vector_alloc(NCAB);
+    gsl_permutation *perm = gsl_permutation_alloc(6);
+    int rc = -1;
+    if (A != NULL && b != NULL && sol != NULL && perm != NULL) {
+        for (int j = 0; j < NCAB; ++j) {
+            chord[j] = sqrt(p->l[j] * p->l[j] + p->h[j] * p->h[j]);
+            const cdpr_vec3_t u = cdpr_v3(p->l[j] * p->e[j].x / chord[j],
+                                          p->l[j] * p->e[j].y / chord[j], p->h[j] / chord[j]);
+            const cdpr_vec3_t mu = cdpr_v3_cross(p->arm[j], u);
+            const double col[6] = {u.x, u.y, u.z, mu.x, mu.y, mu.z};
+            for (size_t i = 0; i < 6; ++i) {
+                gsl_matrix_set(A, i, (size_t)j, col[i]);
+            }
+        }
+        const double w = r->p.cabin.mass_kg * r->p.g_m_per_s2;
+        const double load[6] = {p->f_ext.x,   p->f_ext.y,   p->f_ext.z - w,
+                                p->tau_ext.x, p->tau_ext.y, p->tau_ext.z};
+        for (size_t i = 0; i < 6; ++i) {
+            gsl_vector_set(b, i, -load[i]);
+        }
+        int sign = 0;
+        if (gsl_linalg_LU_decomp(A, perm, &sign) == GSL_SUCCESS &&
+            gsl_linalg_LU_solve(A, perm, b, sol) == GSL_SUCCESS) {
+            rc = 0;
+            for (int j = 0; j < NCAB; ++j) {
+                t[j] = gsl_vector_get(sol, (size_t)j);
+                if (!(t[j] > 0.0)) {
+                    rc = -1;
+                }
+            }
+        }
+    }
+    gsl_permutation_free(perm);
+    gsl_vector_free(sol);
+    gsl_vector_free(b);
+    gsl_matrix_free(A);
+    return rc;
+}
+
 cdpr_status_t cdpr_gsl_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                                   int max_iter, cdpr_statics_result_t *res)
+{
+    return cdpr_gsl_statics_ik_wrench(r, pose, cdpr_v3(0.0, 0.0, 0.0), cdpr_v3(0.0, 0.0, 0.0),
+                                      max_iter, res);
+}
+
+cdpr_status_t cdpr_gsl_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
+                                         cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm, int max_iter,
+                                         cdpr_statics_result_t *res)
 {
     if (r == NULL || pose == NULL || res == NULL || r->p.n_cables != NCAB || max_iter < 1) {
         return CDPR_E_INVALID_ARG;
     }
     gsl_set_error_handler_off();
-    /* Start: the massless solution (tensions along the chords). */
-    cdpr_statics_result_t st;
-    const cdpr_status_t s0 = cdpr_statics_ik_straight(r, pose, &st);
-    if (s0 != CDPR_OK) {
-        return s0;
-    }
     problem_t p;
     p.r = r;
     p.force_scale = r->p.cabin.mass_kg * r->p.g_m_per_s2;
+    p.f_ext = f_ext_N;
+    p.tau_ext = tau_ext_Nm;
     cdpr_mat3_t R;
     cdpr_quat_to_mat3(cdpr_quat_normalize(pose->q), &R);
     for (int j = 0; j < NCAB; ++j) {
@@ -89,6 +146,12 @@ cdpr_status_t cdpr_gsl_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion
         p.h[j] = d.z;
         p.e[j] = cdpr_v3(d.x / p.l[j], d.y / p.l[j], 0.0);
     }
+    /* Start: the massless solution (tensions along the chords) for the same load. */
+    double t0[NCAB];
+    double chord[NCAB];
+    if (massless_start(&p, t0, chord) != 0) {
+        return CDPR_E_INFEASIBLE;
+    }
     gsl_multiroot_function fn = {equations, NUNK, &p};
     gsl_vector *x = gsl_vector_alloc(NUNK);
     gsl_multiroot_fsolver *s = gsl_multiroot_fsolver_alloc(gsl_multiroot_fsolver_hybrids, NUNK);
@@ -99,11 +162,11 @@ cdpr_status_t cdpr_gsl_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion
     }
     for (int j = 0; j < NCAB; ++j) {
         const double w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
-        gsl_vector_set(x, 3u * (size_t)j, st.cable[j].H_N);
+        const double L0 = chord[j] / (1.0 + t0[j] / r->p.cables[j].cable.ea_N);
+        gsl_vector_set(x, 3u * (size_t)j, t0[j] * p.l[j] / chord[j]);
         /* The massless V plus half the cable weight hanging at the cabin end. */
-        gsl_vector_set(x, 3u * (size_t)j + 1u,
-                       st.cable[j].v_cabin_N - 0.5 * w * st.cable[j].length_m);
-        gsl_vector_set(x, 3u * (size_t)j + 2u, st.cable[j].length_m);
+        gsl_vector_set(x, 3u * (size_t)j + 1u, t0[j] * p.h[j] / chord[j] - 0.5 * w * L0);
+        gsl_vector_set(x, 3u * (size_t)j + 2u, L0);
     }
     cdpr_status_t out = CDPR_E_NO_CONVERGENCE;
     if (gsl_multiroot_fsolver_set(s, &fn, x) == GSL_SUCCESS) {

@@ -33,6 +33,10 @@ typedef struct {
     cdpr_real_t safety;          ///< step-size safety factor in (0, 1); default 0.9
     cdpr_real_t shrink_min;      ///< smallest step ratio after a rejection, in (0, 1); default 0.2
     cdpr_real_t grow_max;        ///< largest step ratio after an acceptance (> 1); default 5
+    /// Largest error norm of a "forced" step of cdpr_rkf45_advance (finite, >= 1; 1 forbids
+    /// them). Default 1845.28125 = (safety / shrink_min)^5 of the defaults: the largest error
+    /// that the step-size formula corrects with a single rejection.
+    cdpr_real_t force_err_max;
 } cdpr_rkf45_params_t;
 
 /// Counters (plain fields, read-only for users; reset by cdpr_rkf45_init).
@@ -42,8 +46,9 @@ typedef struct {
     unsigned long nonfinite_rejected; ///< trials rejected because they produced NaN/Inf
     unsigned long rhs_evals;          ///< calls of f
     unsigned long forced_steps;       ///< steps accepted without meeting the tolerance (advance)
-    unsigned long substep_limit_hits; ///< advance calls that hit their substep bound
-    unsigned long failures;           ///< calls that returned an error (state restored)
+    unsigned long substep_limit_hits; ///< advance calls that returned CDPR_WARN_SUBSTEP_LIMIT
+    unsigned long substep_limit_failures; ///< advance calls that returned CDPR_E_SUBSTEP_LIMIT
+    unsigned long failures;               ///< calls that returned an error (state restored)
 } cdpr_rkf45_stats_t;
 
 /// Solver object (caller-owned).
@@ -53,7 +58,14 @@ typedef struct {
     int dim_max;           ///< capacity of the workspace in state components
     int dim;               ///< current dimension (<= dim_max)
     cdpr_real_t h_s;       ///< step size to try next [s]
-    cdpr_real_t last_err;  ///< error norm of the last trial (<= 1 means accepted)
+    /// Step size known to pass the error test [s]: the largest step of the controller's own
+    /// size that passed it in the last call that took one (cdpr_rkf45_step: that step; a step
+    /// shortened to land on the end of the interval, or an equal step of advance, can only
+    /// raise it); while advance repeats an interval (retry = 1) it only grows. 0 after init and
+    /// set_dim. Sizes the equal steps of a repeated advance call.
+    cdpr_real_t h_ok_s;
+    int retry; ///< 1 after advance returned CDPR_E_SUBSTEP_LIMIT, until an advance succeeds
+    cdpr_real_t last_err; ///< error norm of the last trial (<= 1 means accepted)
     cdpr_rkf45_stats_t stats;
 } cdpr_rkf45_t;
 
@@ -69,7 +81,8 @@ cdpr_status_t cdpr_rkf45_init(cdpr_rkf45_t *s, const cdpr_rkf45_params_t *p, cdp
                               int work_len, int dim_max, int dim, cdpr_diag_t *diag);
 
 /// Change the state dimension (after node insertion/removal). The next step restarts from
-/// min(h, h_init) since the error history no longer describes the new system.
+/// min(h, h_init) and h_ok_s is cleared, since the error history no longer describes the new
+/// system.
 cdpr_status_t cdpr_rkf45_set_dim(cdpr_rkf45_t *s, int dim);
 
 /// One RKF45 trial of size h from (t, y) without step-size control: writes the 5th-order
@@ -87,12 +100,42 @@ cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_r
 cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                               cdpr_real_t *y, cdpr_real_t t_end);
 
-/// Advance by exactly dt: *t becomes *t + dt using at most `max_trials` trials (each at most 6
-/// calls of f, so the work is bounded by 6 * max_trials RHS evaluations). When the adaptive
-/// steps could not fit in the remaining budget even growing at the maximum rate, the remainder
-/// is covered by equal steps accepted without the error test; the call then returns
-/// CDPR_WARN_SUBSTEP_LIMIT (state valid, tolerance not met) and counts it. On error nothing changes
-/// (y, *t bit-identical).
+/// Advance by exactly dt with at most `max_trials` trials: the bounded-work call of a
+/// real-time loop. Work, whatever the outcome: at most max_trials trials of at most 6 calls of
+/// f each (<= 6 * max_trials RHS evaluations) plus O(max_trials * (dim + max_trials))
+/// arithmetic.
+///
+/// The trials are adaptive steps (as cdpr_rkf45_step) until these no longer fit in the trials
+/// left even growing at grow_max per step; the rest of the interval is then covered by equal
+/// steps, one per trial left (the fallback). An equal step is accepted when it passes the error
+/// test or -- a "forced" step -- when its error norm is at most p.force_err_max; the first
+/// equal step above that ends the call with CDPR_E_SUBSTEP_LIMIT. So no step is ever accepted
+/// with an error norm above force_err_max: a stiff mode that an over-long step amplifies (an
+/// explicit scheme past its stability limit) shows in the error estimate and is refused once
+/// it reaches force_err_max times its tolerance, instead of being propagated. (This holds
+/// where the estimate is meaningful, as for stiff linear modes; across a discontinuity of f the
+/// estimate says less, and p.force_err_max = 1 forbids forced steps altogether.)
+/// A call that repeats an interval after CDPR_E_SUBSTEP_LIMIT (s->retry) switches to equal
+/// steps earlier: as soon as one more rejection would make them larger than s->h_ok_s, the
+/// largest step that passed the error test while trying this interval. Any other call whose
+/// equal steps are all accepted gives the same bits as the former fallback, which accepted
+/// every equal step without a bound.
+///
+/// Outcomes:
+/// - CDPR_OK: *t = t + dt, y advanced, every accepted step passed the error test.
+/// - CDPR_WARN_SUBSTEP_LIMIT: *t = t + dt, y advanced; some equal steps were forced (error
+///   norm in (1, force_err_max]). Counted in stats.substep_limit_hits and stats.forced_steps.
+/// - CDPR_E_SUBSTEP_LIMIT: an equal step was refused (error norm above force_err_max, or
+///   NaN/Inf): y and *t are bit-identical to entry. Counted in stats.substep_limit_failures
+///   and stats.failures. s->h_s and s->h_ok_s keep what the trials learned (a refused equal
+///   step never raises h_s) and s->retry is set. The caller keeps its last good state and
+///   calls again for the same interval (in this period if time allows, else the next). The
+///   repeat starts from the learned step and, when dt / max_trials <= s->h_ok_s (or once that
+///   holds), plans equal steps no larger than steps that passed the error test; that is not a
+///   guarantee: an interval the budget cannot cover within force_err_max fails every time
+///   (raise max_trials, or accept larger errors with force_err_max).
+/// - Other errors (y, *t bit-identical; s->h_s not raised): CDPR_E_INVALID_ARG,
+///   CDPR_E_STATE_NOT_FINITE (y or f(t, y) not finite), CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS.
 cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                                  cdpr_real_t *y, cdpr_real_t dt, int max_trials);
 

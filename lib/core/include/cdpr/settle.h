@@ -29,7 +29,15 @@ typedef struct {
     cdpr_real_t max_acc_m_per_s2; ///< largest acceleration at the last check [m/s^2]
 } cdpr_settle_t;
 
-/// Defaults: 2e6 steps, 0.01 s, 1e-6 m/s^2 (double) / 1e-3 (float).
+/// Defaults: 2e6 steps, 0.01 s, 1e-6 m/s^2 (double) / 1e-2 m/s^2 (float).
+///
+/// Float: at rest the node accelerations keep the rounding of the segment forces, a few times
+/// EA 2 u_f / m_node (u_f = 2^-24). Measured: 2e-3 - 9e-3 m/s^2 on the soft validation cables
+/// (EA 2-20 kN, nodes 0.35-1.75 kg), so 1e-3 never converged there; 1e-2 does, and still
+/// pins a mode with omega^2 = 6 1/s^2 (the 50 m model's softest) to ~2 mm. Stiff ropes do not
+/// settle in float at any tolerance that still means "at rest": the 50 m model's EA = 2 MN
+/// leaves 0.6-2.5 m/s^2 on its nodes. Place such robots with cdpr_robot_place_catenary
+/// (statics.h), or settle in double.
 void cdpr_settle_default(cdpr_settle_t *cfg);
 
 /// Kinetic energy of the state: cable nodes (lumped masses) plus the cabin in dynamic mode [J].

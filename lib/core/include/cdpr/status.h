@@ -21,7 +21,8 @@ typedef enum {
     CDPR_E_STEP_TOO_SMALL = -8,   ///< the step size fell below its lower bound; step undone
     CDPR_E_RHS = -9,              ///< the right-hand side refused to evaluate; step undone
     CDPR_E_NO_CONVERGENCE = -10,  ///< an iterative solver hit its iteration bound
-    CDPR_E_INFEASIBLE = -11       ///< no solution with all cables in tension
+    CDPR_E_INFEASIBLE = -11,      ///< no solution with all cables in tension
+    CDPR_E_SUBSTEP_LIMIT = -12    ///< advance could not reach t+dt stably within its trial bound
 } cdpr_status_t;
 
 /// Human-readable name of a status. Never NULL (unknown values give "CDPR_UNKNOWN").

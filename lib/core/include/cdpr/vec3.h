@@ -9,7 +9,9 @@
 #include "cdpr/config.h"
 
 typedef struct {
-    cdpr_real_t x, y, z;
+    cdpr_real_t x;
+    cdpr_real_t y;
+    cdpr_real_t z;
 } cdpr_vec3_t;
 
 typedef struct {
@@ -17,7 +19,10 @@ typedef struct {
 } cdpr_mat3_t;
 
 typedef struct {
-    cdpr_real_t w, x, y, z;
+    cdpr_real_t w;
+    cdpr_real_t x;
+    cdpr_real_t y;
+    cdpr_real_t z;
 } cdpr_quat_t;
 
 static inline cdpr_vec3_t cdpr_v3(cdpr_real_t x, cdpr_real_t y, cdpr_real_t z)
