@@ -8,6 +8,7 @@
 #include "cdpr/robots.h"
 #include "cdpr/statics.h"
 #include "cdpr/trajectory.h"
+#include "test_real.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -192,7 +193,7 @@ static void test_builder_validates_and_reports_the_field(void)
     cdpr_robot_params_t p;
     cdpr_winch_params_t w;
     cdpr_diag_t d;
-    c.cable.ea_N = NAN;
+    c.cable.ea_N = NAN_R;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_robot_config_build(&c, NULL, &p, &w, &d));
     TEST_ASSERT_EQUAL_STRING("ea_N", d.field);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_config_preset(CDPR_PRESET_PAPER_50M, &c));

@@ -71,6 +71,9 @@ static const char GOOD_LINE[] = "description: \"test: every key\"\n"
                                 "  kd_s: 0.05\n"
                                 "  k_length_per_s: 4.0\n"
                                 "  filter_s: 0.25\n"
+                                "  inertial_ff: 0.5\n"
+                                "  damping_N_s_per_m: 30.0\n"
+                                "  damping_rot_N_m_s: 20.0\n"
                                 "integrator:\n"
                                 "  rtol: 1.0e-7\n"
                                 "  atol_position_m: 2.0e-6\n"
@@ -214,6 +217,9 @@ static void test_every_key_resolves_to_the_value_written(void)
     TEST_ASSERT_EQUAL_DOUBLE(0.05, sc.gains.kd_s);
     TEST_ASSERT_EQUAL_DOUBLE(4.0, sc.gains.k_length_per_s);
     TEST_ASSERT_EQUAL_DOUBLE(0.25, sc.gains.filter_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.5, sc.gains.inertial_ff);
+    TEST_ASSERT_EQUAL_DOUBLE(30.0, sc.gains.damping_N_s_per_m);
+    TEST_ASSERT_EQUAL_DOUBLE(20.0, sc.gains.damping_rot_N_m_s);
     TEST_ASSERT_EQUAL_DOUBLE(1.0e-7, sc.integrator.rtol);
     TEST_ASSERT_EQUAL_DOUBLE(2.0e-6, sc.integrator.atol_position_m);
     TEST_ASSERT_EQUAL_DOUBLE(3.0e-5, sc.integrator.atol_velocity_m_per_s);
@@ -270,6 +276,9 @@ static void test_omitted_keys_take_the_preset(void)
     TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.traj.ramp_s);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.kd_s);
     TEST_ASSERT_EQUAL_DOUBLE(1.0, sc.gains.filter_s);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, sc.gains.inertial_ff);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.damping_N_s_per_m);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.damping_rot_N_m_s);
     TEST_ASSERT_EQUAL_DOUBLE(1e-6, sc.integrator.rtol);
     TEST_ASSERT_EQUAL_INT(100, sc.integrator.max_trials);
     TEST_ASSERT_EQUAL_INT(1, (int)cdpr_scenario_output_every(&sc));

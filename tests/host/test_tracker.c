@@ -1,6 +1,9 @@
 /// @file test_tracker.c
 /// The tracking controller: its length Jacobian against finite differences of the straight
-/// cable lengths, its command law against a hand evaluation, holding the last good
+/// cable lengths, its command law against a hand evaluation, the d'Alembert load against
+/// finite differences of the momenta, the feed-forward under the circle's centripetal load and
+/// the wrench-space damping against the IK under hand-computed loads, refusing to command a
+/// cable hanging in a loop, holding the last good
 /// feed-forward when the IK fails, no heap allocation per step, and in closed loop
 /// (cdpr_sim_run) holding the cabin at rest: without pose feedback the settled cabin does
 /// not move at all, and proportional feedback divides the static offset between the discrete
@@ -15,6 +18,8 @@
 #include "cdpr/sim.h"
 #include "cdpr/statics.h"
 #include "cdpr/tracker.h"
+#include "ref_mat3.h"
+#include "test_real.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -99,7 +104,7 @@ static void test_command_law(void)
     model_params(&p);
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
-    cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0};
+    cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
     /* Feed-forward lengths computed here independently of the tracker. */
     cdpr_statics_opts_t o;
@@ -141,7 +146,7 @@ static void test_command_law(void)
     }
     TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.002, -cmd.err_pos_m[0]);
     /* Bad measurements are refused without touching the state. */
-    meas.length_m[0] = NAN;
+    meas.length_m[0] = NAN_D;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_tracker_step(&tracker, &meas, &cmd));
     g.period_s = 0.0;
     cdpr_diag_t d;
@@ -162,7 +167,7 @@ static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
     memcpy(tr.from, from, sizeof from);
     memcpy(tr.to, to, sizeof to);
     tr.duration_s = 1.0;
-    const cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0};
+    const cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
     int failed_at = -1;
     double l_before[6] = {0};
@@ -211,7 +216,7 @@ static void test_step_makes_no_heap_allocation(void)
     tr.speed_m_per_s = 2.0;
     tr.start_angle_rad = 1.5707963267948966;
     tr.direction = 1.0;
-    const cdpr_tracker_gains_t g = {0.01, 0.5, 0.05, 5.0, 0.1};
+    const cdpr_tracker_gains_t g = {0.01, 0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
     cdpr_alloc_reset();
     for (int k = 0; k < 100; ++k) {
@@ -277,12 +282,211 @@ static void test_closed_loop_holds_the_cabin_at_rest(void)
     TEST_ASSERT_TRUE(b.max_error_m <= a.initial_error_m * (1.0 + 1e-9));
 }
 
+/* Central difference over ±h of the trajectory at t: CoM velocity v_c = v + ω_w x (R c) and
+ * angular momentum about the CoM h_w = R I ω, with R built from the Euler angles of the pose
+ * (ref_mat3.h), independent of the tracker and of the core's quaternion code. */
+static void momentum(const cdpr_traj_t *tr, double t, const cdpr_cabin_params_t *cab,
+                     double m_out[3], double h_out[3])
+{
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(tr, t, &s);
+    const mat_t R = euler_matrix(s.pose[3], s.pose[4], s.pose[5]);
+    const double wb[3] = {s.motion.w_rad_per_s.x, s.motion.w_rad_per_s.y, s.motion.w_rad_per_s.z};
+    const double c[3] = {cab->com_body_m.x, cab->com_body_m.y, cab->com_body_m.z};
+    const cdpr_mat3_t *I = &cab->inertia_com_kg_m2;
+    double ww[3];
+    double rc[3];
+    double iw[3];
+    for (int i = 0; i < 3; ++i) {
+        ww[i] = R.m[i][0] * wb[0] + R.m[i][1] * wb[1] + R.m[i][2] * wb[2];
+        rc[i] = R.m[i][0] * c[0] + R.m[i][1] * c[1] + R.m[i][2] * c[2];
+        iw[i] = I->m[i][0] * wb[0] + I->m[i][1] * wb[1] + I->m[i][2] * wb[2];
+    }
+    const double v[3] = {s.motion.v_m_per_s.x, s.motion.v_m_per_s.y, s.motion.v_m_per_s.z};
+    const double cr[3] = {ww[1] * rc[2] - ww[2] * rc[1], ww[2] * rc[0] - ww[0] * rc[2],
+                          ww[0] * rc[1] - ww[1] * rc[0]};
+    for (int i = 0; i < 3; ++i) {
+        m_out[i] = cab->mass_kg * (v[i] + cr[i]);
+        h_out[i] = R.m[i][0] * iw[0] + R.m[i][1] * iw[1] + R.m[i][2] * iw[2];
+    }
+}
+
+static void test_inertial_wrench_is_minus_the_momentum_rates(void)
+{
+    /* Cabin with its CoM off the body origin and a full inertia tensor, on the paper's circle
+     * with a yawed attitude and on a line that turns the cabin through large angles: the
+     * d'Alembert wrench must be minus the rates of linear momentum and of angular momentum
+     * about the CoM (Newton-Euler), here by central differences of those momenta built from
+     * the trajectory's poses and velocities. Difference error h^2/6 |third derivative|:
+     * momenta ~ 40 kg x 2 m/s and 100 kg m^2 x 1 rad/s turning at up to ~2 rad/s: ~1e-6 N with
+     * h = 1e-4 s; rounding 1e-16 x 100 / h = 1e-10. Tolerance 1e-5 N, N m. */
+    cdpr_robot_params_t p;
+    model_params(&p);
+    p.cabin.com_body_m = cdpr_v3(0.2, -0.1, 0.3);
+    const cdpr_mat3_t I = {{{45.0, 2.0, -3.0}, {2.0, 50.0, 1.5}, {-3.0, 1.5, 90.0}}};
+    p.cabin.inertia_com_kg_m2 = I;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&model, &p, NULL));
+    cdpr_traj_t trs[2];
+    memset(trs, 0, sizeof trs);
+    trs[0].type = CDPR_TRAJ_CIRCLE;
+    trs[0].centre_m[1] = -2.0;
+    trs[0].centre_m[2] = 9.135;
+    trs[0].radius_m = 2.0;
+    trs[0].speed_m_per_s = 2.0;
+    trs[0].start_angle_rad = 1.5707963267948966;
+    trs[0].direction = 1.0;
+    trs[0].ramp_s = 1.0;
+    trs[0].attitude_rad[0] = 0.1;
+    trs[0].attitude_rad[2] = 0.4;
+    trs[1].type = CDPR_TRAJ_LINE;
+    const double from[6] = {0.0, 0.0, 10.0, 0.0, 0.0, 0.0};
+    const double to[6] = {1.0, -1.0, 11.0, 1.0, -0.8, 2.0};
+    memcpy(trs[1].from, from, sizeof from);
+    memcpy(trs[1].to, to, sizeof to);
+    trs[1].duration_s = 2.0;
+    const double h = 1e-4;
+    for (int k = 0; k < 2; ++k) {
+        for (int n = 1; n < 12; ++n) {
+            const double t = 0.17 * n; /* avoids the kinks at t = 1 s (ramp) and 2 s (line) */
+            cdpr_traj_sample_t s;
+            cdpr_traj_eval(&trs[k], t, &s);
+            cdpr_vec3_t f;
+            cdpr_vec3_t tau;
+            cdpr_tracker_inertial_wrench(&model, &s, &f, &tau);
+            double ma[3];
+            double mb[3];
+            double ha[3];
+            double hb[3];
+            momentum(&trs[k], t - h, &p.cabin, ma, ha);
+            momentum(&trs[k], t + h, &p.cabin, mb, hb);
+            const double fv[3] = {f.x, f.y, f.z};
+            const double tv[3] = {tau.x, tau.y, tau.z};
+            for (int i = 0; i < 3; ++i) {
+                TEST_ASSERT_DOUBLE_WITHIN(1e-5, -(mb[i] - ma[i]) / (2.0 * h), fv[i]);
+                TEST_ASSERT_DOUBLE_WITHIN(1e-5, -(hb[i] - ha[i]) / (2.0 * h), tv[i]);
+            }
+        }
+    }
+}
+
+static void test_feedforward_carries_the_centripetal_load(void)
+{
+    /* The paper's circle at constant speed, CoM at the body origin: at the start point
+     * (0, 0, 9.135) the centre is at -y, so the d'Alembert load is m v^2 / r = 40 x 4 / 2 =
+     * 80 N along +y (no torque: constant attitude). L_ff(t0) must be the IK under exactly
+     * that load, and with inertial_ff = 0 the static IK. */
+    cdpr_robot_params_t p;
+    model_params(&p);
+    cdpr_traj_t tr;
+    memset(&tr, 0, sizeof tr);
+    tr.type = CDPR_TRAJ_CIRCLE;
+    tr.centre_m[1] = -2.0;
+    tr.centre_m[2] = 9.135;
+    tr.radius_m = 2.0;
+    tr.speed_m_per_s = 2.0;
+    tr.start_angle_rad = 1.5707963267948966;
+    tr.direction = 1.0;
+    cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
+    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(pose);
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    cdpr_statics_result_t loaded;
+    cdpr_statics_result_t still;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik_wrench(&model, &m0, cdpr_v3(0.0, 80.0, 0.0),
+                                                          cdpr_v3(0.0, 0.0, 0.0), &o, &loaded));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &still));
+    double moved = 0.0;
+    for (int j = 0; j < 6; ++j) {
+        /* 80 N from two rounded cos/sin of pi/2 (1e-16 relative): the same lengths to the IK's
+         * own tolerance, 1e-9 m. */
+        TEST_ASSERT_DOUBLE_WITHIN(1e-9, loaded.cable[j].length_m, tracker.l_ff_m[j]);
+        moved = fmax(moved, fabs(loaded.cable[j].length_m - still.cable[j].length_m));
+    }
+    TEST_ASSERT_TRUE(moved > 0.1); /* the load moves some length by > 10 cm (0.42 m) */
+    g.inertial_ff = 0.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    for (int j = 0; j < 6; ++j) {
+        TEST_ASSERT_EQUAL_DOUBLE(still.cable[j].length_m, tracker.l_ff_m[j]);
+    }
+}
+
+static void test_wrench_damping_command(void)
+{
+    /* Hold at the circle's start; the cabin measured there but moving at +0.1 m/s in x and
+     * +0.05 rad/s about z (world), no filter. The damping asks the cables for -c v and
+     * -c_r w on top of the weight, i.e. for the lengths that balance an external load +c v,
+     * +c_r w: computed here with cdpr_statics_ik_wrench; δL is their difference from the
+     * static IK, and the rate command carries k_L δL. */
+    cdpr_robot_params_t p;
+    model_params(&p);
+    const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
+    const cdpr_traj_t tr = hold_at(pose);
+    const cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 80.0, 40.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.cabin = cdpr_pose_to_motion(pose);
+    meas.cabin.v_m_per_s = cdpr_v3(0.1, 0.0, 0.0);
+    meas.cabin.w_rad_per_s = cdpr_v3(0.0, 0.0, 0.05); /* body = world at zero attitude */
+    memcpy(meas.length_m, tracker.l_ff_m, sizeof meas.length_m);
+    cdpr_tracker_cmd_t cmd;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &meas, &cmd));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cmd.fb_status);
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    cdpr_statics_result_t damped;
+    cdpr_statics_result_t still;
+    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(pose);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik_wrench(&model, &m0, cdpr_v3(8.0, 0.0, 0.0),
+                                                          cdpr_v3(0.0, 0.0, 2.0), &o, &damped));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &still));
+    for (int j = 0; j < 6; ++j) {
+        const double dl = damped.cable[j].length_m - still.cable[j].length_m;
+        TEST_ASSERT_TRUE(fabs(dl) > 1e-4); /* a correction that matters */
+        TEST_ASSERT_DOUBLE_WITHIN(1e-9, dl, cmd.dl_m[j]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-8, 5.0 * dl, cmd.rate_m_per_s[j]);
+    }
+}
+
+static void test_loop_solutions_are_not_commanded(void)
+{
+    /* At (3, -2, 12) m, tilted (0.05, -0.05, 0.2) rad, the catenary IK balances the weight only
+     * with one cable hanging in a loop (checked here: over 1.5 chords long); the tracker must
+     * refuse to command that (init reports the desired pose as infeasible). */
+    cdpr_robot_params_t p;
+    model_params(&p);
+    const double pose[6] = {3.0, -2.0, 12.0, 0.05, -0.05, 0.2};
+    const cdpr_cabin_motion_t m = cdpr_pose_to_motion(pose);
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    cdpr_statics_result_t res;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m, &o, &res));
+    double worst = 0.0;
+    for (int j = 0; j < 6; ++j) {
+        const cdpr_vec3_t d =
+            cdpr_v3_sub(model.p.cables[j].exit_point_m, res.cable[j].attach_world_m);
+        worst = fmax(worst, res.cable[j].length_m / cdpr_v3_norm(d));
+    }
+    TEST_ASSERT_TRUE(worst > 1.5);
+    const cdpr_traj_t tr = hold_at(pose);
+    const cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
+    cdpr_diag_t d;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INFEASIBLE, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, &d));
+    TEST_ASSERT_EQUAL_STRING("trajectory", d.field);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_jacobian_matches_finite_differences);
     RUN_TEST(test_command_law);
+    RUN_TEST(test_inertial_wrench_is_minus_the_momentum_rates);
+    RUN_TEST(test_feedforward_carries_the_centripetal_load);
+    RUN_TEST(test_wrench_damping_command);
     RUN_TEST(test_infeasible_desired_pose_holds_the_last_feedforward);
+    RUN_TEST(test_loop_solutions_are_not_commanded);
     RUN_TEST(test_step_makes_no_heap_allocation);
     RUN_TEST(test_closed_loop_holds_the_cabin_at_rest);
     return UNITY_END() ? 1 : 0;

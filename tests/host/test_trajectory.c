@@ -1,7 +1,9 @@
 /// @file test_trajectory.c
 /// Trajectories against their definitions: the circle's geometry, speed and direction, its
-/// speed ramp, the line's end points and rates, and every derivative against a central finite
-/// difference of the pose (the body angular velocity against one of the quaternion).
+/// speed ramp, the line's end points and rates, every derivative against a central finite
+/// difference of the pose (the body angular velocity against one of the quaternion), and the
+/// accelerations (pose, body origin, body-axes angular) against central finite differences of
+/// the velocities.
 #include <math.h>
 #include <string.h>
 
@@ -190,6 +192,118 @@ static void test_rotation_vector(void)
     }
 }
 
+/* Accelerations against central differences of the analytic velocities, away from kinks.
+ * Error h^2/6 |d^3v/dt^3|: on the circle v th'^3 = 2 m/s^4 (with the ramp's extra terms below
+ * 5 m/s^4), for the angular rates of the test line below ~10 rad/s^4; with h = 1e-4 s that is
+ * < 2e-8, rounding adds ~1e-16 / h = 1e-12: tolerance 1e-7. */
+static void check_accels(const cdpr_traj_t *tr, double t)
+{
+    const double h = 1e-4;
+    cdpr_traj_sample_t a;
+    cdpr_traj_sample_t b;
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(tr, t - h, &a);
+    cdpr_traj_eval(tr, t + h, &b);
+    cdpr_traj_eval(tr, t, &s);
+    for (int i = 0; i < 6; ++i) {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-7, (b.rate[i] - a.rate[i]) / (2.0 * h), s.accel[i]);
+    }
+    /* Body origin: derivative of the world velocity. */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, (b.motion.v_m_per_s.x - a.motion.v_m_per_s.x) / (2.0 * h),
+                              s.a_m_per_s2.x);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, (b.motion.v_m_per_s.y - a.motion.v_m_per_s.y) / (2.0 * h),
+                              s.a_m_per_s2.y);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, (b.motion.v_m_per_s.z - a.motion.v_m_per_s.z) / (2.0 * h),
+                              s.a_m_per_s2.z);
+    /* Angular: derivative of the body-axes ω (itself checked against the quaternion in
+     * check_rates). */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, (b.motion.w_rad_per_s.x - a.motion.w_rad_per_s.x) / (2.0 * h),
+                              s.dw_rad_per_s2.x);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, (b.motion.w_rad_per_s.y - a.motion.w_rad_per_s.y) / (2.0 * h),
+                              s.dw_rad_per_s2.y);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-7, (b.motion.w_rad_per_s.z - a.motion.w_rad_per_s.z) / (2.0 * h),
+                              s.dw_rad_per_s2.z);
+}
+
+static void test_circle_accelerations(void)
+{
+    /* The paper's circle at constant speed: centripetal v^2 / r = 2 m/s^2 toward the centre,
+     * no tangential part, no angular acceleration. */
+    cdpr_traj_t tr = paper_circle();
+    for (int k = 0; k < 30; ++k) {
+        const double t = 0.05 + 0.21 * k;
+        cdpr_traj_sample_t s;
+        cdpr_traj_eval(&tr, t, &s);
+        /* (c - p) / r is the unit vector toward the centre. */
+        const double ux = (tr.centre_m[0] - s.pose[0]) / 2.0;
+        const double uy = (tr.centre_m[1] - s.pose[1]) / 2.0;
+        TEST_ASSERT_DOUBLE_WITHIN(1e-13, 2.0 * ux, s.a_m_per_s2.x);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-13, 2.0 * uy, s.a_m_per_s2.y);
+        TEST_ASSERT_EQUAL_DOUBLE(0.0, s.a_m_per_s2.z);
+        TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_v3_norm(s.dw_rad_per_s2));
+        check_accels(&tr, t);
+    }
+    /* With a 2 s ramp, clockwise, yawed: tangential v / T = 1 m/s^2 during the ramp on top
+     * of the growing centripetal part (v t / T)^2 / r, then centripetal only. */
+    tr.ramp_s = 2.0;
+    tr.direction = -1.0;
+    tr.attitude_rad[2] = 0.3;
+    for (int k = 0; k < 30; ++k) {
+        const double t = 0.05 + 0.13 * k;
+        if (fabs(t - 2.0) < 1e-3) {
+            continue; /* the kink at the end of the ramp */
+        }
+        cdpr_traj_sample_t s;
+        cdpr_traj_eval(&tr, t, &s);
+        const double v = (t < 2.0) ? t : 2.0;
+        const double at = (t < 2.0) ? 1.0 : 0.0;
+        const double an = v * v / 2.0;
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, sqrt(at * at + an * an),
+                                  hypot(s.a_m_per_s2.x, s.a_m_per_s2.y));
+        check_accels(&tr, t);
+    }
+    /* Before the start: at rest, no acceleration. */
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(&tr, -0.5, &s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_v3_norm(s.a_m_per_s2));
+}
+
+static void test_line_and_hold_accelerations(void)
+{
+    /* Every pose coordinate linear in time: no linear acceleration; the body-axes angular
+     * acceleration is not zero, because the map from Euler-angle rates to ω changes with the
+     * angles. Large angle changes make that term visible (|dω/dt| ~ 0.1-1 rad/s^2). */
+    cdpr_traj_t tr;
+    memset(&tr, 0, sizeof tr);
+    tr.type = CDPR_TRAJ_LINE;
+    const double from[6] = {2.00, 1.00, 16.0, 0.0, 0.0, 0.0};
+    const double to[6] = {2.50, 1.50, 16.2, 1.0, -0.8, 2.0};
+    memcpy(tr.from, from, sizeof from);
+    memcpy(tr.to, to, sizeof to);
+    tr.duration_s = 2.0;
+    double largest = 0.0;
+    for (int k = 1; k < 20; ++k) {
+        const double t = 0.1 * k;
+        cdpr_traj_sample_t s;
+        cdpr_traj_eval(&tr, t, &s);
+        for (int i = 0; i < 6; ++i) {
+            TEST_ASSERT_EQUAL_DOUBLE(0.0, s.accel[i]);
+        }
+        largest = fmax(largest, cdpr_v3_norm(s.dw_rad_per_s2));
+        check_accels(&tr, t);
+    }
+    TEST_ASSERT_TRUE(largest > 0.1);
+    /* Holding: everything zero. */
+    memset(&tr, 0, sizeof tr);
+    tr.type = CDPR_TRAJ_HOLD;
+    tr.hold_pose[2] = 9.0;
+    tr.hold_pose[4] = 0.2;
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(&tr, 1.0, &s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_v3_norm(s.a_m_per_s2));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_v3_norm(s.dw_rad_per_s2));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -198,5 +312,7 @@ int main(void)
     RUN_TEST(test_line_end_points_rates_and_return);
     RUN_TEST(test_hold);
     RUN_TEST(test_rotation_vector);
+    RUN_TEST(test_circle_accelerations);
+    RUN_TEST(test_line_and_hold_accelerations);
     return UNITY_END() ? 1 : 0;
 }

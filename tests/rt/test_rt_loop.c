@@ -18,6 +18,7 @@
 #include "cdpr/rt_plant.h"
 #include "cdpr/rt_tracker.h"
 #include "lcm_call_count.h"
+#include "test_real.h"
 #include "unity.h"
 
 #ifndef CDPR_SOURCE_DIR
@@ -266,7 +267,7 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         c.seq = s->seq + 1;
         c.state_seq = st.seq;
         c.n_cables = 6;
-        c.value[2] = NAN;
+        c.value[2] = NAN_D;
         unsigned char buf[256];
         const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &c);
         (void)lcm_publish(s->lcm, "CDPR_WINCH_COMMAND", buf, (unsigned)len - 3u);

@@ -169,6 +169,7 @@ int cdpr_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double period_s,
         return fail_model(sc, "integrator", "integrator", &d, err);
     }
     p->stats.last_failure = CDPR_OK;
+    p->max_attempts = 1;
     return 0;
 }
 
@@ -220,9 +221,17 @@ cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags)
         memcpy(p->payout_before, r->in.payout_m_per_s, sizeof p->payout_before);
     }
     p->commanded = 0;
-    double tt = t;
-    const cdpr_status_t as =
-        cdpr_rkf45_advance(&p->rk, cdpr_robot_rhs, r, &tt, p->y, dt, p->max_trials);
+    /* A refused budget (CDPR_E_SUBSTEP_LIMIT) leaves y and t as they were and keeps the
+     * learned step size: another attempt over the same period usually passes. */
+    cdpr_status_t as = CDPR_OK;
+    for (int attempt = 0; attempt < p->max_attempts; ++attempt) {
+        double tt = t;
+        as = cdpr_rkf45_advance(&p->rk, cdpr_robot_rhs, r, &tt, p->y, dt, p->max_trials);
+        if (as != CDPR_E_SUBSTEP_LIMIT) {
+            break;
+        }
+        p->stats.budget_refusals++;
+    }
     if (as < 0) {
         memcpy(p->winch, p->winch_before, sizeof p->winch_before);
         memcpy(r->in.payout_m_per_s, p->payout_before, sizeof p->payout_before);

@@ -107,6 +107,9 @@ typedef struct {
     double *kd_s;
     double k_length_per_s;
     double *filter_s;
+    double *inertial_ff;
+    double *damping_N_s_per_m;
+    double *damping_rot_N_m_s;
 } raw_controller_t;
 
 typedef struct {
@@ -254,6 +257,9 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("kd_s", raw_controller_t, kd_s),
     CYAML_FIELD_FLOAT("k_length_per_s", REQ_NUM, raw_controller_t, k_length_per_s),
     OPT_NUMP("filter_s", raw_controller_t, filter_s),
+    OPT_NUMP("inertial_ff", raw_controller_t, inertial_ff),
+    OPT_NUMP("damping_N_s_per_m", raw_controller_t, damping_N_s_per_m),
+    OPT_NUMP("damping_rot_N_m_s", raw_controller_t, damping_rot_N_m_s),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_field_t integrator_fields[] = {
@@ -565,6 +571,7 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->gains.kd_s = 0.0;
     sc->gains.k_length_per_s = 5.0;
     sc->gains.filter_s = 1.0;
+    sc->gains.inertial_ff = 1.0;
     sc->integrator.rtol = 1e-6;
     sc->integrator.atol_position_m = 1e-6;
     sc->integrator.atol_velocity_m_per_s = 1e-5;
@@ -670,6 +677,9 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.kd_s, r->controller.kd_s, 1);
     sc->gains.k_length_per_s = r->controller.k_length_per_s;
     take(&sc->gains.filter_s, r->controller.filter_s, 1);
+    take(&sc->gains.inertial_ff, r->controller.inertial_ff, 1);
+    take(&sc->gains.damping_N_s_per_m, r->controller.damping_N_s_per_m, 1);
+    take(&sc->gains.damping_rot_N_m_s, r->controller.damping_rot_N_m_s, 1);
     if (r->integrator != NULL) {
         const raw_integrator_t *in = r->integrator;
         take(&sc->integrator.rtol, in->rtol, 1);
@@ -933,6 +943,9 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
     range(&v, "controller.kd_s", &sc->gains.kd_s, 1, 0.0, 1e3, 0);
     range(&v, "controller.k_length_per_s", &sc->gains.k_length_per_s, 1, 0.0, 1e4, 0);
     range(&v, "controller.filter_s", &sc->gains.filter_s, 1, 0.0, 1e3, 0);
+    range(&v, "controller.inertial_ff", &sc->gains.inertial_ff, 1, 0.0, 1.0, 0);
+    range(&v, "controller.damping_N_s_per_m", &sc->gains.damping_N_s_per_m, 1, 0.0, 1e6, 0);
+    range(&v, "controller.damping_rot_N_m_s", &sc->gains.damping_rot_N_m_s, 1, 0.0, 1e6, 0);
     const cdpr_scenario_integrator_t *in = &sc->integrator;
     range(&v, "integrator.rtol", &in->rtol, 1, 0.0, 0.1, 1);
     range(&v, "integrator.atol_position_m", &in->atol_position_m, 1, 0.0, 1.0, 1);

@@ -1,5 +1,6 @@
 /// @file tracker.c
-/// Sag-aware feed-forward plus pose feedback through the straight-cable Jacobian.
+/// Sag-aware feed-forward (statics plus the d'Alembert load of the desired motion) plus pose
+/// feedback through the straight-cable Jacobian.
 #include "cdpr/tracker.h"
 
 #include <math.h>
@@ -36,11 +37,47 @@ void cdpr_tracker_jacobian(const cdpr_robot_t *model, int j, const cdpr_cabin_mo
     *g = cdpr_v3_cross(rb, *u);
 }
 
+void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sample_t *d,
+                                  cdpr_vec3_t *f_N, cdpr_vec3_t *tau_Nm)
+{
+    const cdpr_cabin_params_t *cab = &model->p.cabin;
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(cdpr_quat_normalize(d->motion.q), &R);
+    const cdpr_vec3_t w = d->motion.w_rad_per_s; /* body axes */
+    const cdpr_vec3_t dw = d->dw_rad_per_s2;     /* body axes */
+    const cdpr_vec3_t rc = cdpr_m3_mul_v3(&R, cab->com_body_m);
+    const cdpr_vec3_t ww = cdpr_m3_mul_v3(&R, w);
+    const cdpr_vec3_t dww = cdpr_m3_mul_v3(&R, dw);
+    const cdpr_vec3_t a_c =
+        cdpr_v3_add(d->a_m_per_s2,
+                    cdpr_v3_add(cdpr_v3_cross(dww, rc), cdpr_v3_cross(ww, cdpr_v3_cross(ww, rc))));
+    *f_N = cdpr_v3_scale(a_c, -cab->mass_kg);
+    /* Rate of the angular momentum about the CoM, body axes: I ω̇ + ω x I ω. */
+    const cdpr_vec3_t hdot =
+        cdpr_v3_add(cdpr_m3_mul_v3(&cab->inertia_com_kg_m2, dw),
+                    cdpr_v3_cross(w, cdpr_m3_mul_v3(&cab->inertia_com_kg_m2, w)));
+    *tau_Nm = cdpr_v3_scale(cdpr_m3_mul_v3(&R, hdot), -1.0);
+}
+
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_diag_t *diag)
 {
-    const double v[5] = {g->period_s, g->kp, g->kd_s, g->k_length_per_s, g->filter_s};
-    static const char *const names[5] = {"period_s", "kp", "kd_s", "k_length_per_s", "filter_s"};
-    for (int i = 0; i < 5; ++i) {
+    const double v[8] = {g->period_s,
+                         g->kp,
+                         g->kd_s,
+                         g->k_length_per_s,
+                         g->filter_s,
+                         g->inertial_ff,
+                         g->damping_N_s_per_m,
+                         g->damping_rot_N_m_s};
+    static const char *const names[8] = {"period_s",
+                                         "kp",
+                                         "kd_s",
+                                         "k_length_per_s",
+                                         "filter_s",
+                                         "inertial_ff",
+                                         "damping_N_s_per_m",
+                                         "damping_rot_N_m_s"};
+    for (int i = 0; i < 8; ++i) {
         if (!isfinite(v[i])) {
             return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
         }
@@ -51,19 +88,51 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_diag_t *dia
     return CDPR_OK;
 }
 
-/* Feed-forward lengths at time t; on failure `L` is untouched. */
-static cdpr_status_t feedforward(const cdpr_tracker_t *tr, double t, double *L)
+/* Lengths at time t: IK of the desired pose under the weight, the feed-forward share of the
+ * d'Alembert load, and the cable wrench (f_add, tau_add) asked for on top of that (zero for
+ * the feed-forward itself). On failure `L` is untouched. */
+static cdpr_status_t ik_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add,
+                           cdpr_vec3_t tau_add, double *L)
 {
     cdpr_traj_sample_t d;
     cdpr_traj_eval(&tr->traj, t, &d);
+    cdpr_vec3_t f = cdpr_v3(0.0, 0.0, 0.0);
+    cdpr_vec3_t tau = f;
+    if (tr->g.inertial_ff > 0.0) {
+        cdpr_tracker_inertial_wrench(&tr->model, &d, &f, &tau);
+        f = cdpr_v3_scale(f, tr->g.inertial_ff);
+        tau = cdpr_v3_scale(tau, tr->g.inertial_ff);
+    }
+    /* The IK's external load is what the cables must balance: a wrench the cables are to
+     * add enters with the opposite sign. */
+    f = cdpr_v3_sub(f, f_add);
+    tau = cdpr_v3_sub(tau, tau_add);
     cdpr_statics_result_t res;
-    const cdpr_status_t st = cdpr_statics_ik(&tr->model, &d.motion, &tr->ik_opts, &res);
-    if (st == CDPR_OK) {
-        for (int j = 0; j < tr->model.p.n_cables; ++j) {
-            L[j] = res.cable[j].length_m;
+    const cdpr_status_t st =
+        cdpr_statics_ik_wrench(&tr->model, &d.motion, f, tau, &tr->ik_opts, &res);
+    if (st != CDPR_OK) {
+        return st;
+    }
+    /* A cable hanging in a loop (statics.h) is an equilibrium of the catenaries, not a
+     * length to command: no working pose is near it (1-5 % above the chord in the scenarios). */
+    for (int j = 0; j < tr->model.p.n_cables; ++j) {
+        const double chord = cdpr_v3_norm(
+            cdpr_v3_sub(tr->model.p.cables[j].exit_point_m, res.cable[j].attach_world_m));
+        if (!(res.cable[j].length_m <= CDPR_TRACKER_MAX_LENGTH_PER_CHORD * chord)) {
+            return CDPR_E_INFEASIBLE;
         }
     }
-    return st;
+    for (int j = 0; j < tr->model.p.n_cables; ++j) {
+        L[j] = res.cable[j].length_m;
+    }
+    return CDPR_OK;
+}
+
+/* Feed-forward lengths at time t; on failure `L` is untouched. */
+static cdpr_status_t feedforward(const cdpr_tracker_t *tr, double t, double *L)
+{
+    const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
+    return ik_at(tr, t, zero, zero, L);
 }
 
 cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *model_params,
@@ -90,6 +159,7 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
         return cdpr_diag_set(diag, st, "trajectory", -1);
     }
     tr->t_next_s = t0_s;
+    tr->l_ff_exact = 1;
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -117,6 +187,9 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     if (fabs(t - tr->t_next_s) > 1e-9 * (1.0 + fabs(t))) {
         if (feedforward(tr, t, tr->l_ff_m) != CDPR_OK) {
             tr->ik_failures++;
+            tr->l_ff_exact = 0;
+        } else {
+            tr->l_ff_exact = 1;
         }
     }
     double l_next[CDPR_MAX_CABLES];
@@ -125,6 +198,7 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     if (cmd->ik_status != CDPR_OK) {
         tr->ik_failures++; /* l_next still holds the last good feed-forward */
     }
+    cmd->fb_status = CDPR_OK;
 
     /* Pose error (desired - measured) and its rate, world axes. */
     cdpr_traj_eval(&tr->traj, t, &cmd->desired);
@@ -164,6 +238,29 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     tr->filter_primed = 1;
     const double *f = tr->err_f;
 
+    /* Wrench-space damping: the lengths that make the cables add c ė_p and c_r ė_θ at the
+     * desired pose of t, relative to L_ff(t) (same pose and feed-forward load). */
+    double dl_w[CDPR_MAX_CABLES] = {0.0};
+    if (tr->g.damping_N_s_per_m > 0.0 || tr->g.damping_rot_N_m_s > 0.0) {
+        const cdpr_vec3_t f_add = cdpr_v3_scale(cdpr_v3(f[6], f[7], f[8]), tr->g.damping_N_s_per_m);
+        const cdpr_vec3_t tau_add =
+            cdpr_v3_scale(cdpr_v3(f[9], f[10], f[11]), tr->g.damping_rot_N_m_s);
+        double l_ref[CDPR_MAX_CABLES];
+        double l_w[CDPR_MAX_CABLES];
+        memcpy(l_ref, tr->l_ff_m, sizeof l_ref);
+        cmd->fb_status = (tr->l_ff_exact != 0) ? CDPR_OK : feedforward(tr, t, l_ref);
+        if (cmd->fb_status == CDPR_OK) {
+            cmd->fb_status = ik_at(tr, t, f_add, tau_add, l_w);
+        }
+        if (cmd->fb_status == CDPR_OK) {
+            for (int j = 0; j < nc; ++j) {
+                dl_w[j] = l_w[j] - l_ref[j];
+            }
+        } else {
+            tr->fb_failures++;
+        }
+    }
+
     for (int j = 0; j < nc; ++j) {
         cdpr_vec3_t u;
         cdpr_vec3_t gj;
@@ -172,7 +269,7 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
             u.x * f[0] + u.y * f[1] + u.z * f[2] + gj.x * f[3] + gj.y * f[4] + gj.z * f[5];
         const double move_rate =
             u.x * f[6] + u.y * f[7] + u.z * f[8] + gj.x * f[9] + gj.y * f[10] + gj.z * f[11];
-        const double dl = -(tr->g.kp * move + tr->g.kd_s * move_rate);
+        const double dl = -(tr->g.kp * move + tr->g.kd_s * move_rate) + dl_w[j];
         const double u_ff = (l_next[j] - tr->l_ff_m[j]) / dt;
         cmd->l_ff_m[j] = tr->l_ff_m[j];
         cmd->u_ff_m_per_s[j] = u_ff;
@@ -180,6 +277,7 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
         cmd->rate_m_per_s[j] = u_ff + tr->g.k_length_per_s * (tr->l_ff_m[j] + dl - m->length_m[j]);
     }
     memcpy(tr->l_ff_m, l_next, sizeof l_next);
+    tr->l_ff_exact = (cmd->ik_status == CDPR_OK) ? 1 : 0;
     tr->t_next_s = t + dt;
     tr->steps++;
     return CDPR_OK;

@@ -22,6 +22,26 @@ cdpr_vec3_t cdpr_euler_rates_to_body(const double euler[3], const double rates[3
     return cdpr_m3t_mul_v3(&R, w_world);
 }
 
+cdpr_vec3_t cdpr_euler_accel_to_body(const double euler[3], const double rates[3],
+                                     const double accels[3])
+{
+    /* Differentiate ω_world = α' (cγ cβ, sγ cβ, -sβ) + β' (-sγ, cγ, 0) + γ' (0, 0, 1). */
+    const double cb = cos(euler[1]);
+    const double sb = sin(euler[1]);
+    const double cg = cos(euler[2]);
+    const double sg = sin(euler[2]);
+    const double da = rates[0];
+    const double db = rates[1];
+    const double dg = rates[2];
+    const cdpr_vec3_t dw_world = cdpr_v3(
+        accels[0] * cg * cb - accels[1] * sg + da * (-sg * dg * cb - cg * sb * db) - db * cg * dg,
+        accels[0] * sg * cb + accels[1] * cg + da * (cg * dg * cb - sg * sb * db) - db * sg * dg,
+        -accels[0] * sb + accels[2] - da * cb * db);
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(cdpr_quat_from_euler(euler[0], euler[1], euler[2]), &R);
+    return cdpr_m3t_mul_v3(&R, dw_world);
+}
+
 double cdpr_traj_end_time(const cdpr_traj_t *tr)
 {
     switch (tr->type) {
@@ -37,33 +57,46 @@ double cdpr_traj_end_time(const cdpr_traj_t *tr)
 static void circle(const cdpr_traj_t *tr, double t, cdpr_traj_sample_t *o)
 {
     const double tt = (t > 0.0) ? t : 0.0;
-    double s;    /* path length travelled [m] */
-    double sdot; /* path speed [m/s] */
+    double s;     /* path length travelled [m] */
+    double sdot;  /* path speed [m/s] */
+    double sddot; /* path acceleration [m/s^2] */
     if (t < 0.0) {
         s = 0.0; /* before the start: at rest at the start point */
         sdot = 0.0;
+        sddot = 0.0;
     } else if (tt < tr->ramp_s) {
         s = 0.5 * tr->speed_m_per_s * tt * tt / tr->ramp_s;
         sdot = tr->speed_m_per_s * tt / tr->ramp_s;
+        sddot = tr->speed_m_per_s / tr->ramp_s;
     } else {
         s = tr->speed_m_per_s * (tt - 0.5 * tr->ramp_s);
         sdot = tr->speed_m_per_s;
+        sddot = 0.0;
     }
     const double th = tr->start_angle_rad + tr->direction * s / tr->radius_m;
     const double thdot = tr->direction * sdot / tr->radius_m;
-    o->pose[0] = tr->centre_m[0] + tr->radius_m * cos(th);
-    o->pose[1] = tr->centre_m[1] + tr->radius_m * sin(th);
+    const double thddot = tr->direction * sddot / tr->radius_m;
+    const double c = cos(th);
+    const double sn = sin(th);
+    o->pose[0] = tr->centre_m[0] + tr->radius_m * c;
+    o->pose[1] = tr->centre_m[1] + tr->radius_m * sn;
     o->pose[2] = tr->centre_m[2];
-    o->rate[0] = -tr->radius_m * thdot * sin(th);
-    o->rate[1] = tr->radius_m * thdot * cos(th);
+    o->rate[0] = -tr->radius_m * thdot * sn;
+    o->rate[1] = tr->radius_m * thdot * c;
     o->rate[2] = 0.0;
+    /* Tangential (r θ'') and centripetal (r θ'^2, toward the centre) parts. */
+    o->accel[0] = -tr->radius_m * (thddot * sn + thdot * thdot * c);
+    o->accel[1] = tr->radius_m * (thddot * c - thdot * thdot * sn);
+    o->accel[2] = 0.0;
     for (int i = 0; i < 3; ++i) {
         o->pose[3 + i] = tr->attitude_rad[i];
         o->rate[3 + i] = 0.0;
+        o->accel[3 + i] = 0.0;
     }
 }
 
-/* Linear interpolation a -> b over [0, T): fraction f and its rate. */
+/* Linear interpolation a -> b over [0, T): fraction f and its rate (accel stays 0: every
+ * coordinate is linear in time). */
 static void lerp(const double *a, const double *b, double f, double fdot, cdpr_traj_sample_t *o)
 {
     for (int i = 0; i < 6; ++i) {
@@ -105,4 +138,6 @@ void cdpr_traj_eval(const cdpr_traj_t *tr, double t_s, cdpr_traj_sample_t *out)
     out->motion.q = cdpr_quat_from_euler(out->pose[3], out->pose[4], out->pose[5]);
     out->motion.v_m_per_s = cdpr_v3(out->rate[0], out->rate[1], out->rate[2]);
     out->motion.w_rad_per_s = cdpr_euler_rates_to_body(out->pose + 3, out->rate + 3);
+    out->a_m_per_s2 = cdpr_v3(out->accel[0], out->accel[1], out->accel[2]);
+    out->dw_rad_per_s2 = cdpr_euler_accel_to_body(out->pose + 3, out->rate + 3, out->accel + 3);
 }

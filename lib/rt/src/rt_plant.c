@@ -453,8 +453,10 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
             (unsigned long long)s->shape_ring.dropped, (unsigned long long)s->publish_errors);
     fprintf(f, "  nodes              %lu insertions, %lu removals, capacity hit in %ld periods\n",
             t->node_insertions, t->node_removals, t->capacity_periods);
-    fprintf(f, "  accuracy bound     %ld periods at the trial limit, %ld failed steps\n",
-            t->substep_limit_hits, t->step_failures);
+    fprintf(f,
+            "  accuracy bound     %ld periods at the trial limit, %ld failed steps (%lu refused "
+            "for their trial budget: state kept)\n",
+            t->substep_limit_hits, t->step_failures, rt->plant.stats.budget_refusals);
     fprintf(f, "  winches            %ld winch-periods at the minimum length\n",
             t->min_length_periods);
 }

@@ -48,6 +48,8 @@ typedef struct {
     unsigned long substep_limit_hits; ///< periods with CDPR_WARN_SUBSTEP_LIMIT
     unsigned long min_length_periods; ///< winch-periods held at the minimum length
     unsigned long capacity_periods;   ///< periods whose node events met the capacity
+    unsigned long budget_refusals;    ///< advances refused for their trial budget
+                                      ///< (CDPR_E_SUBSTEP_LIMIT, state kept; retried or failed)
     cdpr_status_t last_failure;       ///< status of the last failed advance (CDPR_OK: none)
 } cdpr_plant_stats_t;
 
@@ -68,8 +70,10 @@ typedef struct {
     cdpr_scenario_integrator_t integ; ///< tolerances (copy)
     double period_s;                  ///< Δt [s]
     int max_trials;                   ///< RKF45 trials per period
-    long k;                           ///< periods stepped successfully; t = k Δt
-    long settle_steps;                ///< accepted steps of the initial settling
+    int max_attempts;  ///< advances per period when the budget is refused (CDPR_E_SUBSTEP_LIMIT);
+                       ///< default 1 (the real-time work bound); cdpr_sim_run uses 3
+    long k;            ///< periods stepped successfully; t = k Δt
+    long settle_steps; ///< accepted steps of the initial settling
     cdpr_winch_t winch_before[CDPR_MAX_CABLES]; ///< winches before the period (internal)
     cdpr_real_t payout_before[CDPR_MAX_CABLES]; ///< payout rates before it (internal)
     int commanded;                              ///< command applied, advance pending (internal)

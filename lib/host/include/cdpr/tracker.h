@@ -2,11 +2,17 @@
 /// Tracking controller: desired cabin trajectory -> winch payout-rate commands.
 ///
 /// Once per control period Δt_c, from the measured cabin motion and unstretched lengths L_j:
-///  1. feed-forward: sag-aware inverse kinematics (cdpr_statics_ik) of the desired pose at
-///     t + Δt_c gives L_ff(t + Δt_c); the feed-forward rate is
-///     u_ff = (L_ff(t + Δt_c) - L_ff(t)) / Δt_c, with L_ff(t) kept from the previous period
-///     (one IK per period). If IK fails (pose outside the wrench-feasible set, or no
-///     convergence), the last good L_ff is held (u_ff = 0) and `ik_failures` counts it.
+///  1. feed-forward: sag-aware inverse kinematics of the desired pose at t + Δt_c gives
+///     L_ff(t + Δt_c); the feed-forward rate is u_ff = (L_ff(t + Δt_c) - L_ff(t)) / Δt_c,
+///     with L_ff(t) kept from the previous period (one IK per period). The IK
+///     (cdpr_statics_ik_wrench) balances the weight plus `inertial_ff` times the d'Alembert
+///     load of the desired motion (cdpr_tracker_inertial_wrench): the cable forces that make
+///     a rigid cabin on quasi-static catenary cables follow the desired acceleration;
+///     inertial_ff = 0 gives the static IK. If the IK fails (pose and load outside the
+///     wrench-feasible set, or no convergence), or its solution has a cable hanging in a loop
+///     (unstretched length above CDPR_TRACKER_MAX_LENGTH_PER_CHORD times the chord: statics.h
+///     explains why the catenary equations have such solutions), the last good L_ff is held
+///     (u_ff = 0) and `ik_failures` counts it.
 ///  2. feedback on the pose error e_p = p_d - p and e_θ = rotation vector of q_d q^-1 (world
 ///     axes), and on their rates ė_p = v_d - v, ė_θ = ω_d - ω (world), each low-pass filtered
 ///     by two first-order stages of time constant filter_s (exact for a signal held over
@@ -19,13 +25,26 @@
 ///     the loop away from the lightly damped fast axial cable/cabin modes (8-10 Hz for the
 ///     50 m model): unfiltered, kp = 1 with k_L = 5 1/s makes them grow
 ///     (docs/validation.md §8).
-///  3. payout-rate command u_j = u_ff,j + k_L (L_ff,j(t) + δL_j - L_j). The plant's winch
+///  3. wrench-space damping (optional, damping_N_s_per_m / damping_rot_N_m_s > 0): the
+///     cables are asked for an extra force c ė_p and torque c_r ė_θ (the filtered rates
+///     above, world axes; about the CoM) on top of the feed-forward load: a second
+///     cdpr_statics_ik_wrench at the desired pose of t with the load of step 1 minus that
+///     wrench gives L_w, and δL_j += L_w,j - L_ff,j(t). Unlike kd_s, which asks every cable
+///     for the length change that would move a rigid cabin, this asks the sag-aware statics
+///     for the lengths that produce a damping force: small corrections in the directions the
+///     cables hold stiffly (bounce, axial modes), larger ones where sag makes them soft
+///     (sway). If that IK fails, the period gets no damping correction (`fb_failures`).
+///     On the 50 m model it damps the sway well over seconds, but like kd_s it makes lightly
+///     damped cabin-cable modes (1-6 Hz) grow over 30-240 s of holding; the paper scenarios
+///     do not use it (docs/validation.md §8).
+///  4. payout-rate command u_j = u_ff,j + k_L (L_ff,j(t) + δL_j - L_j). The plant's winch
 ///     (cdpr_winch_update) applies its speed and acceleration limits.
 ///
 /// The controller keeps its own robot model (for the IK), built from the same parameters as
 /// the plant, so it needs nothing from the plant but measurements: the real-time loop moves it
 /// into a separate process unchanged. Memory: caller-owned object, no allocation. Work per
-/// step: one cdpr_statics_ik (bounded iterations) plus O(cables).
+/// step: one cdpr_statics_ik_wrench (bounded iterations), a second one when wrench-space
+/// damping is on, plus O(cables).
 #ifndef CDPR_TRACKER_H
 #define CDPR_TRACKER_H
 
@@ -34,13 +53,22 @@
 #include "cdpr/status.h"
 #include "cdpr/trajectory.h"
 
+/// Largest unstretched length, in chords, the tracker commands (the IK's loop solutions lie
+/// beyond; working cables stay within a few per cent of their chords). 1.5 chords is a sag of
+/// about 40 % of the chord.
+#define CDPR_TRACKER_MAX_LENGTH_PER_CHORD 1.5
+
 /// Gains and period (inputs).
 typedef struct {
-    double period_s;       ///< control period Δt_c [s] (> 0)
-    double kp;             ///< pose-error gain [-] (>= 0)
-    double kd_s;           ///< pose-error-rate gain [s] (>= 0)
-    double k_length_per_s; ///< length-loop gain k_L [1/s] (>= 0)
-    double filter_s;       ///< time constant of the error low-pass [s] (>= 0; 0 = none)
+    double period_s;          ///< control period Δt_c [s] (> 0)
+    double kp;                ///< pose-error gain [-] (>= 0)
+    double kd_s;              ///< pose-error-rate gain [s] (>= 0)
+    double k_length_per_s;    ///< length-loop gain k_L [1/s] (>= 0)
+    double filter_s;          ///< time constant of the error low-pass [s] (>= 0; 0 = none)
+    double inertial_ff;       ///< fraction of the d'Alembert load in the feed-forward IK [-]
+                              ///< (>= 0; 1 = full inverse dynamics of the rigid cabin, 0 = static)
+    double damping_N_s_per_m; ///< wrench-space damping c of the velocity error [N s/m] (>= 0)
+    double damping_rot_N_m_s; ///< wrench-space damping c_r of the rate error [N m s] (>= 0)
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs).
@@ -60,6 +88,7 @@ typedef struct {
     double err_pos_m[3];                  ///< e_p = p_d - p, world [m]
     double err_rot_rad[3];                ///< e_θ, world [rad]
     cdpr_status_t ik_status;              ///< status of this period's IK
+    cdpr_status_t fb_status;              ///< status of the damping IK (CDPR_OK if unused)
 } cdpr_tracker_cmd_t;
 
 /// The controller (caller-owned).
@@ -73,7 +102,9 @@ typedef struct {
     double err_f[12];               ///< filtered e_p, e_θ, ė_p, ė_θ (internal)
     int filter_primed;              ///< err_f holds a value (internal)
     double t_next_s;                ///< time L_ff refers to (internal)
+    int l_ff_exact;                 ///< l_ff_m is the IK at t_next_s, not a held value (internal)
     unsigned long ik_failures;      ///< periods whose IK failed (output)
+    unsigned long fb_failures;      ///< periods whose damping IK failed (output)
     unsigned long steps;            ///< periods run (output)
 } cdpr_tracker_t;
 
@@ -92,6 +123,14 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
 /// command written, state unchanged).
 cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m,
                                 cdpr_tracker_cmd_t *cmd);
+
+/// d'Alembert (inertial) load of the desired motion `d` on the cabin of `model` (cabin alone:
+/// mass M, CoM c, inertia I_c about c, body axes, as cdpr_statics_ik_wrench uses them), in the
+/// form cdpr_statics_ik_wrench takes: f = -M a_c with the CoM acceleration
+/// a_c = a + ω̇_w x (R c) + ω_w x (ω_w x (R c)), and tau = -R (I_c ω̇ + ω x I_c ω), the torque
+/// about the CoM in world axes (ω, ω̇ in body axes; ω_w = R ω, ω̇_w = R ω̇).
+void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sample_t *d,
+                                  cdpr_vec3_t *f_N, cdpr_vec3_t *tau_Nm);
 
 /// Rotation vector θ of the unit quaternion q (|θ| <= π, world axes for q_d q^-1) [rad].
 cdpr_vec3_t cdpr_quat_to_rotvec(cdpr_quat_t q);

@@ -39,10 +39,18 @@ typedef struct {
 } cdpr_traj_t;
 
 /// Desired state at one instant (outputs).
+///
+/// Accelerations are analytic. Where the trajectory has a kink (the line's start and end,
+/// where its velocity steps; the end of the circle's speed ramp; the circle's step start at
+/// full speed) they are the one-sided value of the piece that contains t (pieces are closed on
+/// the left): the impulse of a velocity step is not represented.
 typedef struct {
     double pose[6];             ///< x, y, z [m], α, β, γ [rad]
     double rate[6];             ///< time derivative of pose [m/s, rad/s]
+    double accel[6];            ///< second time derivative of pose [m/s^2, rad/s^2]
     cdpr_cabin_motion_t motion; ///< p, q, v (world), ω (body axes)
+    cdpr_vec3_t a_m_per_s2;     ///< acceleration of the body origin, world [m/s^2]
+    cdpr_vec3_t dw_rad_per_s2;  ///< dω/dt of the body-axes ω [rad/s^2] (= R^T dω_world/dt)
 } cdpr_traj_sample_t;
 
 /// Evaluate the trajectory at t [s] (t < 0 gives the start, at rest).
@@ -50,6 +58,11 @@ void cdpr_traj_eval(const cdpr_traj_t *tr, double t_s, cdpr_traj_sample_t *out);
 
 /// Body-axes angular velocity for Euler angles `euler` and their rates (R = Rz Ry Rx).
 cdpr_vec3_t cdpr_euler_rates_to_body(const double euler[3], const double rates[3]);
+
+/// Body-axes angular acceleration dω/dt for Euler angles, their rates and their second
+/// derivatives (R = Rz Ry Rx). Equals R^T dω_world/dt, since d(R^T)/dt ω_world = 0.
+cdpr_vec3_t cdpr_euler_accel_to_body(const double euler[3], const double rates[3],
+                                     const double accels[3]);
 
 /// Time at which the trajectory stops moving [s] (circle: never, returns +Inf).
 double cdpr_traj_end_time(const cdpr_traj_t *tr);
