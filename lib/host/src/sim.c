@@ -92,28 +92,10 @@ static const char *traj_key(const cdpr_scenario_t *sc)
                : ((sc->traj.type == CDPR_TRAJ_LINE) ? "trajectory.line" : "trajectory.hold");
 }
 
-/* Key that determines the initial pose, for error messages: the explicit pose, else the
- * offset from the trajectory's start, else the trajectory's start itself. */
-static const char *initial_key(const cdpr_scenario_t *sc)
-{
-    if (sc->has_initial_pose != 0) {
-        return "initial.pose";
-    }
-    for (int i = 0; i < 6; ++i) {
-        if (fabs(sc->initial_offset[i]) > 0.0) {
-            return "initial.offset";
-        }
-    }
-    return (sc->traj.type == CDPR_TRAJ_CIRCLE)
-               ? "trajectory.circle"
-               : ((sc->traj.type == CDPR_TRAJ_LINE) ? "trajectory.line.from"
-                                                    : "trajectory.hold.pose");
-}
-
-/* The initial pose and the trajectory (every 0.1 s and at the end) must be statically
- * feasible; returns 0 or 2 with err filled. */
+/* The trajectory (every 0.1 s and at the end) must be statically feasible (the initial pose is
+ * checked by cdpr_plant_init); returns 0 or 2 with err filled. */
 static int check_reachable(sim_t *s, const cdpr_scenario_t *sc, double duration,
-                           cdpr_statics_result_t *initial, cdpr_scenario_error_t *err)
+                           cdpr_scenario_error_t *err)
 {
     cdpr_robot_params_t mp;
     cdpr_diag_t d;
@@ -127,29 +109,13 @@ static int check_reachable(sim_t *s, const cdpr_scenario_t *sc, double duration,
     }
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
-    double pose[6];
-    cdpr_scenario_initial_pose(sc, pose);
-    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(pose);
-    cdpr_status_t st = cdpr_statics_ik(&s->model, &m0, &o, initial);
-    if (st != CDPR_OK) {
-        const char *key = initial_key(sc);
-        char what[512];
-        snprintf(what, sizeof what,
-                 "%s (%g, %g, %g m, %g, %g, %g rad) is not statically reachable "
-                 "(no equilibrium with every cable pulling): %s",
-                 (strncmp(key, "initial", 7) == 0) ? "initial pose"
-                                                   : "start pose of the trajectory",
-                 pose[0], pose[1], pose[2], pose[3], pose[4], pose[5], cdpr_status_str(st));
-        cdpr_scenario_error(sc, key, what, err);
-        return 2;
-    }
     const long n = (long)ceil(duration / 0.1);
     for (long k = 0; k <= n; ++k) {
         const double t = (k < n) ? 0.1 * (double)k : duration + sc->gains.period_s;
         cdpr_traj_sample_t ds;
         cdpr_traj_eval(&sc->traj, t, &ds);
         cdpr_statics_result_t res;
-        st = cdpr_statics_ik(&s->model, &ds.motion, &o, &res);
+        const cdpr_status_t st = cdpr_statics_ik(&s->model, &ds.motion, &o, &res);
         if (st != CDPR_OK) {
             char what[512];
             snprintf(what, sizeof what,
@@ -350,9 +316,9 @@ static void progress(const cdpr_sim_opts_t *o, double t, double total, double wa
     fflush(o->progress_stream);
 }
 
-/* Plant (IK lengths -> robot -> catenary placement -> settle) and controller. Returns 0 or
- * 2. */
-static int initialise(sim_t *s, const cdpr_scenario_t *sc, cdpr_sim_summary_t *sum,
+/* Plant (IK lengths -> robot -> catenary placement -> settle), the trajectory's feasibility,
+ * and the controller. Returns 0 or 2. */
+static int initialise(sim_t *s, const cdpr_scenario_t *sc, double duration, cdpr_sim_summary_t *sum,
                       cdpr_scenario_error_t *err)
 {
     const int rc = cdpr_plant_init(&s->plant, sc, sc->gains.period_s, 0, err);
@@ -363,6 +329,11 @@ static int initialise(sim_t *s, const cdpr_scenario_t *sc, cdpr_sim_summary_t *s
     sum->settle_steps = s->plant.settle_steps;
     if (rc != 0) {
         return rc;
+    }
+    /* The trajectory before the controller: its error names the time and pose. */
+    const int rc_traj = check_reachable(s, sc, duration, err);
+    if (rc_traj != 0) {
+        return rc_traj;
     }
     /* The controller, with its own model built from the same values. */
     cdpr_diag_t d;
@@ -491,11 +462,7 @@ int cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_sim_s
         snprintf(err->msg, sizeof err->msg, "out of memory");
         return 3;
     }
-    cdpr_statics_result_t ik;
-    int rc = check_reachable(s, sc, duration, &ik, err);
-    if (rc == 0) {
-        rc = initialise(s, sc, sum, err);
-    }
+    int rc = initialise(s, sc, duration, sum, err);
     if (rc == 0) {
         rc = cdpr_sim_rec_open(&s->rec, sc, o->out_dir, s->plant.robot.p.n_cables, duration, sum,
                                err);
