@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "cdpr/rt_plant.h"
+#include "cdpr/cli.h"
 #include "cdpr/rt_tracker.h"
 #include "cdpr/scenario.h"
 
@@ -69,19 +70,6 @@ static void usage(FILE *f)
             "            3 LCM/thread start-up failure\n");
 }
 
-static int number(const char *opt, const char *arg, double lo, double hi, double *out)
-{
-    char *end = NULL;
-    errno = 0;
-    const double v = strtod(arg, &end);
-    if (errno != 0 || end == arg || *end != '\0' || !(v >= lo && v <= hi)) {
-        fprintf(stderr, "cdpr-rt: --%s: not a number in [%g, %g]: '%s'\n", opt, lo, hi, arg);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
 static int parse(int argc, char **argv, options_t *o)
 {
     static const struct option longopts[] = {{"rate", required_argument, NULL, 'r'},
@@ -106,33 +94,36 @@ static int parse(int argc, char **argv, options_t *o)
         int bad = 0;
         switch (c) {
         case 'r':
-            bad = number("rate", optarg, 1.0, 100000.0, &o->rt.rate_hz);
+            bad = cdpr_cli_number("cdpr-rt", "rate", optarg, 1.0, 100000.0, &o->rt.rate_hz);
             break;
         case 'd':
-            bad = number("duration", optarg, 1e-6, 1e7, &o->rt.duration_s);
+            bad = cdpr_cli_number("cdpr-rt", "duration", optarg, 1e-6, 1e7, &o->rt.duration_s);
             break;
         case 'l':
             o->rt.lockstep = 1;
             break;
         case 'L':
-            bad = number("lockstep-timeout", optarg, 1e-3, 3600.0, &o->rt.lockstep_timeout_s);
+            bad = cdpr_cli_number("cdpr-rt", "lockstep-timeout", optarg, 1e-3, 3600.0,
+                                  &o->rt.lockstep_timeout_s);
             break;
         case 'R':
             o->rt.realtime = 1;
             break;
         case 'P':
-            bad = number("priority", optarg, 1.0, 99.0, &v);
+            bad = cdpr_cli_number("cdpr-rt", "priority", optarg, 1.0, 99.0, &v);
             o->rt.rt_priority = (int)v;
             break;
         case 'm':
-            bad = number("max-trials", optarg, 1.0, 1e6, &v);
+            bad = cdpr_cli_number("cdpr-rt", "max-trials", optarg, 1.0, 1e6, &v);
             o->rt.max_trials = (int)v;
             break;
         case 'w':
-            bad = number("watchdog", optarg, 1e-4, 3600.0, &o->rt.lcm.watchdog_timeout_s);
+            bad = cdpr_cli_number("cdpr-rt", "watchdog", optarg, 1e-4, 3600.0,
+                                  &o->rt.lcm.watchdog_timeout_s);
             break;
         case 's':
-            bad = number("start-delay", optarg, 0.0, 3600.0, &o->rt.start_delay_s);
+            bad = cdpr_cli_number("cdpr-rt", "start-delay", optarg, 0.0, 3600.0,
+                                  &o->rt.start_delay_s);
             break;
         case 'u':
             o->rt.lcm.url = optarg;

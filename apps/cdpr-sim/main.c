@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cdpr/cli.h"
 #include "cdpr/scenario.h"
 #include "cdpr/sim.h"
 
@@ -65,17 +66,11 @@ static int parse(int argc, char **argv, options_t *o)
         case 'o':
             o->out_dir = optarg;
             break;
-        case 'd': {
-            char *end = NULL;
-            errno = 0;
-            o->duration_s = strtod(optarg, &end);
-            if (errno != 0 || end == optarg || *end != '\0' || !(o->duration_s > 0.0) ||
-                o->duration_s > 1e6) {
-                fprintf(stderr, "cdpr-sim: --duration: not a number in (0, 1e6]: '%s'\n", optarg);
+        case 'd':
+            if (cdpr_cli_number("cdpr-sim", "duration", optarg, 1e-9, 1e6, &o->duration_s) != 0) {
                 return -1;
             }
             break;
-        }
         case 'n':
             o->plot = 0;
             break;

@@ -21,6 +21,7 @@
 #include <lcm/lcm.h>
 
 #include "cdpr/plant.h"
+#include "cdpr/cli.h"
 #include "cdpr/rt_tracker.h"
 #include "cdpr/scenario.h"
 
@@ -36,6 +37,17 @@ static void on_signal(int sig)
 {
     (void)sig;
     g_stop = 1;
+}
+
+/* SIGINT/SIGTERM set g_stop; the loops check it. */
+static void install_stop_handler(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    (void)sigaction(SIGINT, &sa, NULL);
+    (void)sigaction(SIGTERM, &sa, NULL);
 }
 
 typedef struct {
@@ -77,19 +89,6 @@ static void usage(FILE *f)
            "            scenario, 3 LCM or output failure\n");
 }
 
-static int number(const char *opt, const char *arg, double lo, double hi, double *out)
-{
-    char *end = NULL;
-    errno = 0;
-    const double v = strtod(arg, &end);
-    if (errno != 0 || end == arg || *end != '\0' || !(v >= lo && v <= hi)) {
-        fprintf(stderr, "cdpr-tracker: --%s: not a number in [%g, %g]: '%s'\n", opt, lo, hi, arg);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
 static int parse(int argc, char **argv, options_t *o)
 {
     static const struct option longopts[] = {{"rate", required_argument, NULL, 'r'},
@@ -108,13 +107,13 @@ static int parse(int argc, char **argv, options_t *o)
         int bad = 0;
         switch (c) {
         case 'r':
-            bad = number("rate", optarg, 1.0, 100000.0, &o->rate_hz);
+            bad = cdpr_cli_number("cdpr-tracker", "rate", optarg, 1.0, 100000.0, &o->rate_hz);
             break;
         case 'd':
-            bad = number("duration", optarg, 1e-6, 1e7, &o->duration_s);
+            bad = cdpr_cli_number("cdpr-tracker", "duration", optarg, 1e-6, 1e7, &o->duration_s);
             break;
         case 'i':
-            bad = number("idle-exit", optarg, 0.01, 1e6, &o->idle_exit_s);
+            bad = cdpr_cli_number("cdpr-tracker", "idle-exit", optarg, 0.01, 1e6, &o->idle_exit_s);
             break;
         case 'u':
             o->url = optarg;
@@ -356,12 +355,7 @@ int main(int argc, char **argv)
         return EXIT_USAGE;
     }
     if (o.replay != NULL) {
-        struct sigaction sa;
-        memset(&sa, 0, sizeof sa);
-        sa.sa_handler = on_signal;
-        sigemptyset(&sa.sa_mask);
-        (void)sigaction(SIGINT, &sa, NULL);
-        (void)sigaction(SIGTERM, &sa, NULL);
+        install_stop_handler();
         return replay_run(&o);
     }
     cdpr_scenario_t sc;
@@ -404,12 +398,7 @@ int main(int argc, char **argv)
         lcm_destroy(lcm);
         return EXIT_LCM;
     }
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    (void)sigaction(SIGINT, &sa, NULL);
-    (void)sigaction(SIGTERM, &sa, NULL);
+    install_stop_handler();
     if (o.quiet == 0) {
         fprintf(stderr, "cdpr-tracker: %s: waiting for %sCABIN_STATE on %s\n", o.scenario,
                 (o.prefix != NULL) ? o.prefix : "CDPR_", (o.url != NULL) ? o.url : "default URL");

@@ -313,7 +313,6 @@ static void *periodic(void *arg)
         if (st >= 0) {
             rt->command_seq = cmd.seq;
         }
-        rt->last_flags = pf;
         rt->seq++;
         t->periods++;
         publish(rt, pf);

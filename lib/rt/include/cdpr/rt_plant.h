@@ -109,8 +109,7 @@ typedef struct {
     long shape_every;    ///< periods between shape messages (0: none)
     long diag_every;     ///< periods between diagnostics (0: none)
     int64_t period_ns;
-    int hold;       ///< the last step used the hold command
-    int last_flags; ///< plant flags of the last step
+    int hold; ///< the last step used the hold command
 } cdpr_rt_t;
 
 /// Defaults (see the field comments).
