@@ -129,7 +129,7 @@ def core_graph(preset, segments=None):
 
 roots = [("cdpr_rkf45_advance", "one control period (advance -> robot RHS)"),
          ("cdpr_robot_rhs", "robot RHS alone"),
-         ("cdpr_robot_node_events", "node insertion/removal"),
+         ("cdpr_winch_node_events", "node insertion/removal"),
          ("cdpr_winch_update", "winch command update"),
          ("cdpr_robot_outputs", "end forces for telemetry"),
          ("cdpr_robot_init", "initialisation (not per period)")]

@@ -28,7 +28,7 @@
 #include <gsl/gsl_odeiv2.h>
 #include <gsl/gsl_version.h>
 
-#include "cdpr/gsl_ref.h"
+#include "cdpr/gsl/ref.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
 

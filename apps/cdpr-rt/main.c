@@ -12,10 +12,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cdpr/rt_plant.h"
-#include "cdpr/cli.h"
-#include "cdpr/rt_tracker.h"
-#include "cdpr/scenario.h"
+#include "cdpr/rt/plant_node.h"
+#include "cdpr/host/cli.h"
+#include "cdpr/rt/tracker_node.h"
+#include "cdpr/host/scenario.h"
 
 #ifndef CDPR_SOURCE_DIR
 #define CDPR_SOURCE_DIR "."

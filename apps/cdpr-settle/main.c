@@ -218,7 +218,7 @@ static int run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, doub
     cdpr_settle_default(&cfg);
     cfg.acc_tol_m_per_s2 = 1e-6;
     const double t0 = now_s();
-    const cdpr_status_t st = cdpr_robot_settle(&robot, &solver, y, scratch, &cfg);
+    const cdpr_status_t st = cdpr_settle_robot(&robot, &solver, y, scratch, &cfg);
     res->wall_s = now_s() - t0;
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-settle: N=%d did not settle: %s (max acceleration %.3g m/s^2)\n", n,

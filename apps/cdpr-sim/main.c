@@ -11,9 +11,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "cdpr/cli.h"
-#include "cdpr/scenario.h"
-#include "cdpr/sim.h"
+#include "cdpr/host/cli.h"
+#include "cdpr/host/scenario.h"
+#include "cdpr/host/sim.h"
 
 #ifndef CDPR_SOURCE_DIR
 #define CDPR_SOURCE_DIR "."

@@ -20,10 +20,10 @@
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 
-#include "cdpr/plant.h"
-#include "cdpr/cli.h"
-#include "cdpr/rt_tracker.h"
-#include "cdpr/scenario.h"
+#include "cdpr/host/plant.h"
+#include "cdpr/host/cli.h"
+#include "cdpr/rt/tracker_node.h"
+#include "cdpr/host/scenario.h"
 
 #ifndef CDPR_SOURCE_DIR
 #define CDPR_SOURCE_DIR "."

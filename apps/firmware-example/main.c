@@ -167,7 +167,7 @@ static int init_model(void)
     }
     st = cdpr_robot_init(&robot, &params, &d);
     if (st == CDPR_OK) {
-        st = cdpr_robot_place_catenary(&robot, &home, y);
+        st = cdpr_statics_place_catenary(&robot, &home, y);
     }
     if (st != CDPR_OK) {
         printf("placement: %s\n", cdpr_status_str(st));
@@ -219,7 +219,7 @@ static cdpr_status_t control_period(void)
     cdpr_robot_normalize(&robot, y);
     /* Node insertion/removal at the pulleys; the state dimension may change. */
     int changed = 0;
-    (void)cdpr_robot_node_events(&robot, t_s, y, &node_stats, &changed);
+    (void)cdpr_winch_node_events(&robot, t_s, y, &node_stats, &changed);
     if (changed != 0) {
         (void)cdpr_rkf45_set_dim(&solver, robot.dim);
         cdpr_robot_fill_atol(&robot, ATOL, ATOL, ATOL, ATOL, atol);

@@ -12,8 +12,8 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
-#include "cdpr/scenario.h"
-#include "cdpr/sim.h"
+#include "cdpr/host/scenario.h"
+#include "cdpr/host/sim.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -175,7 +175,7 @@ static void test_every_key_resolves_to_the_value_written(void)
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_scenario_load(path, &sc, &err), err.msg);
     /* Exact: decimal literals parse to the nearest double, as the C literals below do. */
-    const cdpr_robot_config_t *c = &sc.robot;
+    const cdpr_preset_config_t *c = &sc.robot;
     TEST_ASSERT_EQUAL_STRING("test: every key", sc.description);
     TEST_ASSERT_EQUAL_INT(CDPR_PRESET_PAPER_50M, c->preset);
     TEST_ASSERT_EQUAL_INT(12, c->segments);
@@ -246,7 +246,7 @@ static void test_omitted_keys_take_the_preset(void)
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_scenario_load(path, &sc, &err), err.msg);
     /* PARAMETERS.md set A, typed in from the table. */
-    const cdpr_robot_config_t *c = &sc.robot;
+    const cdpr_preset_config_t *c = &sc.robot;
     TEST_ASSERT_EQUAL_DOUBLE(25.0, c->exit_radius_m);
     TEST_ASSERT_EQUAL_DOUBLE(30.0, c->exit_height_m);
     TEST_ASSERT_EQUAL_DOUBLE(2.0, c->attach_radius_m);

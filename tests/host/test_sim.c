@@ -13,8 +13,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "cdpr/scenario.h"
-#include "cdpr/sim.h"
+#include "cdpr/host/scenario.h"
+#include "cdpr/host/sim.h"
 #include "cdpr/statics.h"
 #include "unity.h"
 
@@ -178,7 +178,7 @@ static void test_deploy_retrieve_node_events(void)
     sc.robot.segments = 10;
     cdpr_robot_params_t p;
     static cdpr_robot_t model;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_config_build(&sc.robot, NULL, &p, NULL, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&sc.robot, NULL, &p, NULL, NULL));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&model, &p, NULL));
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);

@@ -13,11 +13,11 @@
 #include <string.h>
 
 #include "alloc_count.h"
-#include "cdpr/robots.h"
-#include "cdpr/scenario.h"
-#include "cdpr/sim.h"
+#include "cdpr/host/presets.h"
+#include "cdpr/host/scenario.h"
+#include "cdpr/host/sim.h"
 #include "cdpr/statics.h"
-#include "cdpr/tracker.h"
+#include "cdpr/host/tracker.h"
 #include "ref_mat3.h"
 #include "test_real.h"
 #include "unity.h"
@@ -30,10 +30,10 @@ static cdpr_robot_t model;
 
 static void model_params(cdpr_robot_params_t *p)
 {
-    cdpr_robot_config_t c;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_config_preset(CDPR_PRESET_PAPER_50M, &c));
+    cdpr_preset_config_t c;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_get(CDPR_PRESET_PAPER_50M, &c));
     c.segments = 8;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_config_build(&c, NULL, p, NULL, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&c, NULL, p, NULL, NULL));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&model, p, NULL));
 }
 

@@ -7,8 +7,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "cdpr/tracker.h"
-#include "cdpr/trajectory.h"
+#include "cdpr/host/tracker.h"
+#include "cdpr/host/trajectory.h"
 #include "unity.h"
 
 void setUp(void) {}

@@ -8,7 +8,7 @@
 /// for overflow/shift/conversion UB), and it checks the contract directly: an accepted command
 /// has only finite values within the limits, a seq greater than every earlier accepted seq,
 /// and a state_seq within [previous accepted state_seq, newest published state].
-#include "cdpr/lcm_command.h"
+#include "cdpr/lcm/command.h"
 
 #include <math.h>
 #include <stddef.h>

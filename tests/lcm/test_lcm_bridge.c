@@ -15,7 +15,7 @@
 #include "unity.h"
 
 #include "alloc_count.h"
-#include "cdpr/lcm_bridge.h"
+#include "cdpr/lcm/bridge.h"
 #include "lcm_call_count.h"
 
 #include <math.h>

@@ -13,7 +13,7 @@
 #include "unity.h"
 
 #include "alloc_count.h"
-#include "cdpr/lcm_command.h"
+#include "cdpr/lcm/command.h"
 #include "lcmtypes/cdpr_cabin_state_t.h"
 
 #include <math.h>

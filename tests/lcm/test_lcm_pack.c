@@ -15,7 +15,7 @@
 #include "unity.h"
 
 #include "alloc_count.h"
-#include "cdpr/lcm_pack.h"
+#include "cdpr/lcm/pack.h"
 #include "cdpr/robot.h"
 #include "cdpr/vec3.h"
 #include "test_real.h"

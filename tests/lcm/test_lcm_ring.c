@@ -10,7 +10,7 @@
 #include "unity.h"
 
 #include "alloc_count.h"
-#include "cdpr/lcm_ring.h"
+#include "cdpr/lcm/ring.h"
 
 #include <pthread.h>
 #include <sched.h>

@@ -14,7 +14,7 @@
 #include "unity.h"
 
 #include "alloc_count.h"
-#include "cdpr/lcm_bridge.h"
+#include "cdpr/lcm/bridge.h"
 #include "lcm_call_count.h"
 
 #include <pthread.h>

@@ -13,10 +13,10 @@
 #include <time.h>
 
 #include "alloc_count.h"
-#include "cdpr/lcm_pack.h"
-#include "cdpr/plant.h"
-#include "cdpr/rt_plant.h"
-#include "cdpr/rt_tracker.h"
+#include "cdpr/lcm/pack.h"
+#include "cdpr/host/plant.h"
+#include "cdpr/rt/plant_node.h"
+#include "cdpr/rt/tracker_node.h"
 #include "lcm_call_count.h"
 #include "test_real.h"
 #include "unity.h"

@@ -289,7 +289,7 @@ static void settle_chain(int n, double Hr, double var, settled_t *out)
                                           CDPR_ROBOT_STATE_MAX, robot.dim, NULL));
     cdpr_settle_t cfg;
     cdpr_settle_default(&cfg);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_settle(&robot, &solver, y, scratch, &cfg));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_settle_robot(&robot, &solver, y, scratch, &cfg));
 
     /* Node coordinates (x, z) with node 0 = A at the origin and node n = B. */
     double xs[65] = {0.0};

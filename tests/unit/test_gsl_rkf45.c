@@ -21,7 +21,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "alloc_count.h"
-#include "cdpr/gsl_ref.h"
+#include "cdpr/gsl/ref.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
 #include "test_real.h"

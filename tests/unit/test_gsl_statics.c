@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "cdpr/gsl_statics.h"
+#include "cdpr/gsl/statics.h"
 #include "cdpr/robot.h"
 #include "cdpr/statics.h"
 #include "unity.h"

@@ -224,7 +224,7 @@ static void settle_vs_statics(int segments, const cdpr_statics_result_t *res, do
     cdpr_robot_params_t p;
     params_50m(&p, segments, L);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&robot, &p, NULL));
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_place_catenary(&robot, res, y));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_place_catenary(&robot, res, y));
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
     sp.rtol = 1e-9;
@@ -235,7 +235,7 @@ static void settle_vs_statics(int segments, const cdpr_statics_result_t *res, do
                                           CDPR_ROBOT_STATE_MAX, robot.dim, NULL));
     cdpr_settle_t cfg;
     cdpr_settle_default(&cfg);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_settle(&robot, &s, y, scratch, &cfg));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_settle_robot(&robot, &s, y, scratch, &cfg));
     const cdpr_vec3_t dp = cdpr_v3_sub(cdpr_v3(y[0], y[1], y[2]), res->pose.p_m);
     *dpos = cdpr_v3_norm(dp);
     cdpr_robot_out_t out;
@@ -253,7 +253,7 @@ static void settle_vs_statics(int segments, const cdpr_statics_result_t *res, do
 
 /* Why the float build skips the two settled cases below (measured on the host's float build,
  * same sources): the node accelerations at rest keep the rounding of the segment forces,
- * EA 2 u_f / m_node = 2e6 N x 1.2e-7 / 0.27 kg = 0.9 m/s^2 for 16 segments; cdpr_robot_settle
+ * EA 2 u_f / m_node = 2e6 N x 1.2e-7 / 0.27 kg = 0.9 m/s^2 for 16 segments; cdpr_settle_robot
  * stalls at 0.6-2.5 m/s^2, far above its float default (1e-2 m/s^2, settle.h), and a tolerance
  * that loose would leave the cabin's softest mode (omega^2 ~ 6 1/s^2) up to 0.4 m from rest.
  * The convergence case also needs end tensions to ~1e-3 N (the N = 16 discretisation error is

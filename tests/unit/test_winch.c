@@ -115,7 +115,7 @@ static void run(double u, double seconds, cdpr_node_stats_t *ns, event_check_t *
         double vmax;
         momentum(p0, &vmax);
         int changed = 0;
-        const cdpr_status_t ev = cdpr_robot_node_events(&robot, t, y, ns, &changed);
+        const cdpr_status_t ev = cdpr_winch_node_events(&robot, t, y, ns, &changed);
         TEST_ASSERT_TRUE(ev == CDPR_OK || ev == CDPR_WARN_CAPACITY);
         if (ev == CDPR_WARN_CAPACITY) {
             ++*warn_cap;
@@ -148,7 +148,7 @@ static void settle(void)
 {
     cdpr_settle_t cfg;
     cdpr_settle_default(&cfg);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_settle(&robot, &solver, y, scratch, &cfg));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_settle_robot(&robot, &solver, y, scratch, &cfg));
 }
 
 /* Why the float build skips the two settled cases below: the node forces carry rounding of

@@ -23,7 +23,7 @@ void cdpr_settle_default(cdpr_settle_t *cfg)
     cfg->max_acc_m_per_s2 = CDPR_R(0.0);
 }
 
-cdpr_real_t cdpr_robot_kinetic_energy(const cdpr_robot_t *r, const cdpr_real_t *y)
+cdpr_real_t cdpr_settle_kinetic_energy(const cdpr_robot_t *r, const cdpr_real_t *y)
 {
     cdpr_real_t ke = CDPR_R(0.0);
     for (int j = 0; j < r->p.n_cables; ++j) {
@@ -85,7 +85,7 @@ static cdpr_real_t max_acc(const cdpr_robot_t *r, const cdpr_real_t *dydt)
     return m;
 }
 
-cdpr_status_t cdpr_robot_settle(const cdpr_robot_t *r, cdpr_rkf45_t *solver, cdpr_real_t *y,
+cdpr_status_t cdpr_settle_robot(const cdpr_robot_t *r, cdpr_rkf45_t *solver, cdpr_real_t *y,
                                 cdpr_real_t *scratch, cdpr_settle_t *cfg)
 {
     if (r == NULL || solver == NULL || y == NULL || scratch == NULL || cfg == NULL ||
@@ -118,7 +118,7 @@ cdpr_status_t cdpr_robot_settle(const cdpr_robot_t *r, cdpr_rkf45_t *solver, cdp
         }
         cdpr_robot_normalize(r, y);
         cfg->steps++;
-        const cdpr_real_t ke = cdpr_robot_kinetic_energy(r, y);
+        const cdpr_real_t ke = cdpr_settle_kinetic_energy(r, y);
         if (ke < ke_prev) {
             /* Peak passed: remove all kinetic energy. */
             stop_all(r, y);

@@ -650,8 +650,8 @@ cdpr_status_t cdpr_statics_forward(const cdpr_robot_t *r, const cdpr_real_t *len
     return CDPR_OK;
 }
 
-cdpr_status_t cdpr_robot_place_catenary(const cdpr_robot_t *r, const cdpr_statics_result_t *res,
-                                        cdpr_real_t *y)
+cdpr_status_t cdpr_statics_place_catenary(const cdpr_robot_t *r, const cdpr_statics_result_t *res,
+                                          cdpr_real_t *y)
 {
     if (r == NULL || res == NULL || y == NULL || res->n_cables != r->p.n_cables) {
         return CDPR_E_INVALID_ARG;

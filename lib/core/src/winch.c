@@ -173,7 +173,7 @@ static void remove_node(cdpr_robot_t *r, int j, cdpr_real_t *y)
     y[o] = lu_prev + lu_last;
 }
 
-cdpr_status_t cdpr_robot_node_events(cdpr_robot_t *r, cdpr_real_t t_s, cdpr_real_t *y,
+cdpr_status_t cdpr_winch_node_events(cdpr_robot_t *r, cdpr_real_t t_s, cdpr_real_t *y,
                                      cdpr_node_stats_t *stats, int *changed)
 {
     if (r == NULL || y == NULL || stats == NULL || changed == NULL) {

@@ -1,7 +1,7 @@
 /// @file gsl_ref.c
 /// GSL odeiv2 rkf45 on a cdpr RHS: adapter, reference integration, preallocated stepper.
 /// Host only (GSL is GPL-3); see gsl_ref.h.
-#include "cdpr/gsl_ref.h"
+#include "cdpr/gsl/ref.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /// @file gsl_statics.c
 /// Sag-aware IK with gsl_multiroot (see gsl_statics.h).
-#include "cdpr/gsl_statics.h"
+#include "cdpr/gsl/statics.h"
 
 #include <math.h>
 #include <stddef.h>

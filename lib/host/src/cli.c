@@ -1,6 +1,6 @@
 /// @file cli.c
 /// Command-line helpers (cli.h).
-#include "cdpr/cli.h"
+#include "cdpr/host/cli.h"
 
 #include <errno.h>
 #include <stdio.h>

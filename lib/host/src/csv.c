@@ -1,5 +1,5 @@
 /// @file csv.c
-#include "cdpr/csv.h"
+#include "cdpr/host/csv.h"
 
 #include <string.h>
 

@@ -1,6 +1,6 @@
 /// @file plant.c
 /// The plant of a scenario, one control period at a time (see plant.h).
-#include "cdpr/plant.h"
+#include "cdpr/host/plant.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -58,7 +58,7 @@ static int initial_ik(cdpr_plant_t *p, const cdpr_scenario_t *sc, cdpr_scenario_
 {
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    if (cdpr_robot_config_build(&sc->robot, NULL, &p->params, NULL, &d) != CDPR_OK ||
+    if (cdpr_preset_build(&sc->robot, NULL, &p->params, NULL, &d) != CDPR_OK ||
         cdpr_robot_init(&p->robot, &p->params, &d) != CDPR_OK) {
         return fail_model(sc, "robot", "rejected by the model", &d, err);
     }
@@ -96,7 +96,7 @@ int cdpr_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc, cdpr_scenario_e
     }
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    if (cdpr_robot_config_build(&sc->robot, lengths, &p->params, &p->winch_params, &d) != CDPR_OK ||
+    if (cdpr_preset_build(&sc->robot, lengths, &p->params, &p->winch_params, &d) != CDPR_OK ||
         cdpr_robot_init(&p->robot, &p->params, &d) != CDPR_OK) {
         return fail_model(sc, "robot", "rejected by the model", &d, err);
     }
@@ -120,7 +120,7 @@ int cdpr_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double period_s,
     const cdpr_winch_params_t wp = p->winch_params;
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    cdpr_status_t st = cdpr_robot_place_catenary(&p->robot, &p->initial, p->y);
+    cdpr_status_t st = cdpr_statics_place_catenary(&p->robot, &p->initial, p->y);
     if (st != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "cannot place the cables: %s", cdpr_status_str(st));
@@ -139,7 +139,7 @@ int cdpr_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double period_s,
     cdpr_settle_t cfg;
     cdpr_settle_default(&cfg);
     const double t0 = now_s();
-    st = cdpr_robot_settle(&p->robot, &p->rk, p->y, p->scratch, &cfg);
+    st = cdpr_settle_robot(&p->robot, &p->rk, p->y, p->scratch, &cfg);
     p->settle_wall_time_s = now_s() - t0;
     p->settle_steps = cfg.steps;
     if (st != CDPR_OK) {
@@ -250,7 +250,7 @@ cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags)
     p->stats.steps++;
     cdpr_robot_normalize(r, p->y);
     int changed = 0;
-    const cdpr_status_t ns = cdpr_robot_node_events(r, t + dt, p->y, &p->nodes, &changed);
+    const cdpr_status_t ns = cdpr_winch_node_events(r, t + dt, p->y, &p->nodes, &changed);
     if (ns == CDPR_WARN_CAPACITY) {
         p->stats.capacity_periods++;
         fl |= CDPR_PLANT_NODE_CAPACITY;

@@ -1,7 +1,7 @@
 /// @file scenario.c
 /// Scenario files through libcyaml: a schema of "raw" structs (optional keys are pointers, so
 /// absence is visible), resolved onto a preset, then checked key by key.
-#include "cdpr/scenario.h"
+#include "cdpr/host/scenario.h"
 
 #include <cyaml/cyaml.h>
 #include <errno.h>
@@ -54,7 +54,7 @@ typedef struct {
 } raw_winch_t;
 
 typedef struct {
-    cdpr_robot_preset_t preset;
+    cdpr_preset_t preset;
     double *segments; /* read as a number, checked to be whole (libcyaml's INT accepts 3.5) */
     double *gravity_m_per_s2;
     double *wind_m_per_s;
@@ -582,10 +582,10 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->output_rate_hz = 0.0; /* 0: one row per control period */
 }
 
-void cdpr_scenario_default(cdpr_scenario_t *sc, cdpr_robot_preset_t preset)
+void cdpr_scenario_default(cdpr_scenario_t *sc, cdpr_preset_t preset)
 {
     memset(sc, 0, sizeof *sc);
-    (void)cdpr_robot_config_preset(preset, &sc->robot);
+    (void)cdpr_preset_get(preset, &sc->robot);
     sc->traj.type = CDPR_TRAJ_HOLD;
     memcpy(sc->traj.hold_pose, sc->robot.nominal_pose, sizeof sc->traj.hold_pose);
     sc->traj.direction = 1.0;
@@ -603,8 +603,8 @@ static void take(double *dst, const double *src, int n)
 static void resolve(const raw_t *r, cdpr_scenario_t *sc)
 {
     const raw_robot_t *rr = &r->robot;
-    cdpr_robot_config_t *c = &sc->robot;
-    (void)cdpr_robot_config_preset(rr->preset, c);
+    cdpr_preset_config_t *c = &sc->robot;
+    (void)cdpr_preset_get(rr->preset, c);
     if (rr->segments != NULL) {
         c->segments = (int)*rr->segments; /* whole and in range: check_whole_numbers */
     }
@@ -872,7 +872,7 @@ static void core_check(vctx_t *v)
     cdpr_robot_params_t p;
     cdpr_winch_params_t w;
     cdpr_diag_t d;
-    const cdpr_status_t st = cdpr_robot_config_build(&v->sc->robot, NULL, &p, &w, &d);
+    const cdpr_status_t st = cdpr_preset_build(&v->sc->robot, NULL, &p, &w, &d);
     if (st != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "rejected by the model: field '%s' (cable %d): %s", d.field,
@@ -885,7 +885,7 @@ static void core_check(vctx_t *v)
 int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
     vctx_t v = {sc, err, 0};
-    const cdpr_robot_config_t *c = &sc->robot;
+    const cdpr_preset_config_t *c = &sc->robot;
     irange(&v, "robot.segments", c->segments, 1, CDPR_MAX_SEGMENTS);
     range(&v, "robot.gravity_m_per_s2", &c->gravity_m_per_s2, 1, 0.0, 100.0, 1);
     range(&v, "robot.wind_m_per_s", c->wind_m_per_s, 3, -100.0, 100.0, 0);

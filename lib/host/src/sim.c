@@ -1,6 +1,6 @@
 /// @file sim.c
 /// Batch closed-loop run of a scenario (see sim.h).
-#include "cdpr/sim.h"
+#include "cdpr/host/sim.h"
 
 #include <cyaml/cyaml.h>
 #include <errno.h>
@@ -13,8 +13,8 @@
 #include <unistd.h>
 #include <time.h>
 
-#include "cdpr/csv.h"
-#include "cdpr/plant.h"
+#include "cdpr/host/csv.h"
+#include "cdpr/host/plant.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/settle.h"
 #include "cdpr/statics.h"
@@ -99,7 +99,7 @@ static int check_reachable(sim_t *s, const cdpr_scenario_t *sc, double duration,
 {
     cdpr_robot_params_t mp;
     cdpr_diag_t d;
-    if (cdpr_robot_config_build(&sc->robot, NULL, &mp, NULL, &d) != CDPR_OK ||
+    if (cdpr_preset_build(&sc->robot, NULL, &mp, NULL, &d) != CDPR_OK ||
         cdpr_robot_init(&s->model, &mp, &d) != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "rejected by the model: field '%s': %s", d.field,
@@ -534,7 +534,7 @@ int cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
     fprintf(f, "{\n  \"scenario\": ");
     json_string(f, sc->path);
     fprintf(f, ",\n  \"robot\": ");
-    json_string(f, cdpr_robot_preset_name(sc->robot.preset));
+    json_string(f, cdpr_preset_name(sc->robot.preset));
     fprintf(f, ",\n  \"trajectory\": ");
     json_string(f, cdpr_traj_type_name(sc->traj.type));
     fprintf(f, ",\n  \"status\": ");

@@ -1,7 +1,7 @@
 /// @file tracker.c
 /// Sag-aware feed-forward (statics plus the d'Alembert load of the desired motion) plus pose
 /// feedback through the straight-cable Jacobian.
-#include "cdpr/tracker.h"
+#include "cdpr/host/tracker.h"
 
 #include <math.h>
 #include <string.h>

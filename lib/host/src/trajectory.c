@@ -1,6 +1,6 @@
 /// @file trajectory.c
 /// Circle, line and hold trajectories (MODEL.md §7, PARAMETERS.md scenario geometry).
-#include "cdpr/trajectory.h"
+#include "cdpr/host/trajectory.h"
 
 #include <math.h>
 #include <string.h>

@@ -15,7 +15,7 @@
 /// the rings again before it next blocks. A wake-up may be spurious (the bridge had not
 /// blocked yet); that costs one empty loop.
 
-#include "cdpr/lcm_bridge.h"
+#include "cdpr/lcm/bridge.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,7 +1,7 @@
 /// @file lcm_command.c
 /// Winch command decoding, validation, mailbox and watchdog (lcm_command.h).
 
-#include "cdpr/lcm_command.h"
+#include "cdpr/lcm/command.h"
 
 #include <limits.h>
 #include <math.h>

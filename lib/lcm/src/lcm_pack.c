@@ -1,7 +1,7 @@
 /// @file lcm_pack.c
 /// Core state -> LCM messages (lcm_pack.h).
 
-#include "cdpr/lcm_pack.h"
+#include "cdpr/lcm/pack.h"
 
 #include <math.h>
 #include <string.h>

@@ -12,7 +12,7 @@
 /// Indices are uint32_t and wrap; head - tail is exact because n_slots <= 2^16 < 2^31.
 /// C99 has no <stdatomic.h>: GCC/clang __atomic builtins (lock-free for 32/64-bit here).
 
-#include "cdpr/lcm_ring.h"
+#include "cdpr/lcm/ring.h"
 
 #include <string.h>
 

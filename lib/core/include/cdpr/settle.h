@@ -36,18 +36,21 @@ typedef struct {
 /// (EA 2-20 kN, nodes 0.35-1.75 kg), so 1e-3 never converged there; 1e-2 does, and still
 /// pins a mode with omega^2 = 6 1/s^2 (the 50 m model's softest) to ~2 mm. Stiff ropes do not
 /// settle in float at any tolerance that still means "at rest": the 50 m model's EA = 2 MN
-/// leaves 0.6-2.5 m/s^2 on its nodes. Place such robots with cdpr_robot_place_catenary
+/// leaves 0.6-2.5 m/s^2 on its nodes. Place such robots with cdpr_statics_place_catenary
 /// (statics.h), or settle in double.
 void cdpr_settle_default(cdpr_settle_t *cfg);
 
-/// Kinetic energy of the state: cable nodes (lumped masses) plus the cabin in dynamic mode [J].
-cdpr_real_t cdpr_robot_kinetic_energy(const cdpr_robot_t *r, const cdpr_real_t *y);
+/// The kinetic-energy measure whose peaks trigger the velocity resets [J]: the cable nodes'
+/// kinetic energy (lumped masses) plus, in dynamic mode, the cabin's with its origin velocity
+/// standing in for the centre-of-mass velocity (a positive-definite measure of motion, exact
+/// when the body origin is the centre of mass). O(total nodes); no allocation; cannot fail.
+cdpr_real_t cdpr_settle_kinetic_energy(const cdpr_robot_t *r, const cdpr_real_t *y);
 
 /// Relax y (dimension r->dim) to rest. `scratch` holds r->dim reals. The solver must have
 /// been initialised for r->dim. Returns CDPR_OK when converged (y at rest: velocities zero),
 /// CDPR_E_NO_CONVERGENCE when max_steps ran out (y is the last state, still valid), or an
 /// integrator error (y is the last good state).
-cdpr_status_t cdpr_robot_settle(const cdpr_robot_t *r, cdpr_rkf45_t *solver, cdpr_real_t *y,
+cdpr_status_t cdpr_settle_robot(const cdpr_robot_t *r, cdpr_rkf45_t *solver, cdpr_real_t *y,
                                 cdpr_real_t *scratch, cdpr_settle_t *cfg);
 
 #endif /* CDPR_SETTLE_H */

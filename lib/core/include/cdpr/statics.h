@@ -116,9 +116,9 @@ cdpr_status_t cdpr_statics_forward(const cdpr_robot_t *r, const cdpr_real_t *len
 
 /// Place every cable's nodes on its catenary of `res` (from cdpr_statics_ik at the same pose)
 /// at their unstretched arclengths, cabin at res->pose, at rest. The robot must have been
-/// initialised with length_m[j] = res->cable[j].length_m. Follow with cdpr_robot_settle to
+/// initialised with length_m[j] = res->cable[j].length_m. Follow with cdpr_settle_robot to
 /// reach the discrete chain's own equilibrium.
-cdpr_status_t cdpr_robot_place_catenary(const cdpr_robot_t *r, const cdpr_statics_result_t *res,
-                                        cdpr_real_t *y);
+cdpr_status_t cdpr_statics_place_catenary(const cdpr_robot_t *r, const cdpr_statics_result_t *res,
+                                          cdpr_real_t *y);
 
 #endif /* CDPR_STATICS_H */

@@ -4,7 +4,7 @@
 ///
 /// Sign: u > 0 pays cable out (the paper's v_d = -u). Only the pulley-side segment changes
 /// length continuously (d lu[n-1]/dt = u, a state of the ODE). Between accepted steps,
-/// cdpr_robot_node_events keeps that segment in [Delta/2, 2 Delta]:
+/// cdpr_winch_node_events keeps that segment in [Delta/2, 2 Delta]:
 ///  - insert when lu[n-1] > 2 Delta and n < CDPR_MAX_SEGMENTS: a node at unstretched
 ///    distance Delta from node n-1 on the straight last segment (position and velocity
 ///    interpolated), so the old part keeps Delta and the new last segment lu[n-1] - Delta;
@@ -72,7 +72,7 @@ cdpr_status_t cdpr_winch_update(cdpr_winch_t *w, cdpr_real_t length_m, cdpr_real
 /// Rewrites y in place (dimension r->dim before, r->dim after); the caller then resizes the
 /// integrator (cdpr_rkf45_set_dim) and refreshes per-component tolerances when `*changed`.
 /// Returns CDPR_WARN_CAPACITY when a cable is at capacity and wanted a node, else CDPR_OK.
-cdpr_status_t cdpr_robot_node_events(cdpr_robot_t *r, cdpr_real_t t_s, cdpr_real_t *y,
+cdpr_status_t cdpr_winch_node_events(cdpr_robot_t *r, cdpr_real_t t_s, cdpr_real_t *y,
                                      cdpr_node_stats_t *stats, int *changed);
 
 #endif /* CDPR_WINCH_H */

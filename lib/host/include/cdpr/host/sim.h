@@ -4,8 +4,8 @@
 ///
 /// Initialisation: sag-aware IK at the initial pose (start pose + initial offset) gives the
 /// unstretched lengths; the robot is built with them, its nodes placed on the catenaries
-/// (cdpr_robot_place_catenary) and settled to the discrete model's own static equilibrium
-/// (cdpr_robot_settle), so it starts at rest. The initial pose and the desired trajectory
+/// (cdpr_statics_place_catenary) and settled to the discrete model's own static equilibrium
+/// (cdpr_settle_robot), so it starts at rest. The initial pose and the desired trajectory
 /// (sampled every 0.1 s over the run) must be statically feasible, else the scenario is
 /// rejected naming the key.
 ///
@@ -13,18 +13,18 @@
 ///   measure (cabin motion, total unstretched lengths) -> controller -> payout-rate commands
 ///   -> cdpr_winch_update (speed/acceleration limits, minimum length) -> row of outputs
 ///   -> cdpr_rkf45_advance over exactly Δt_c with at most max_trials trials
-///   -> cdpr_robot_normalize -> cdpr_robot_node_events (resize the integrator, refresh the
+///   -> cdpr_robot_normalize -> cdpr_winch_node_events (resize the integrator, refresh the
 ///   per-component tolerances when the layout changed).
 ///
 /// Outputs in DIR: timeseries.csv (columns in docs/scenarios.md) and summary.json.
 /// Deterministic: the same scenario and binary give byte-identical timeseries.csv.
-#ifndef CDPR_SIM_H
-#define CDPR_SIM_H
+#ifndef CDPR_HOST_SIM_H
+#define CDPR_HOST_SIM_H
 
 #include <stdio.h>
 
-#include "cdpr/csv.h"
-#include "cdpr/scenario.h"
+#include "cdpr/host/csv.h"
+#include "cdpr/host/scenario.h"
 
 /// Run options (inputs).
 typedef struct {
@@ -143,4 +143,4 @@ int cdpr_sim_plot(const char *prog, const char *script, const char *dir, const c
 /// Name of a status as written in summary.json ("ok", "warnings", "failed").
 const char *cdpr_sim_status_name(cdpr_sim_status_t st);
 
-#endif /* CDPR_SIM_H */
+#endif /* CDPR_HOST_SIM_H */

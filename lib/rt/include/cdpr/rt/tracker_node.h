@@ -1,4 +1,4 @@
-/// @file rt_tracker.h
+/// @file tracker_node.h
 /// The tracking controller as an LCM node (apps/cdpr-tracker; also run in-process over
 /// memq:// by cdpr-rt --with-tracker). It speaks only LCM: it subscribes to the plant's
 /// `<prefix>CABIN_STATE` and `<prefix>CABLE_TENSIONS`, pairs the two messages of one period
@@ -21,15 +21,15 @@
 /// Threads: every function on the thread that owns the lcm_t. The generated *_publish
 /// allocates (liblcm); this node is not real-time code and is never run on the plant's RT
 /// thread.
-#ifndef CDPR_RT_TRACKER_H
-#define CDPR_RT_TRACKER_H
+#ifndef CDPR_RT_TRACKER_NODE_H
+#define CDPR_RT_TRACKER_NODE_H
 
 #include <stdint.h>
 
 #include <lcm/lcm.h>
 
-#include "cdpr/sim.h"
-#include "cdpr/tracker.h"
+#include "cdpr/host/sim.h"
+#include "cdpr/host/tracker.h"
 #include "cdpr/winch.h"
 #include "lcmtypes/cdpr_cable_tensions_t.h"
 #include "lcmtypes/cdpr_cabin_state_t.h"
@@ -125,4 +125,4 @@ void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracke
                                  const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
                                  void *ctx);
 
-#endif /* CDPR_RT_TRACKER_H */
+#endif /* CDPR_RT_TRACKER_NODE_H */

@@ -1,13 +1,13 @@
-/// @file robots.c
+/// @file presets.c
 /// PARAMETERS.md sets A and B; docs/robots.md gives every value's tag and source.
-#include "cdpr/robots.h"
+#include "cdpr/host/presets.h"
 
 #include <math.h>
 #include <string.h>
 
 static const double PI = 3.14159265358979323846;
 
-const char *cdpr_robot_preset_name(cdpr_robot_preset_t preset)
+const char *cdpr_preset_name(cdpr_preset_t preset)
 {
     switch (preset) {
     case CDPR_PRESET_PAPER_50M:
@@ -21,7 +21,7 @@ const char *cdpr_robot_preset_name(cdpr_robot_preset_t preset)
 
 /* Six towers at (j-1) 60 deg; attachments in twisted pairs at +-5 deg about 30, 150, 270 deg
  * (PARAMETERS.md "Pitfalls": radial attachments leave yaw without static stiffness). */
-static void hexagon(cdpr_robot_config_t *c)
+static void hexagon(cdpr_preset_config_t *c)
 {
     static const double attach_deg[CDPR_ROBOT_CABLES] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
     for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
@@ -30,12 +30,12 @@ static void hexagon(cdpr_robot_config_t *c)
     }
 }
 
-cdpr_status_t cdpr_robot_config_preset(cdpr_robot_preset_t preset, cdpr_robot_config_t *cfg)
+cdpr_status_t cdpr_preset_get(cdpr_preset_t preset, cdpr_preset_config_t *cfg)
 {
     if (cfg == NULL || (preset != CDPR_PRESET_PAPER_50M && preset != CDPR_PRESET_FAST)) {
         return CDPR_E_INVALID_ARG;
     }
-    cdpr_robot_config_t c;
+    cdpr_preset_config_t c;
     memset(&c, 0, sizeof c);
     c.preset = preset;
     hexagon(&c);
@@ -89,8 +89,8 @@ cdpr_status_t cdpr_robot_config_preset(cdpr_robot_preset_t preset, cdpr_robot_co
     return CDPR_OK;
 }
 
-void cdpr_robot_config_geometry(const cdpr_robot_config_t *cfg, int j, cdpr_vec3_t *exit_m,
-                                cdpr_vec3_t *attach_body_m)
+void cdpr_preset_geometry(const cdpr_preset_config_t *cfg, int j, cdpr_vec3_t *exit_m,
+                          cdpr_vec3_t *attach_body_m)
 {
     const double th = cfg->exit_azimuth_deg[j] * PI / 180.0;
     const double ph = cfg->attach_azimuth_deg[j] * PI / 180.0;
@@ -109,9 +109,8 @@ cdpr_cabin_motion_t cdpr_pose_to_motion(const double pose[6])
     return m;
 }
 
-cdpr_status_t cdpr_robot_config_build(const cdpr_robot_config_t *cfg, const double *length_m,
-                                      cdpr_robot_params_t *p, cdpr_winch_params_t *w,
-                                      cdpr_diag_t *diag)
+cdpr_status_t cdpr_preset_build(const cdpr_preset_config_t *cfg, const double *length_m,
+                                cdpr_robot_params_t *p, cdpr_winch_params_t *w, cdpr_diag_t *diag)
 {
     if (cfg == NULL || p == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "config", -1);
@@ -133,7 +132,7 @@ cdpr_status_t cdpr_robot_config_build(const cdpr_robot_config_t *cfg, const doub
     for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
         cdpr_robot_cable_params_t *c = &rp.cables[j];
         c->cable = cfg->cable;
-        cdpr_robot_config_geometry(cfg, j, &c->exit_point_m, &c->attach_body_m);
+        cdpr_preset_geometry(cfg, j, &c->exit_point_m, &c->attach_body_m);
         c->n_segments = cfg->segments;
         if (length_m != NULL) {
             c->length_m = length_m[j];

@@ -2,8 +2,8 @@
 /// Minimal CSV writer for time series: a header row of column names, then rows of numbers
 /// printed with %.17g (round-trip exact, so two runs' files are byte-identical exactly when
 /// their values are bit-identical). Write errors are remembered and reported at close.
-#ifndef CDPR_CSV_H
-#define CDPR_CSV_H
+#ifndef CDPR_HOST_CSV_H
+#define CDPR_HOST_CSV_H
 
 #include <stdio.h>
 
@@ -28,4 +28,4 @@ void cdpr_csv_end_row(cdpr_csv_t *c);
 /// Close. Returns 0, or -1 if any write (or the close) failed.
 int cdpr_csv_close(cdpr_csv_t *c);
 
-#endif /* CDPR_CSV_H */
+#endif /* CDPR_HOST_CSV_H */

@@ -40,8 +40,8 @@
 
 #include <lcm/lcm.h>
 
-#include "cdpr/lcm_command.h"
-#include "cdpr/lcm_ring.h"
+#include "cdpr/lcm/command.h"
+#include "cdpr/lcm/ring.h"
 #include "lcmtypes/cdpr_cabin_state_t.h"
 #include "lcmtypes/cdpr_cable_shape_t.h"
 #include "lcmtypes/cdpr_cable_tensions_t.h"

@@ -1,4 +1,4 @@
-/// @file rt_plant.h
+/// @file plant_node.h
 /// The real-time plant node (apps/cdpr-rt): the scenario's plant (plant.h) stepped by a
 /// periodic thread, publishing over LCM through the bridge (lcm_bridge.h), taking winch
 /// commands back.
@@ -30,13 +30,13 @@
 ///
 /// A failed step (integrator error or trial budget, plant.h) keeps the previous state: it is
 /// published again with FLAG_STEP_FAILED and the same time; the next period tries again.
-#ifndef CDPR_RT_PLANT_H
-#define CDPR_RT_PLANT_H
+#ifndef CDPR_RT_PLANT_NODE_H
+#define CDPR_RT_PLANT_NODE_H
 
 #include <stdint.h>
 
-#include "cdpr/lcm_bridge.h"
-#include "cdpr/plant.h"
+#include "cdpr/lcm/bridge.h"
+#include "cdpr/host/plant.h"
 
 /// Compute-time histogram: 1 us bins up to this many us, plus an overflow bin.
 #define CDPR_RT_HIST_US 20000
@@ -128,4 +128,4 @@ int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
 /// Print the telemetry summary (human-readable) to `f`.
 void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f);
 
-#endif /* CDPR_RT_PLANT_H */
+#endif /* CDPR_RT_PLANT_NODE_H */

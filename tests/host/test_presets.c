@@ -1,13 +1,13 @@
-/// @file test_robots.c
+/// @file test_presets.c
 /// Robot presets against the facts PARAMETERS.md derived independently (its own statics):
 /// set A along the paper's circle and line (lengths, tensions, length rates), set B at the
 /// zenith and at 40° zenith angle (tensions, payout range), and the builder's validation.
 #include <math.h>
 #include <string.h>
 
-#include "cdpr/robots.h"
+#include "cdpr/host/presets.h"
 #include "cdpr/statics.h"
-#include "cdpr/trajectory.h"
+#include "cdpr/host/trajectory.h"
 #include "test_real.h"
 #include "unity.h"
 
@@ -17,14 +17,14 @@ void tearDown(void) {}
 static const double PI = 3.14159265358979323846;
 static cdpr_robot_t robot;
 
-static void init_preset(cdpr_robot_preset_t preset)
+static void init_preset(cdpr_preset_t preset)
 {
-    cdpr_robot_config_t c;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_config_preset(preset, &c));
+    cdpr_preset_config_t c;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_get(preset, &c));
     cdpr_robot_params_t p;
     cdpr_winch_params_t w;
     cdpr_diag_t d;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_config_build(&c, NULL, &p, &w, &d));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&c, NULL, &p, &w, &d));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&robot, &p, &d));
 }
 
@@ -187,21 +187,21 @@ static void test_set_b_full_scale(void)
 
 static void test_builder_validates_and_reports_the_field(void)
 {
-    cdpr_robot_config_t c;
-    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_robot_config_preset((cdpr_robot_preset_t)7, &c));
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_config_preset(CDPR_PRESET_PAPER_50M, &c));
+    cdpr_preset_config_t c;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_preset_get((cdpr_preset_t)7, &c));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_get(CDPR_PRESET_PAPER_50M, &c));
     cdpr_robot_params_t p;
     cdpr_winch_params_t w;
     cdpr_diag_t d;
     c.cable.ea_N = NAN_R;
-    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_robot_config_build(&c, NULL, &p, &w, &d));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_preset_build(&c, NULL, &p, &w, &d));
     TEST_ASSERT_EQUAL_STRING("ea_N", d.field);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_config_preset(CDPR_PRESET_PAPER_50M, &c));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_get(CDPR_PRESET_PAPER_50M, &c));
     c.winch.u_max_m_per_s = -1.0;
-    TEST_ASSERT_TRUE(cdpr_robot_config_build(&c, NULL, &p, &w, &d) < 0);
+    TEST_ASSERT_TRUE(cdpr_preset_build(&c, NULL, &p, &w, &d) < 0);
     TEST_ASSERT_EQUAL_STRING("u_max_m_per_s", d.field);
-    TEST_ASSERT_EQUAL_STRING("paper-50m", cdpr_robot_preset_name(CDPR_PRESET_PAPER_50M));
-    TEST_ASSERT_EQUAL_STRING("fast", cdpr_robot_preset_name(CDPR_PRESET_FAST));
+    TEST_ASSERT_EQUAL_STRING("paper-50m", cdpr_preset_name(CDPR_PRESET_PAPER_50M));
+    TEST_ASSERT_EQUAL_STRING("fast", cdpr_preset_name(CDPR_PRESET_FAST));
 }
 
 int main(void)

@@ -2,7 +2,7 @@
 /// Scenario files: YAML mapped onto C structs by libcyaml's schema (no hand-written parser).
 ///
 /// A file has the sections `robot` (preset name plus optional overrides of every value of
-/// robots.h), `initial` (optional pose and offset), `trajectory` (type circle | line | hold
+/// presets.h), `initial` (optional pose and offset), `trajectory` (type circle | line | hold
 /// and the matching block), `controller` (period and gains), `integrator` (optional
 /// tolerances and substep bound) and `run` (duration, output rate). docs/scenarios.md lists
 /// every key with its unit and range; scenarios/ holds examples.
@@ -15,12 +15,12 @@
 /// (the line then comes from a libyaml lookup of the key).
 ///
 /// Host library; loading allocates (libcyaml) and frees everything before returning.
-#ifndef CDPR_SCENARIO_H
-#define CDPR_SCENARIO_H
+#ifndef CDPR_HOST_SCENARIO_H
+#define CDPR_HOST_SCENARIO_H
 
-#include "cdpr/robots.h"
-#include "cdpr/tracker.h"
-#include "cdpr/trajectory.h"
+#include "cdpr/host/presets.h"
+#include "cdpr/host/tracker.h"
+#include "cdpr/host/trajectory.h"
 
 /// Integrator settings of a scenario (inputs).
 typedef struct {
@@ -38,7 +38,7 @@ typedef struct {
 typedef struct {
     char path[512];                        ///< file it came from ("" if built in code)
     char description[256];                 ///< optional free text
-    cdpr_robot_config_t robot;             ///< robot (preset + overrides)
+    cdpr_preset_config_t robot;            ///< robot (preset + overrides)
     int has_initial_pose;                  ///< 1 if initial.pose was given
     double initial_pose[6];                ///< initial.pose (else the trajectory at t = 0)
     double initial_offset[6];              ///< added to the initial pose (m, rad)
@@ -57,7 +57,7 @@ typedef struct {
 /// Defaults for scenarios built in code: the preset's robot, a hold at its nominal pose for
 /// 1 s, the default controller and integrator settings (the same defaults a file gets for
 /// omitted optional keys).
-void cdpr_scenario_default(cdpr_scenario_t *sc, cdpr_robot_preset_t preset);
+void cdpr_scenario_default(cdpr_scenario_t *sc, cdpr_preset_t preset);
 
 /// Load, resolve and check a scenario file. Returns 0, or -1 with `err` filled (`sc` then
 /// holds no meaningful data).
@@ -89,4 +89,4 @@ int cdpr_yaml_key_line(const char *path, const char *key);
 /// Name of a trajectory type as written in files ("hold", "circle", "line").
 const char *cdpr_traj_type_name(cdpr_traj_type_t type);
 
-#endif /* CDPR_SCENARIO_H */
+#endif /* CDPR_HOST_SCENARIO_H */

@@ -1,6 +1,6 @@
-/// @file rt_plant.c
-/// The real-time plant node (rt_plant.h).
-#include "cdpr/rt_plant.h"
+/// @file plant_node.c
+/// The real-time plant node (plant_node.h).
+#include "cdpr/rt/plant_node.h"
 
 #include <errno.h>
 #include <math.h>
@@ -11,7 +11,7 @@
 #include <sys/mman.h>
 #include <time.h>
 
-#include "cdpr/lcm_pack.h"
+#include "cdpr/lcm/pack.h"
 
 /* Lockstep: how often the periodic thread looks at the mailbox while it waits [ns]. */
 static const int64_t LOCKSTEP_POLL_NS = 20000;

@@ -1,9 +1,9 @@
-/// @file robots.h
+/// @file presets.h
 /// Robot configurations of the project's parameter sets (PARAMETERS.md): the paper's
 /// reconstructed "50 m model" (set A) and a FAST-like full-scale robot (set B).
 ///
 /// A configuration is a flat record of every physical value a scenario file may override
-/// (`robot:` section, scenario.h); cdpr_robot_config_build turns it into the core's
+/// (`robot:` section, scenario.h); cdpr_preset_build turns it into the core's
 /// cdpr_robot_params_t and cdpr_winch_params_t. Each value's source is in docs/robots.md
 /// with its tag: [P] published, [A] assumed, [D] derived.
 ///
@@ -12,8 +12,8 @@
 /// cabin's centre of mass unless com_m is set).
 ///
 /// Host library (double core only); no allocation, no I/O.
-#ifndef CDPR_ROBOTS_H
-#define CDPR_ROBOTS_H
+#ifndef CDPR_HOST_PRESETS_H
+#define CDPR_HOST_PRESETS_H
 
 #include "cdpr/cabin.h"
 #include "cdpr/cable.h"
@@ -28,11 +28,11 @@
 typedef enum {
     CDPR_PRESET_PAPER_50M = 0, ///< set A: the paper's 50 m scaled model (reconstructed)
     CDPR_PRESET_FAST = 1       ///< set B: FAST-like full scale
-} cdpr_robot_preset_t;
+} cdpr_preset_t;
 
 /// Every value of a robot configuration (inputs; all SI).
 typedef struct {
-    cdpr_robot_preset_t preset;                   ///< where the defaults came from
+    cdpr_preset_t preset;                         ///< where the defaults came from
     double exit_radius_m;                         ///< tower circle radius a [m]
     double exit_height_m;                         ///< pulley exit height H [m]
     double exit_azimuth_deg[CDPR_ROBOT_CABLES];   ///< θ_j [deg]
@@ -49,18 +49,18 @@ typedef struct {
     int segments;                                 ///< initial segments per cable
     cdpr_winch_params_t winch;                    ///< limits of every winch
     double nominal_pose[6];                       ///< a feasible pose (x,y,z [m], α,β,γ [rad])
-} cdpr_robot_config_t;
+} cdpr_preset_config_t;
 
 /// Name of a preset as written in scenario files ("paper-50m", "fast"); never NULL.
-const char *cdpr_robot_preset_name(cdpr_robot_preset_t preset);
+const char *cdpr_preset_name(cdpr_preset_t preset);
 
 /// Fill `cfg` with a preset's values (PARAMETERS.md). Returns CDPR_E_INVALID_ARG for an
 /// unknown preset (cfg untouched).
-cdpr_status_t cdpr_robot_config_preset(cdpr_robot_preset_t preset, cdpr_robot_config_t *cfg);
+cdpr_status_t cdpr_preset_get(cdpr_preset_t preset, cdpr_preset_config_t *cfg);
 
 /// Exit point A_j and body attachment b_j of cable j (0-based) [m].
-void cdpr_robot_config_geometry(const cdpr_robot_config_t *cfg, int j, cdpr_vec3_t *exit_m,
-                                cdpr_vec3_t *attach_body_m);
+void cdpr_preset_geometry(const cdpr_preset_config_t *cfg, int j, cdpr_vec3_t *exit_m,
+                          cdpr_vec3_t *attach_body_m);
 
 /// Build the core parameters: dynamic cabin, six cables of `cfg->segments` segments and
 /// unstretched lengths `length_m[j]` (NULL: the straight distance from the attachment to the
@@ -68,11 +68,10 @@ void cdpr_robot_config_geometry(const cdpr_robot_config_t *cfg, int j, cdpr_vec3
 /// result is validated with cdpr_robot_init's rules on a scratch robot, so a bad value is
 /// reported here with `diag` naming the core field (index = cable). Winch limits go to `w`
 /// (may be NULL) and are validated too.
-cdpr_status_t cdpr_robot_config_build(const cdpr_robot_config_t *cfg, const double *length_m,
-                                      cdpr_robot_params_t *p, cdpr_winch_params_t *w,
-                                      cdpr_diag_t *diag);
+cdpr_status_t cdpr_preset_build(const cdpr_preset_config_t *cfg, const double *length_m,
+                                cdpr_robot_params_t *p, cdpr_winch_params_t *w, cdpr_diag_t *diag);
 
 /// Cabin motion at rest for a pose (x, y, z [m], α, β, γ [rad]), R = Rz(γ) Ry(β) Rx(α).
 cdpr_cabin_motion_t cdpr_pose_to_motion(const double pose[6]);
 
-#endif /* CDPR_ROBOTS_H */
+#endif /* CDPR_HOST_PRESETS_H */

@@ -1,6 +1,6 @@
-/// @file rt_tracker.c
-/// The tracking controller as an LCM node (rt_tracker.h).
-#include "cdpr/rt_tracker.h"
+/// @file tracker_node.c
+/// The tracking controller as an LCM node (tracker_node.h).
+#include "cdpr/rt/tracker_node.h"
 
 #include <math.h>
 #include <stdio.h>

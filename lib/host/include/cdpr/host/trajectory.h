@@ -10,8 +10,8 @@
 ///           optionally back to `from` after pause_s (deployment and retrieval).
 ///
 /// Pure functions of t; no allocation.
-#ifndef CDPR_TRAJECTORY_H
-#define CDPR_TRAJECTORY_H
+#ifndef CDPR_HOST_TRAJECTORY_H
+#define CDPR_HOST_TRAJECTORY_H
 
 #include "cdpr/cabin.h"
 
@@ -67,4 +67,4 @@ cdpr_vec3_t cdpr_euler_accel_to_body(const double euler[3], const double rates[3
 /// Time at which the trajectory stops moving [s] (circle: never, returns +Inf).
 double cdpr_traj_end_time(const cdpr_traj_t *tr);
 
-#endif /* CDPR_TRAJECTORY_H */
+#endif /* CDPR_HOST_TRAJECTORY_H */

@@ -6,14 +6,14 @@
 ///
 /// Initialisation (cdpr_plant_init, not real-time): sag-aware IK at the scenario's initial pose
 /// gives the unstretched lengths; the robot is built with them, its nodes placed on the
-/// catenaries (cdpr_robot_place_catenary) and settled to the discrete model's own static
-/// equilibrium (cdpr_robot_settle), so it starts at rest; winches at rest in rate mode; the
+/// catenaries (cdpr_statics_place_catenary) and settled to the discrete model's own static
+/// equilibrium (cdpr_settle_robot), so it starts at rest; winches at rest in rate mode; the
 /// run's RKF45 with the scenario's tolerances.
 ///
 /// One period (cdpr_plant_step, real-time safe), from t_k = k Δt to t_{k+1}:
 ///   command each winch (rate or length mode) -> cdpr_winch_update from the measured length
 ///   (speed/acceleration limits, minimum length) -> cdpr_rkf45_advance over exactly Δt with at
-///   most max_trials trials -> cdpr_robot_normalize -> cdpr_robot_node_events (resize the
+///   most max_trials trials -> cdpr_robot_normalize -> cdpr_winch_node_events (resize the
 ///   integrator and refresh the per-component tolerances when the layout changed).
 /// A failed advance (integrator error, or a trial budget that cannot cover Δt stably) leaves
 /// the plant exactly as it was before the call (state, time, winches) and says so: the caller
@@ -23,14 +23,14 @@
 /// allocate it once). cdpr_plant_step and cdpr_plant_measure make no allocation, no system
 /// call, no I/O; work per step is bounded by 6 max_trials robot RHS evaluations plus
 /// O(state dimension).
-#ifndef CDPR_PLANT_H
-#define CDPR_PLANT_H
+#ifndef CDPR_HOST_PLANT_H
+#define CDPR_HOST_PLANT_H
 
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
-#include "cdpr/scenario.h"
+#include "cdpr/host/scenario.h"
 #include "cdpr/statics.h"
-#include "cdpr/tracker.h"
+#include "cdpr/host/tracker.h"
 #include "cdpr/winch.h"
 
 /// Bits of the `flags` returned by cdpr_plant_step (equal to cabin_state_t.FLAG_* of lcmtypes).
@@ -120,4 +120,4 @@ cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags);
 cdpr_status_t cdpr_plant_step(cdpr_plant_t *p, cdpr_winch_mode_t mode, const double *value,
                               int *flags);
 
-#endif /* CDPR_PLANT_H */
+#endif /* CDPR_HOST_PLANT_H */

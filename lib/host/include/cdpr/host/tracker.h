@@ -45,13 +45,13 @@
 /// into a separate process unchanged. Memory: caller-owned object, no allocation. Work per
 /// step: one cdpr_statics_ik_wrench (bounded iterations), a second one when wrench-space
 /// damping is on, plus O(cables).
-#ifndef CDPR_TRACKER_H
-#define CDPR_TRACKER_H
+#ifndef CDPR_HOST_TRACKER_H
+#define CDPR_HOST_TRACKER_H
 
 #include "cdpr/robot.h"
 #include "cdpr/statics.h"
 #include "cdpr/status.h"
-#include "cdpr/trajectory.h"
+#include "cdpr/host/trajectory.h"
 
 /// Largest unstretched length, in chords, the tracker commands (the IK's loop solutions lie
 /// beyond; working cables stay within a few per cent of their chords). 1.5 chords is a sag of
@@ -140,4 +140,4 @@ cdpr_vec3_t cdpr_quat_to_rotvec(cdpr_quat_t q);
 void cdpr_tracker_jacobian(const cdpr_robot_t *model, int j, const cdpr_cabin_motion_t *m,
                            cdpr_vec3_t *u, cdpr_vec3_t *g);
 
-#endif /* CDPR_TRACKER_H */
+#endif /* CDPR_HOST_TRACKER_H */
