@@ -213,19 +213,19 @@ int main(int argc, char **argv)
         return EXIT_USAGE;
     }
     if (o.with_tracker != 0) {
-        cdpr_tracker_gains_t g = sc.gains;
-        g.period_s = g_rt.plant.period_s;
+        const cdpr_tracker_gains_t g = sc.gains;
+        const double period_s = g_rt.plant.pp.period_s;
         cdpr_diag_t d;
         const cdpr_status_t st =
-            cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.winch_params, &sc.traj,
-                                 &g, o.rt.lcm.channel_prefix, &d);
+            cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch, &sc.traj, &g,
+                                 period_s, o.rt.lcm.channel_prefix, &d);
         if (st != CDPR_OK) {
             fprintf(stderr, "cdpr-rt: tracker: field '%s': %s\n", d.field, cdpr_status_str(st));
             return EXIT_USAGE;
         }
         g_tracker.answer_in_handler = 1;
         g_record.traj = &sc.traj;
-        g_record.period_s = g.period_s;
+        g_record.period_s = period_s;
         if (cdpr_sim_rec_open(&g_record.rec, &sc, o.tracker_out, g_rt.plant.robot.p.n_cables,
                               g_rt.o.duration_s, &g_tracker_sum, &err) != 0) {
             fprintf(stderr, "cdpr-rt: %s\n", err.msg);

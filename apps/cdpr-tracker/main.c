@@ -361,22 +361,22 @@ int main(int argc, char **argv)
     cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
     if (cdpr_scenario_load(o.scenario, &sc, &err) != 0 ||
-        cdpr_plant_model(&g_model, &sc, &err) != 0) {
+        cdpr_host_plant_model(&g_model, &sc, &err) != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
         return EXIT_USAGE;
     }
     const double duration = (o.duration_s > 0.0) ? o.duration_s : sc.duration_s;
-    cdpr_tracker_gains_t g = sc.gains;
-    g.period_s = 1.0 / o.rate_hz;
+    const cdpr_tracker_gains_t g = sc.gains;
+    const double period_s = 1.0 / o.rate_hz;
     cdpr_diag_t d;
-    const cdpr_status_t st = cdpr_rt_tracker_init(
-        &g_tracker, &g_model.params, &g_model.winch_params, &sc.traj, &g, o.prefix, &d);
+    const cdpr_status_t st = cdpr_rt_tracker_init(&g_tracker, &g_model.params, &g_model.pp.winch,
+                                                  &sc.traj, &g, period_s, o.prefix, &d);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: controller: field '%s': %s\n", d.field, cdpr_status_str(st));
         return EXIT_USAGE;
     }
     g_record.traj = &sc.traj;
-    g_record.period_s = g.period_s;
+    g_record.period_s = period_s;
     if (cdpr_sim_rec_open(&g_record.rec, &sc, o.out_dir, g_model.robot.p.n_cables, duration, &g_sum,
                           &err) != 0) {
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
@@ -423,7 +423,7 @@ int main(int argc, char **argv)
             states_seen = g_tracker.stats.states;
             last_rx = now;
         }
-        if (g_record.periods > 0 && g_record.last_t_s >= duration - 0.5 * g.period_s) {
+        if (g_record.periods > 0 && g_record.last_t_s >= duration - 0.5 * period_s) {
             rc = 0;
             break;
         }

@@ -32,7 +32,7 @@ static void ik_at(const double pose[6], cdpr_statics_result_t *res)
 {
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
-    const cdpr_cabin_motion_t m = cdpr_pose_to_motion(pose);
+    const cdpr_cabin_motion_t m = cdpr_cabin_motion_at_pose(pose);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&robot, &m, &o, res));
 }
 

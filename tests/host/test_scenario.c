@@ -66,7 +66,6 @@ static const char GOOD_LINE[] = "description: \"test: every key\"\n"
                                 "    pause_s: 1.5\n"
                                 "    back_and_forth: true\n"
                                 "controller:\n"
-                                "  period_s: 0.02\n"
                                 "  kp: 0.5\n"
                                 "  kd_s: 0.05\n"
                                 "  k_length_per_s: 4.0\n"
@@ -82,8 +81,10 @@ static const char GOOD_LINE[] = "description: \"test: every key\"\n"
                                 "  atol_rate_rad_per_s: 5.0e-6\n"
                                 "  h_max_s: 0.005\n"
                                 "  max_trials: 300\n"
+                                "  max_attempts: 2\n"
                                 "run:\n"
                                 "  duration_s: 12.0\n"
+                                "  period_s: 0.02\n"
                                 "  output_rate_hz: 25\n";
 
 /* The smallest valid file: required keys only. */
@@ -97,11 +98,11 @@ static const char MINIMAL[] = "robot:\n"
                               "    speed_m_per_s: 2.0\n"
                               "    start_angle_deg: 90\n"
                               "controller:\n"
-                              "  period_s: 0.01\n"
                               "  kp: 0.0\n"
                               "  k_length_per_s: 5.0\n"
                               "run:\n"
-                              "  duration_s: 1.0\n";
+                              "  duration_s: 1.0\n"
+                              "  period_s: 0.01\n";
 
 static char tmp_dir[512];
 
@@ -212,7 +213,8 @@ static void test_every_key_resolves_to_the_value_written(void)
     TEST_ASSERT_EQUAL_DOUBLE(10.0, sc.traj.duration_s);
     TEST_ASSERT_EQUAL_DOUBLE(1.5, sc.traj.pause_s);
     TEST_ASSERT_EQUAL_INT(1, sc.traj.back_and_forth);
-    TEST_ASSERT_EQUAL_DOUBLE(0.02, sc.gains.period_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.02, sc.period_s);
+    TEST_ASSERT_EQUAL_INT(2, sc.integrator.max_attempts);
     TEST_ASSERT_EQUAL_DOUBLE(0.5, sc.gains.kp);
     TEST_ASSERT_EQUAL_DOUBLE(0.05, sc.gains.kd_s);
     TEST_ASSERT_EQUAL_DOUBLE(4.0, sc.gains.k_length_per_s);
@@ -353,8 +355,12 @@ static const bad_case_t BAD[] = {
     {"bad name", "type: line", "type: spiral", "trajectory.type", "type:", 0},
     {"short list", "[50.0, 46.0, 91.0]", "[50.0, 46.0]", "robot.cabin.inertia_kg_m2",
      "inertia_kg_m2:", 0},
-    {"scalar for a section", "controller:\n  period_s: 0.02\n",
-     "controller: 3\ncontroller2:\n  period_s: 0.02\n", "controller", "controller:", 0},
+    {"scalar for a section", "controller:\n  kp: 0.5\n", "controller: 3\ncontroller2:\n  kp: 0.5\n",
+     "controller", "controller:", 0},
+    {"period in the controller", "controller:\n  kp: 0.5\n",
+     "controller:\n  period_s: 0.02\n  kp: 0.5\n", "controller.period_s", "  period_s:", 0},
+    {"max_attempts out of range", "max_attempts: 2", "max_attempts: 17", "integrator.max_attempts",
+     "max_attempts:", 0},
     {"two trajectory blocks", "controller:\n",
      "  hold:\n    pose: [0, 0, 9, 0, 0, 0]\ncontroller:\n", "trajectory.hold", "  hold:", 0},
     {"period vs duration", "duration_s: 12.0", "duration_s: 12.01", "run.duration_s",

@@ -184,8 +184,8 @@ static void test_deploy_retrieve_node_events(void)
     cdpr_statics_opts_default(&o);
     cdpr_statics_result_t bottom;
     cdpr_statics_result_t top;
-    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(sc.traj.from);
-    const cdpr_cabin_motion_t m1 = cdpr_pose_to_motion(sc.traj.to);
+    const cdpr_cabin_motion_t m0 = cdpr_cabin_motion_at_pose(sc.traj.from);
+    const cdpr_cabin_motion_t m1 = cdpr_cabin_motion_at_pose(sc.traj.to);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &bottom));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m1, &o, &top));
     const double delta = bottom.cable[0].length_m / sc.robot.segments;

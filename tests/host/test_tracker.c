@@ -22,6 +22,9 @@
 #include "test_real.h"
 #include "unity.h"
 
+/* Control period of the controllers built here [s]. */
+static const double PERIOD_S = 0.01;
+
 void setUp(void) {}
 void tearDown(void) {}
 
@@ -63,7 +66,7 @@ static void test_jacobian_matches_finite_differences(void)
     cdpr_robot_params_t p;
     model_params(&p);
     const double pose[6] = {0.7, -0.4, 11.0, 0.05, -0.08, 0.3};
-    const cdpr_cabin_motion_t m = cdpr_pose_to_motion(pose);
+    const cdpr_cabin_motion_t m = cdpr_cabin_motion_at_pose(pose);
     const double h = 1e-5;
     for (int j = 0; j < 6; ++j) {
         cdpr_vec3_t u;
@@ -104,13 +107,13 @@ static void test_command_law(void)
     model_params(&p);
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
-    cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     /* Feed-forward lengths computed here independently of the tracker. */
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
     cdpr_statics_result_t ik;
-    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(pose);
+    const cdpr_cabin_motion_t m0 = cdpr_cabin_motion_at_pose(pose);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &ik));
     cdpr_tracker_meas_t meas;
     memset(&meas, 0, sizeof meas);
@@ -132,9 +135,9 @@ static void test_command_law(void)
      * straight chords recomputed here; second-order remainder |δ|^2 / (2 L) with |δ| up to
      * 2 mm + 2 m x 1 mrad: 3e-7 m, tolerance 1e-6 m (5e-6 m/s on the rate, x k_L). */
     g.kp = 1.0;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     const double off[6] = {0.002, 0.0, 9.135, 0.0, 0.0, 0.001};
-    meas.cabin = cdpr_pose_to_motion(off);
+    meas.cabin = cdpr_cabin_motion_at_pose(off);
     for (int j = 0; j < 6; ++j) {
         meas.length_m[j] = ik.cable[j].length_m;
     }
@@ -148,9 +151,9 @@ static void test_command_law(void)
     /* Bad measurements are refused without touching the state. */
     meas.length_m[0] = NAN_D;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_tracker_step(&tracker, &meas, &cmd));
-    g.period_s = 0.0;
     cdpr_diag_t d;
-    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, &d));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, 0.0, &d));
     TEST_ASSERT_EQUAL_STRING("period_s", d.field);
 }
 
@@ -167,8 +170,8 @@ static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
     memcpy(tr.from, from, sizeof from);
     memcpy(tr.to, to, sizeof to);
     tr.duration_s = 1.0;
-    const cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     int failed_at = -1;
     double l_before[6] = {0};
     for (int k = 0; k < 100 && failed_at < 0; ++k) {
@@ -216,8 +219,8 @@ static void test_step_makes_no_heap_allocation(void)
     tr.speed_m_per_s = 2.0;
     tr.start_angle_rad = 1.5707963267948966;
     tr.direction = 1.0;
-    const cdpr_tracker_gains_t g = {0.01, 0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0};
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    const cdpr_tracker_gains_t g = {0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_alloc_reset();
     for (int k = 0; k < 100; ++k) {
         cdpr_tracker_meas_t meas;
@@ -386,10 +389,10 @@ static void test_feedforward_carries_the_centripetal_load(void)
     tr.speed_m_per_s = 2.0;
     tr.start_angle_rad = 1.5707963267948966;
     tr.direction = 1.0;
-    cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
-    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(pose);
+    const cdpr_cabin_motion_t m0 = cdpr_cabin_motion_at_pose(pose);
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
     cdpr_statics_result_t loaded;
@@ -406,7 +409,7 @@ static void test_feedforward_carries_the_centripetal_load(void)
     }
     TEST_ASSERT_TRUE(moved > 0.1); /* the load moves some length by > 10 cm (0.42 m) */
     g.inertial_ff = 0.0;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     for (int j = 0; j < 6; ++j) {
         TEST_ASSERT_EQUAL_DOUBLE(still.cable[j].length_m, tracker.l_ff_m[j]);
     }
@@ -423,11 +426,11 @@ static void test_wrench_damping_command(void)
     model_params(&p);
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
-    const cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 80.0, 40.0};
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, NULL));
+    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 80.0, 40.0};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_tracker_meas_t meas;
     memset(&meas, 0, sizeof meas);
-    meas.cabin = cdpr_pose_to_motion(pose);
+    meas.cabin = cdpr_cabin_motion_at_pose(pose);
     meas.cabin.v_m_per_s = cdpr_v3(0.1, 0.0, 0.0);
     meas.cabin.w_rad_per_s = cdpr_v3(0.0, 0.0, 0.05); /* body = world at zero attitude */
     memcpy(meas.length_m, tracker.l_ff_m, sizeof meas.length_m);
@@ -438,7 +441,7 @@ static void test_wrench_damping_command(void)
     cdpr_statics_opts_default(&o);
     cdpr_statics_result_t damped;
     cdpr_statics_result_t still;
-    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(pose);
+    const cdpr_cabin_motion_t m0 = cdpr_cabin_motion_at_pose(pose);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik_wrench(&model, &m0, cdpr_v3(8.0, 0.0, 0.0),
                                                           cdpr_v3(0.0, 0.0, 2.0), &o, &damped));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &still));
@@ -458,7 +461,7 @@ static void test_loop_solutions_are_not_commanded(void)
     cdpr_robot_params_t p;
     model_params(&p);
     const double pose[6] = {3.0, -2.0, 12.0, 0.05, -0.05, 0.2};
-    const cdpr_cabin_motion_t m = cdpr_pose_to_motion(pose);
+    const cdpr_cabin_motion_t m = cdpr_cabin_motion_at_pose(pose);
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
     cdpr_statics_result_t res;
@@ -471,9 +474,10 @@ static void test_loop_solutions_are_not_commanded(void)
     }
     TEST_ASSERT_TRUE(worst > 1.5);
     const cdpr_traj_t tr = hold_at(pose);
-    const cdpr_tracker_gains_t g = {0.01, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
+    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0};
     cdpr_diag_t d;
-    TEST_ASSERT_EQUAL_INT(CDPR_E_INFEASIBLE, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.0, &d));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INFEASIBLE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
     TEST_ASSERT_EQUAL_STRING("trajectory", d.field);
 }
 

@@ -95,11 +95,10 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     o.lcm.on_open = tracker_open;
     o.lcm.on_open_ctx = &g_tracker;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
-    cdpr_tracker_gains_t g = g_sc.gains;
-    g.period_s = 1.0 / rate;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params,
-                                                        &g_rt.plant.winch_params, &g_sc.traj, &g,
-                                                        NULL, NULL));
+    const cdpr_tracker_gains_t g = g_sc.gains;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK,
+                          cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch,
+                                               &g_sc.traj, &g, 1.0 / rate, NULL, NULL));
     g_tracker.answer_in_handler = 1;
     g_tracker.on_step = record_lcm;
     g_tracker.on_step_ctx = &g_lcm_rec;
@@ -111,10 +110,12 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     TEST_ASSERT_TRUE(g_lcm_rec.n >= periods);
 
     /* In-process: the same plant and controller called directly, no LCM. */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, cdpr_plant_init(&g_ref, &g_sc, 1.0 / rate, g_sc.integrator.max_trials, &err), err.msg);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK,
-                          cdpr_tracker_init(&g_ref_ctl, &g_ref.params, &g_sc.traj, &g, 0.0, NULL));
+    cdpr_scenario_t sc_ref = g_sc;
+    sc_ref.period_s = 1.0 / rate;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_host_plant_init(&g_ref, &sc_ref, NULL, &err),
+                                  err.msg);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&g_ref_ctl, &g_ref.params, &g_sc.traj, &g,
+                                                     1.0 / rate, 0.0, NULL));
     for (long k = 0; k < periods; ++k) {
         cdpr_tracker_meas_t m;
         cdpr_plant_measure(&g_ref, &m);
@@ -131,7 +132,7 @@ static void test_lockstep_memq_equals_in_process_loop(void)
          * clamps the same way in-process, so clamp here to compare what was sent. */
         double sent[CDPR_MAX_CABLES];
         for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
-            const double u = g_ref.winch_params.u_max_m_per_s;
+            const double u = g_ref.pp.winch.u_max_m_per_s;
             sent[j] = fmax(-u, fmin(u, c.rate_m_per_s[j]));
         }
         bits_equal(sent, g_lcm_rec.rate[k], CDPR_ROBOT_CABLES, "command", k);
@@ -188,11 +189,10 @@ static void test_rt_thread_makes_no_allocation_and_no_lcm_call(void)
     o.on_rt_thread = count_hook;
     o.on_rt_thread_ctx = &g_counts;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
-    cdpr_tracker_gains_t g = g_sc.gains;
-    g.period_s = 1e-3;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params,
-                                                        &g_rt.plant.winch_params, &g_sc.traj, &g,
-                                                        NULL, NULL));
+    const cdpr_tracker_gains_t g = g_sc.gains;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK,
+                          cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch,
+                                               &g_sc.traj, &g, 1e-3, NULL, NULL));
     g_tracker.answer_in_handler = 1;
     cdpr_alloc_reset();
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_run(&g_rt, &err), err.msg);

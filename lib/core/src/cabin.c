@@ -181,3 +181,13 @@ void cdpr_cabin_rhs(const cdpr_cabin_t *cab, const cdpr_real_t *y, cdpr_vec3_t f
     dydt[CDPR_CABIN_W + 1] = wdot.y;
     dydt[CDPR_CABIN_W + 2] = wdot.z;
 }
+
+cdpr_cabin_motion_t cdpr_cabin_motion_at_pose(const cdpr_real_t pose[6])
+{
+    cdpr_cabin_motion_t m;
+    m.p_m = cdpr_v3(pose[0], pose[1], pose[2]);
+    m.q = cdpr_quat_from_euler(pose[3], pose[4], pose[5]);
+    m.v_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    m.w_rad_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    return m;
+}

@@ -39,6 +39,12 @@ const char *cdpr_status_str(cdpr_status_t st)
         return "CDPR_E_INFEASIBLE";
     case CDPR_E_SUBSTEP_LIMIT:
         return "CDPR_E_SUBSTEP_LIMIT";
+    case CDPR_E_IO:
+        return "CDPR_E_IO";
+    case CDPR_E_PARSE:
+        return "CDPR_E_PARSE";
+    case CDPR_E_INTERRUPTED:
+        return "CDPR_E_INTERRUPTED";
     default:
         return "CDPR_UNKNOWN";
     }

@@ -1,20 +1,12 @@
 /// @file plant.c
-/// The plant of a scenario, one control period at a time (see plant.h).
+/// The core plant built from a scenario (cdpr/host/plant.h).
 #include "cdpr/host/plant.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
-#include "cdpr/settle.h"
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "cdpr/host/clock.h"
 
 /* Key that determines the initial pose, for error messages. */
 static const char *initial_key(const cdpr_scenario_t *sc)
@@ -33,15 +25,8 @@ static const char *initial_key(const cdpr_scenario_t *sc)
                                                     : "trajectory.hold.pose");
 }
 
-static void fill_atol(cdpr_plant_t *p)
-{
-    const cdpr_scenario_integrator_t *in = &p->integ;
-    cdpr_robot_fill_atol(&p->robot, in->atol_position_m, in->atol_velocity_m_per_s,
-                         in->atol_quaternion, in->atol_rate_rad_per_s, p->atol);
-}
-
-static int fail_model(const cdpr_scenario_t *sc, const char *key, const char *what,
-                      const cdpr_diag_t *d, cdpr_scenario_error_t *err)
+static cdpr_status_t fail(const cdpr_scenario_t *sc, const char *key, const char *what,
+                          const cdpr_diag_t *d, cdpr_scenario_error_t *err)
 {
     char msg[512];
     if (d != NULL) {
@@ -50,223 +35,115 @@ static int fail_model(const cdpr_scenario_t *sc, const char *key, const char *wh
         snprintf(msg, sizeof msg, "%s", what);
     }
     cdpr_scenario_error(sc, key, msg, err);
-    return 2;
+    return (d != NULL && d->status != CDPR_OK) ? d->status : CDPR_E_INVALID_ARG;
 }
 
-/* Initial lengths from the IK of the initial pose. */
-static int initial_ik(cdpr_plant_t *p, const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_params_t *pp,
+                                     cdpr_scenario_error_t *err)
 {
+    cdpr_plant_params_default(pp);
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    if (cdpr_preset_build(&sc->robot, NULL, &p->params, NULL, &d) != CDPR_OK ||
-        cdpr_robot_init(&p->robot, &p->params, &d) != CDPR_OK) {
-        return fail_model(sc, "robot", "rejected by the model", &d, err);
+    if (cdpr_preset_build(&sc->robot, NULL, &pp->robot, &pp->winch, &d) != CDPR_OK) {
+        return fail(sc, "robot", "rejected by the model", &d, err);
     }
-    cdpr_statics_opts_t o;
-    cdpr_statics_opts_default(&o);
     double pose[6];
     cdpr_scenario_initial_pose(sc, pose);
-    const cdpr_cabin_motion_t m0 = cdpr_pose_to_motion(pose);
-    const cdpr_status_t st = cdpr_statics_ik(&p->robot, &m0, &o, &p->initial);
-    if (st != CDPR_OK) {
+    pp->initial = cdpr_cabin_motion_at_pose(pose);
+    pp->wind_m_per_s =
+        cdpr_v3(sc->robot.wind_m_per_s[0], sc->robot.wind_m_per_s[1], sc->robot.wind_m_per_s[2]);
+    const cdpr_scenario_integrator_t *in = &sc->integrator;
+    pp->rkf45.rtol = in->rtol;
+    pp->rkf45.h_max_s = in->h_max_s;
+    pp->atol.position_m = in->atol_position_m;
+    pp->atol.velocity_m_per_s = in->atol_velocity_m_per_s;
+    pp->atol.quaternion = in->atol_quaternion;
+    pp->atol.rate_rad_per_s = in->atol_rate_rad_per_s;
+    pp->period_s = sc->period_s;
+    pp->max_trials = in->max_trials;
+    pp->max_attempts = in->max_attempts;
+    return CDPR_OK;
+}
+
+/* The error of a failed cdpr_plant_init_model / cdpr_plant_init, named by scenario key. */
+static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc,
+                                const cdpr_diag_t *d, cdpr_scenario_error_t *err)
+{
+    char what[512];
+    const char *f = d->field;
+    if (strcmp(f, "initial") == 0) {
+        double pose[6];
+        cdpr_scenario_initial_pose(sc, pose);
         const char *key = initial_key(sc);
-        char what[512];
         snprintf(what, sizeof what,
                  "%s (%g, %g, %g m, %g, %g, %g rad) is not statically reachable "
                  "(no equilibrium with every cable pulling): %s",
                  (strncmp(key, "initial", 7) == 0) ? "initial pose"
                                                    : "start pose of the trajectory",
-                 pose[0], pose[1], pose[2], pose[3], pose[4], pose[5], cdpr_status_str(st));
+                 pose[0], pose[1], pose[2], pose[3], pose[4], pose[5], cdpr_status_str(d->status));
         cdpr_scenario_error(sc, key, what, err);
-        return 2;
+        return d->status;
     }
-    return 0;
-}
-
-int cdpr_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
-{
-    memset(p, 0, sizeof *p);
-    const int rc = initial_ik(p, sc, err);
-    if (rc != 0) {
-        return rc;
-    }
-    double lengths[CDPR_MAX_CABLES];
-    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
-        lengths[j] = p->initial.cable[j].length_m;
-    }
-    cdpr_diag_t d;
-    memset(&d, 0, sizeof d);
-    if (cdpr_preset_build(&sc->robot, lengths, &p->params, &p->winch_params, &d) != CDPR_OK ||
-        cdpr_robot_init(&p->robot, &p->params, &d) != CDPR_OK) {
-        return fail_model(sc, "robot", "rejected by the model", &d, err);
-    }
-    return 0;
-}
-
-int cdpr_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double period_s, int max_trials,
-                    cdpr_scenario_error_t *err)
-{
-    if (!(period_s > 0.0) || period_s > 10.0) {
-        memset(p, 0, sizeof *p);
-        return fail_model(sc, "controller.period_s", "period must be in (0, 10] s", NULL, err);
-    }
-    const int rc = cdpr_plant_model(p, sc, err);
-    if (rc != 0) {
-        return rc;
-    }
-    p->period_s = period_s;
-    p->max_trials = (max_trials > 0) ? max_trials : sc->integrator.max_trials;
-    p->integ = sc->integrator;
-    const cdpr_winch_params_t wp = p->winch_params;
-    cdpr_diag_t d;
-    memset(&d, 0, sizeof d);
-    cdpr_status_t st = cdpr_statics_place_catenary(&p->robot, &p->initial, p->y);
-    if (st != CDPR_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "cannot place the cables: %s", cdpr_status_str(st));
-        return fail_model(sc, initial_key(sc), what, NULL, err);
-    }
-    /* Settle with tight tolerances: the discrete equilibrium, to 1e-6 m/s^2. */
-    cdpr_rkf45_params_t sp;
-    cdpr_rkf45_params_default(&sp);
-    sp.rtol = 1e-9;
-    sp.atol = 1e-10;
-    st = cdpr_rkf45_init(&p->rk, &sp, p->work, (int)(sizeof p->work / sizeof p->work[0]),
-                         CDPR_ROBOT_STATE_MAX, p->robot.dim, &d);
-    if (st != CDPR_OK) {
-        return fail_model(sc, "integrator", "settling solver", &d, err);
-    }
-    cdpr_settle_t cfg;
-    cdpr_settle_default(&cfg);
-    const double t0 = now_s();
-    st = cdpr_settle_robot(&p->robot, &p->rk, p->y, p->scratch, &cfg);
-    p->settle_wall_time_s = now_s() - t0;
-    p->settle_steps = cfg.steps;
-    if (st != CDPR_OK) {
-        char what[512];
+    if (strcmp(f, "settle") == 0) {
         snprintf(what, sizeof what,
                  "the initial state did not settle to rest (%s after %ld steps, "
                  "residual %g m/s^2)",
-                 cdpr_status_str(st), cfg.steps, cfg.max_acc_m_per_s2);
-        return fail_model(sc, initial_key(sc), what, NULL, err);
+                 cdpr_status_str(d->status), p->settle.steps, p->settle.max_acc_m_per_s2);
+        cdpr_scenario_error(sc, initial_key(sc), what, err);
+        return d->status;
     }
-    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
-        if (cdpr_winch_init(&p->winch[j], &wp, &d) != CDPR_OK) {
-            return fail_model(sc, "robot.winch", "winch", &d, err);
-        }
+    if (strcmp(f, "period_s") == 0) {
+        return fail(sc, "run.period_s", "period must be in (0, 10] s", d, err);
     }
-    p->robot.in.wind_m_per_s =
-        cdpr_v3(sc->robot.wind_m_per_s[0], sc->robot.wind_m_per_s[1], sc->robot.wind_m_per_s[2]);
-    cdpr_rkf45_params_t ip;
-    cdpr_rkf45_params_default(&ip);
-    ip.rtol = sc->integrator.rtol;
-    ip.h_max_s = sc->integrator.h_max_s;
-    fill_atol(p);
-    ip.atol_vec = p->atol;
-    st = cdpr_rkf45_init(&p->rk, &ip, p->work, (int)(sizeof p->work / sizeof p->work[0]),
-                         CDPR_ROBOT_STATE_MAX, p->robot.dim, &d);
+    if (strcmp(f, "max_trials") == 0 || strcmp(f, "max_attempts") == 0) {
+        return fail(sc, (f[4] == 't') ? "integrator.max_trials" : "integrator.max_attempts",
+                    "work bound", d, err);
+    }
+    if (strcmp(f, "rkf45") == 0 || strcmp(f, "settle_rkf45") == 0 || strcmp(f, "atol") == 0) {
+        return fail(sc, "integrator", "integrator", d, err);
+    }
+    if (strncmp(f, "u_max", 5) == 0 || strncmp(f, "a_max", 5) == 0 || strncmp(f, "kp", 2) == 0 ||
+        strncmp(f, "min_length", 10) == 0) {
+        return fail(sc, "robot.winch", "winch", d, err);
+    }
+    return fail(sc, "robot", "rejected by the model", d, err);
+}
+
+cdpr_status_t cdpr_host_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc,
+                                    cdpr_scenario_error_t *err)
+{
+    cdpr_plant_params_t pp;
+    memset(p, 0, sizeof *p);
+    const cdpr_status_t st = cdpr_host_plant_params(sc, &pp, err);
     if (st != CDPR_OK) {
-        return fail_model(sc, "integrator", "integrator", &d, err);
+        return st;
     }
-    p->stats.last_failure = CDPR_OK;
-    p->max_attempts = 1;
-    return 0;
+    cdpr_diag_t d;
+    memset(&d, 0, sizeof d);
+    if (cdpr_plant_init_model(p, &pp, &d) != CDPR_OK) {
+        return init_error(p, sc, &d, err);
+    }
+    return CDPR_OK;
 }
 
-double cdpr_plant_time(const cdpr_plant_t *p)
+cdpr_status_t cdpr_host_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double *wall_s,
+                                   cdpr_scenario_error_t *err)
 {
-    return (double)p->k * p->period_s;
-}
-
-void cdpr_plant_measure(const cdpr_plant_t *p, cdpr_tracker_meas_t *m)
-{
-    const cdpr_robot_t *r = &p->robot;
-    m->t_s = cdpr_plant_time(p);
-    cdpr_cabin_get_motion(p->y, &m->cabin);
-    m->cabin.q = cdpr_quat_normalize(m->cabin.q);
-    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
-        m->length_m[j] =
-            (j < r->p.n_cables) ? cdpr_cable_total_length(&r->cable[j], p->y + r->offset[j]) : 0.0;
+    cdpr_plant_params_t pp;
+    memset(p, 0, sizeof *p);
+    const cdpr_status_t st = cdpr_host_plant_params(sc, &pp, err);
+    if (st != CDPR_OK) {
+        return st;
     }
-}
-
-int cdpr_plant_command(cdpr_plant_t *p, cdpr_winch_mode_t mode, const double *value)
-{
-    cdpr_robot_t *r = &p->robot;
-    const int nc = r->p.n_cables;
-    int fl = 0;
-    memcpy(p->winch_before, p->winch, sizeof p->winch_before);
-    memcpy(p->payout_before, r->in.payout_m_per_s, sizeof p->payout_before);
-    for (int j = 0; j < nc; ++j) {
-        const double len = cdpr_cable_total_length(&r->cable[j], p->y + r->offset[j]);
-        (void)cdpr_winch_command(&p->winch[j], mode, value[j]);
-        if (cdpr_winch_update(&p->winch[j], len, p->period_s) == CDPR_WARN_MIN_LENGTH) {
-            p->stats.min_length_periods++;
-            fl |= CDPR_PLANT_MIN_LENGTH;
-        }
-        r->in.payout_m_per_s[j] = p->winch[j].u_m_per_s;
+    cdpr_diag_t d;
+    memset(&d, 0, sizeof d);
+    const double t0 = cdpr_clock_now_s();
+    const cdpr_status_t is = cdpr_plant_init(p, &pp, &d);
+    if (wall_s != NULL) {
+        *wall_s = cdpr_clock_now_s() - t0;
     }
-    p->commanded = 1;
-    return fl;
-}
-
-cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags)
-{
-    cdpr_robot_t *r = &p->robot;
-    const double dt = p->period_s;
-    const double t = cdpr_plant_time(p);
-    int fl = *flags;
-    if (p->commanded == 0) { /* keep the winches' rates: nothing to undo but the state */
-        memcpy(p->winch_before, p->winch, sizeof p->winch_before);
-        memcpy(p->payout_before, r->in.payout_m_per_s, sizeof p->payout_before);
+    if (is != CDPR_OK) {
+        return init_error(p, sc, &d, err);
     }
-    p->commanded = 0;
-    /* A refused budget (CDPR_E_SUBSTEP_LIMIT) leaves y and t as they were and keeps the
-     * learned step size: another attempt over the same period usually passes. */
-    cdpr_status_t as = CDPR_OK;
-    for (int attempt = 0; attempt < p->max_attempts; ++attempt) {
-        double tt = t;
-        as = cdpr_rkf45_advance(&p->rk, cdpr_robot_rhs, r, &tt, p->y, dt, p->max_trials);
-        if (as != CDPR_E_SUBSTEP_LIMIT) {
-            break;
-        }
-        p->stats.budget_refusals++;
-    }
-    if (as < 0) {
-        memcpy(p->winch, p->winch_before, sizeof p->winch_before);
-        memcpy(r->in.payout_m_per_s, p->payout_before, sizeof p->payout_before);
-        p->stats.step_failures++;
-        p->stats.last_failure = as;
-        *flags = CDPR_PLANT_STEP_FAILED;
-        return as;
-    }
-    cdpr_status_t ret = ((fl & CDPR_PLANT_MIN_LENGTH) != 0) ? CDPR_WARN_MIN_LENGTH : CDPR_OK;
-    if (as == CDPR_WARN_SUBSTEP_LIMIT) {
-        p->stats.substep_limit_hits++;
-        fl |= CDPR_PLANT_SUBSTEP_LIMIT;
-        ret = as;
-    }
-    p->k++;
-    p->stats.steps++;
-    cdpr_robot_normalize(r, p->y);
-    int changed = 0;
-    const cdpr_status_t ns = cdpr_winch_node_events(r, t + dt, p->y, &p->nodes, &changed);
-    if (ns == CDPR_WARN_CAPACITY) {
-        p->stats.capacity_periods++;
-        fl |= CDPR_PLANT_NODE_CAPACITY;
-        ret = (ret == CDPR_OK) ? ns : ret;
-    }
-    if (changed != 0) {
-        (void)cdpr_rkf45_set_dim(&p->rk, r->dim);
-        fill_atol(p);
-    }
-    *flags = fl;
-    return ret;
-}
-
-cdpr_status_t cdpr_plant_step(cdpr_plant_t *p, cdpr_winch_mode_t mode, const double *value,
-                              int *flags)
-{
-    *flags = cdpr_plant_command(p, mode, value);
-    return cdpr_plant_advance(p, flags);
+    return CDPR_OK;
 }

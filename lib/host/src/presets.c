@@ -100,15 +100,6 @@ void cdpr_preset_geometry(const cdpr_preset_config_t *cfg, int j, cdpr_vec3_t *e
         cdpr_v3(cfg->attach_radius_m * cos(ph), cfg->attach_radius_m * sin(ph), cfg->attach_z_m);
 }
 
-cdpr_cabin_motion_t cdpr_pose_to_motion(const double pose[6])
-{
-    cdpr_cabin_motion_t m;
-    memset(&m, 0, sizeof m);
-    m.p_m = cdpr_v3(pose[0], pose[1], pose[2]);
-    m.q = cdpr_quat_from_euler(pose[3], pose[4], pose[5]);
-    return m;
-}
-
 cdpr_status_t cdpr_preset_build(const cdpr_preset_config_t *cfg, const double *length_m,
                                 cdpr_robot_params_t *p, cdpr_winch_params_t *w, cdpr_diag_t *diag)
 {
@@ -126,7 +117,7 @@ cdpr_status_t cdpr_preset_build(const cdpr_preset_config_t *cfg, const double *l
     const double *P = cfg->cabin_products_kg_m2; /* Ixy, Ixz, Iyz */
     const cdpr_mat3_t inertia = {{{I[0], P[0], P[1]}, {P[0], I[1], P[2]}, {P[1], P[2], I[2]}}};
     rp.cabin.inertia_com_kg_m2 = inertia;
-    const cdpr_cabin_motion_t nominal = cdpr_pose_to_motion(cfg->nominal_pose);
+    const cdpr_cabin_motion_t nominal = cdpr_cabin_motion_at_pose(cfg->nominal_pose);
     cdpr_mat3_t R;
     cdpr_quat_to_mat3(nominal.q, &R);
     for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {

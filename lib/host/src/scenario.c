@@ -102,7 +102,7 @@ typedef struct {
 } raw_traj_t;
 
 typedef struct {
-    double period_s;
+    double *period_s; /* not a controller key any more: reported as moved to run.period_s */
     double kp;
     double *kd_s;
     double k_length_per_s;
@@ -119,11 +119,13 @@ typedef struct {
     double *atol_quaternion;
     double *atol_rate_rad_per_s;
     double *h_max_s;
-    double *max_trials; /* whole number, see segments */
+    double *max_trials;   /* whole number, see segments */
+    double *max_attempts; /* whole number */
 } raw_integrator_t;
 
 typedef struct {
     double duration_s;
+    double period_s;
     double *output_rate_hz;
 } raw_run_t;
 
@@ -252,7 +254,7 @@ static const cyaml_schema_field_t traj_fields[] = {
     CYAML_FIELD_END,
 };
 static const cyaml_schema_field_t controller_fields[] = {
-    CYAML_FIELD_FLOAT("period_s", REQ_NUM, raw_controller_t, period_s),
+    OPT_NUMP("period_s", raw_controller_t, period_s),
     CYAML_FIELD_FLOAT("kp", REQ_NUM, raw_controller_t, kp),
     OPT_NUMP("kd_s", raw_controller_t, kd_s),
     CYAML_FIELD_FLOAT("k_length_per_s", REQ_NUM, raw_controller_t, k_length_per_s),
@@ -270,10 +272,12 @@ static const cyaml_schema_field_t integrator_fields[] = {
     OPT_NUMP("atol_rate_rad_per_s", raw_integrator_t, atol_rate_rad_per_s),
     OPT_NUMP("h_max_s", raw_integrator_t, h_max_s),
     OPT_NUMP("max_trials", raw_integrator_t, max_trials),
+    OPT_NUMP("max_attempts", raw_integrator_t, max_attempts),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_field_t run_fields[] = {
     CYAML_FIELD_FLOAT("duration_s", REQ_NUM, raw_run_t, duration_s),
+    CYAML_FIELD_FLOAT("period_s", REQ_NUM, raw_run_t, period_s),
     OPT_NUMP("output_rate_hz", raw_run_t, output_rate_hz),
     CYAML_FIELD_END,
 };
@@ -566,7 +570,7 @@ static void cyaml_error_message(const char *path, const cyaml_log_buf_t *lb, cya
 
 static void defaults_common(cdpr_scenario_t *sc)
 {
-    sc->gains.period_s = 0.01;
+    sc->period_s = 0.01;
     sc->gains.kp = 1.0;
     sc->gains.kd_s = 0.0;
     sc->gains.k_length_per_s = 5.0;
@@ -579,6 +583,7 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->integrator.atol_rate_rad_per_s = 1e-6;
     sc->integrator.h_max_s = 0.01;
     sc->integrator.max_trials = 100;
+    sc->integrator.max_attempts = 1;
     sc->output_rate_hz = 0.0; /* 0: one row per control period */
 }
 
@@ -672,7 +677,6 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
     if (r->trajectory.hold != NULL) {
         take(t->hold_pose, r->trajectory.hold->pose, 6);
     }
-    sc->gains.period_s = r->controller.period_s;
     sc->gains.kp = r->controller.kp;
     take(&sc->gains.kd_s, r->controller.kd_s, 1);
     sc->gains.k_length_per_s = r->controller.k_length_per_s;
@@ -691,8 +695,12 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
         if (in->max_trials != NULL) {
             sc->integrator.max_trials = (int)*in->max_trials; /* see check_whole_numbers */
         }
+        if (in->max_attempts != NULL) {
+            sc->integrator.max_attempts = (int)*in->max_attempts;
+        }
     }
     sc->duration_s = r->run.duration_s;
+    sc->period_s = r->run.period_s;
     take(&sc->output_rate_hz, r->run.output_rate_hz, 1);
     if (r->description != NULL) {
         snprintf(sc->description, sizeof sc->description, "%s", r->description);
@@ -748,7 +756,16 @@ static int check_whole_numbers(const raw_t *r, const cdpr_scenario_t *sc,
         return -1;
     }
     if (r->integrator != NULL &&
-        whole(sc, "integrator.max_trials", r->integrator->max_trials, 1.0, 1e6, err) != 0) {
+        (whole(sc, "integrator.max_trials", r->integrator->max_trials, 1.0, 1e6, err) != 0 ||
+         whole(sc, "integrator.max_attempts", r->integrator->max_attempts, 1.0,
+               (double)CDPR_PLANT_MAX_ATTEMPTS, err) != 0)) {
+        return -1;
+    }
+    if (r->controller.period_s != NULL) {
+        cdpr_scenario_error(sc, "controller.period_s",
+                            "the control period is run.period_s (one period for the plant, the "
+                            "controller and the outputs): move it there",
+                            err);
         return -1;
     }
     return 0;
@@ -938,7 +955,6 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
         pose_range(&v, "trajectory.hold.pose", t->hold_pose);
         break;
     }
-    range(&v, "controller.period_s", &sc->gains.period_s, 1, 0.0, 10.0, 1);
     range(&v, "controller.kp", &sc->gains.kp, 1, 0.0, 1e3, 0);
     range(&v, "controller.kd_s", &sc->gains.kd_s, 1, 0.0, 1e3, 0);
     range(&v, "controller.k_length_per_s", &sc->gains.k_length_per_s, 1, 0.0, 1e4, 0);
@@ -954,25 +970,27 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
     range(&v, "integrator.atol_rate_rad_per_s", &in->atol_rate_rad_per_s, 1, 0.0, 1.0, 1);
     range(&v, "integrator.h_max_s", &in->h_max_s, 1, 0.0, 10.0, 1);
     irange(&v, "integrator.max_trials", in->max_trials, 1, 1000000);
+    irange(&v, "integrator.max_attempts", in->max_attempts, 1, CDPR_PLANT_MAX_ATTEMPTS);
     range(&v, "run.duration_s", &sc->duration_s, 1, 0.0, 1e6, 1);
+    range(&v, "run.period_s", &sc->period_s, 1, 0.0, 10.0, 1);
     range(&v, "run.output_rate_hz", &sc->output_rate_hz, 1, 0.0, 1e6, 0);
     if (v.failed == 0) {
         /* Whole control periods, and whole periods per output row. */
-        const double periods = sc->duration_s / sc->gains.period_s;
+        const double periods = sc->duration_s / sc->period_s;
         if (fabs(periods - floor(periods + 0.5)) > 1e-6 * periods || periods < 0.5) {
             char what[512];
             snprintf(what, sizeof what, "%g s is not a whole number of control periods (%g s)",
-                     sc->duration_s, sc->gains.period_s);
+                     sc->duration_s, sc->period_s);
             cdpr_scenario_error(sc, "run.duration_s", what, err);
             v.failed = 1;
         } else if (sc->output_rate_hz > 0.0) {
-            const double every = 1.0 / (sc->output_rate_hz * sc->gains.period_s);
+            const double every = 1.0 / (sc->output_rate_hz * sc->period_s);
             if (every < 0.5 || fabs(every - floor(every + 0.5)) > 1e-6 * every) {
                 char what[512];
                 snprintf(what, sizeof what,
                          "%g Hz is not the control rate (%g Hz) divided by a whole "
                          "number",
-                         sc->output_rate_hz, 1.0 / sc->gains.period_s);
+                         sc->output_rate_hz, 1.0 / sc->period_s);
                 cdpr_scenario_error(sc, "run.output_rate_hz", what, err);
                 v.failed = 1;
             }
@@ -997,7 +1015,7 @@ void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6])
 
 long cdpr_scenario_periods(const cdpr_scenario_t *sc)
 {
-    return (long)floor(sc->duration_s / sc->gains.period_s + 0.5);
+    return (long)floor(sc->duration_s / sc->period_s + 0.5);
 }
 
 long cdpr_scenario_output_every(const cdpr_scenario_t *sc)
@@ -1005,6 +1023,6 @@ long cdpr_scenario_output_every(const cdpr_scenario_t *sc)
     if (!(sc->output_rate_hz > 0.0)) {
         return 1;
     }
-    const long every = (long)floor(1.0 / (sc->output_rate_hz * sc->gains.period_s) + 0.5);
+    const long every = (long)floor(1.0 / (sc->output_rate_hz * sc->period_s) + 0.5);
     return (every >= 1) ? every : 1;
 }

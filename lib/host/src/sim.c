@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "cdpr/host/csv.h"
+#include "cdpr/host/clock.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/settle.h"
@@ -46,13 +47,6 @@ const char *cdpr_sim_status_name(cdpr_sim_status_t st)
     default:
         return "failed";
     }
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static int mkdir_p(const char *dir)
@@ -111,7 +105,7 @@ static int check_reachable(sim_t *s, const cdpr_scenario_t *sc, double duration,
     cdpr_statics_opts_default(&o);
     const long n = (long)ceil(duration / 0.1);
     for (long k = 0; k <= n; ++k) {
-        const double t = (k < n) ? 0.1 * (double)k : duration + sc->gains.period_s;
+        const double t = (k < n) ? 0.1 * (double)k : duration + sc->period_s;
         cdpr_traj_sample_t ds;
         cdpr_traj_eval(&sc->traj, t, &ds);
         cdpr_statics_result_t res;
@@ -321,14 +315,10 @@ static void progress(const cdpr_sim_opts_t *o, double t, double total, double wa
 static int initialise(sim_t *s, const cdpr_scenario_t *sc, double duration, cdpr_sim_summary_t *sum,
                       cdpr_scenario_error_t *err)
 {
-    const int rc = cdpr_plant_init(&s->plant, sc, sc->gains.period_s, 0, err);
-    /* Batch runs have no deadline: a period whose trial budget was refused is retried (the
-     * integrator keeps the step size it learned), up to 3 times. */
-    s->plant.max_attempts = 3;
-    sum->settle_wall_time_s = s->plant.settle_wall_time_s;
-    sum->settle_steps = s->plant.settle_steps;
-    if (rc != 0) {
-        return rc;
+    const cdpr_status_t ps = cdpr_host_plant_init(&s->plant, sc, &sum->settle_wall_time_s, err);
+    sum->settle_steps = s->plant.settle.steps;
+    if (ps != CDPR_OK) {
+        return 2;
     }
     /* The trajectory before the controller: its error names the time and pose. */
     const int rc_traj = check_reachable(s, sc, duration, err);
@@ -337,8 +327,8 @@ static int initialise(sim_t *s, const cdpr_scenario_t *sc, double duration, cdpr
     }
     /* The controller, with its own model built from the same values. */
     cdpr_diag_t d;
-    const cdpr_status_t st =
-        cdpr_tracker_init(&s->tracker, &s->plant.params, &sc->traj, &sc->gains, 0.0, &d);
+    const cdpr_status_t st = cdpr_tracker_init(&s->tracker, &s->plant.params, &sc->traj, &sc->gains,
+                                               sc->period_s, 0.0, &d);
     if (st != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "controller: field '%s': %s", d.field, cdpr_status_str(st));
@@ -363,7 +353,7 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
     cdpr_plant_t *p = &s->plant;
     const cdpr_robot_t *r = &p->robot;
     const int nc = r->p.n_cables;
-    const double dt = sc->gains.period_s;
+    const double dt = sc->period_s;
     const long n_periods = (long)floor(duration / dt + 0.5);
     double next_progress = wall0 + o->progress_after_s;
     int shown = 0;
@@ -423,7 +413,7 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
         if ((flags & CDPR_PLANT_NODE_CAPACITY) != 0) {
             note(sum, "node capacity reached");
         }
-        const double wall = now_s();
+        const double wall = cdpr_clock_now_s();
         if (o->progress != 0 && wall >= next_progress) {
             progress(o, t + dt, duration, wall - wall0, 0);
             shown = 1;
@@ -431,7 +421,7 @@ static int loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, d
         }
     }
     if (shown != 0) {
-        progress(o, sum->sim_time_s, duration, now_s() - wall0, 1);
+        progress(o, sum->sim_time_s, duration, cdpr_clock_now_s() - wall0, 1);
     }
     for (int j = 0; j < nc; ++j) {
         sum->node_insertions += p->nodes.insertions[j];
@@ -456,7 +446,7 @@ int cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_sim_s
         return 2;
     }
     const double duration = (o->duration_s > 0.0) ? o->duration_s : sc->duration_s;
-    const double wall0 = now_s();
+    const double wall0 = cdpr_clock_now_s();
     sim_t *s = calloc(1, sizeof *s);
     if (s == NULL) {
         snprintf(err->msg, sizeof err->msg, "out of memory");
@@ -469,7 +459,7 @@ int cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_sim_s
     }
     if (rc == 0) {
         rc = loop(s, sc, o, duration, sum, wall0);
-        sum->wall_time_s = now_s() - wall0;
+        sum->wall_time_s = cdpr_clock_now_s() - wall0;
         const int csv_rc = cdpr_sim_rec_close(&s->rec);
         if (rc != 0) {
             sum->status = CDPR_SIM_FAILED;
@@ -559,7 +549,7 @@ int cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
         {"sim_time_s", sum->sim_time_s},
         {"wall_time_s", sum->wall_time_s},
         {"settle_wall_time_s", sum->settle_wall_time_s},
-        {"control_period_s", sc->gains.period_s},
+        {"control_period_s", sc->period_s},
     };
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; ++i) {
         fprintf(f, ",\n  \"%s\": %.17g", nums[i].k, nums[i].v);

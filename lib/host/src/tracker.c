@@ -59,9 +59,9 @@ void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sam
     *tau_Nm = cdpr_v3_scale(cdpr_m3_mul_v3(&R, hdot), -1.0);
 }
 
-static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_diag_t *diag)
+static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s, cdpr_diag_t *diag)
 {
-    const double v[8] = {g->period_s,
+    const double v[8] = {period_s,
                          g->kp,
                          g->kd_s,
                          g->k_length_per_s,
@@ -136,13 +136,13 @@ static cdpr_status_t feedforward(const cdpr_tracker_t *tr, double t, double *L)
 }
 
 cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *model_params,
-                                const cdpr_traj_t *traj, const cdpr_tracker_gains_t *g, double t0_s,
-                                cdpr_diag_t *diag)
+                                const cdpr_traj_t *traj, const cdpr_tracker_gains_t *g,
+                                double period_s, double t0_s, cdpr_diag_t *diag)
 {
     if (tr == NULL || model_params == NULL || traj == NULL || g == NULL || !isfinite(t0_s)) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "tracker", -1);
     }
-    const cdpr_status_t gs = check_gains(g, diag);
+    const cdpr_status_t gs = check_gains(g, period_s, diag);
     if (gs != CDPR_OK) {
         return gs;
     }
@@ -153,6 +153,7 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
     }
     tr->traj = *traj;
     tr->g = *g;
+    tr->period_s = period_s;
     cdpr_statics_opts_default(&tr->ik_opts);
     const cdpr_status_t st = feedforward(tr, t0_s, tr->l_ff_m);
     if (st != CDPR_OK) {
@@ -181,7 +182,7 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
         return CDPR_E_NOT_FINITE;
     }
     memset(cmd, 0, sizeof *cmd);
-    const double dt = tr->g.period_s;
+    const double dt = tr->period_s;
     const double t = m->t_s;
     /* L_ff(t): prepared by the previous period, unless the caller's clock jumped. */
     if (fabs(t - tr->t_next_s) > 1e-9 * (1.0 + fabs(t))) {

@@ -82,15 +82,21 @@ int cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t 
     rt->shape_every =
         (op->shape_rate_hz > 0.0) ? (long)llround(op->rate_hz / op->shape_rate_hz) : 0;
     rt->diag_every = (op->diag_rate_hz > 0.0) ? (long)llround(op->rate_hz / op->diag_rate_hz) : 0;
-    const int rc = cdpr_plant_init(&rt->plant, sc, period, op->max_trials, err);
-    if (rc != 0) {
-        return rc;
+    /* TODO(issue 13): period and trial budget from the scenario (run.period_s,
+     * integrator.max_trials), options as overrides. */
+    static cdpr_scenario_t scx;
+    scx = *sc;
+    scx.period_s = period;
+    scx.integrator.max_trials = op->max_trials;
+    scx.integrator.max_attempts = 1;
+    if (cdpr_host_plant_init(&rt->plant, &scx, NULL, err) != CDPR_OK) {
+        return 2;
     }
     cdpr_lcm_bridge_params_t bp = op->lcm;
     bp.n_cables = rt->plant.robot.p.n_cables;
     double longest = 0.0;
     for (int j = 0; j < bp.n_cables; ++j) {
-        bp.winch[j] = rt->plant.winch_params;
+        bp.winch[j] = rt->plant.pp.winch;
         longest = fmax(longest, rt->plant.initial.cable[j].length_m);
     }
     bp.max_length_m = fmax(bp.max_length_m, 4.0 * longest);

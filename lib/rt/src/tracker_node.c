@@ -47,8 +47,8 @@ int cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensio
 
 cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params_t *model,
                                    const cdpr_winch_params_t *winch, const cdpr_traj_t *traj,
-                                   const cdpr_tracker_gains_t *g, const char *prefix,
-                                   cdpr_diag_t *diag)
+                                   const cdpr_tracker_gains_t *g, double period_s,
+                                   const char *prefix, cdpr_diag_t *diag)
 {
     memset(t, 0, sizeof *t);
     const char *pre = (prefix != NULL) ? prefix : "CDPR_";
@@ -63,11 +63,11 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
     snprintf(t->ch_state, sizeof t->ch_state, "%sCABIN_STATE", pre);
     snprintf(t->ch_tensions, sizeof t->ch_tensions, "%sCABLE_TENSIONS", pre);
     snprintf(t->ch_command, sizeof t->ch_command, "%sWINCH_COMMAND", pre);
-    const cdpr_status_t st = cdpr_tracker_init(&t->tracker, model, traj, g, 0.0, diag);
+    const cdpr_status_t st = cdpr_tracker_init(&t->tracker, model, traj, g, period_s, 0.0, diag);
     if (st != CDPR_OK) {
         return st;
     }
-    t->period_s = g->period_s;
+    t->period_s = period_s;
     t->n_cables = model->n_cables;
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
         t->u_max_m_per_s[j] = winch->u_max_m_per_s;

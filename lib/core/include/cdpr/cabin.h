@@ -56,6 +56,10 @@ cdpr_status_t cdpr_cabin_init(cdpr_cabin_t *cab, const cdpr_cabin_params_t *p, i
 /// Read the motion out of a 13-component state block.
 void cdpr_cabin_get_motion(const cdpr_real_t *y, cdpr_cabin_motion_t *m);
 
+/// Motion at rest at `pose` = (x, y, z [m], alpha, beta, gamma [rad]), R = Rz(gamma) Ry(beta)
+/// Rx(alpha) (cdpr_quat_from_euler); velocities zero. O(1); no allocation; cannot fail.
+cdpr_cabin_motion_t cdpr_cabin_motion_at_pose(const cdpr_real_t pose[6]);
+
 /// Write a motion into a 13-component state block.
 void cdpr_cabin_set_motion(const cdpr_cabin_motion_t *m, cdpr_real_t *y);
 

@@ -1,8 +1,12 @@
 /// @file status.h
-/// One status enum for the whole core, and the diagnostic that names the first bad field.
+/// One status enum for every library of the project, and the diagnostic that names the first
+/// bad field.
 ///
 /// Zero is success, positive is success with a caveat (a warning: the result is valid but an
-/// accuracy or capacity bound was hit), negative is an error (nothing was changed).
+/// accuracy or capacity bound was hit), negative is an error (nothing was changed). The core
+/// returns CDPR_OK .. CDPR_E_SUBSTEP_LIMIT; the host layers (files, LCM, threads) add
+/// CDPR_E_IO, CDPR_E_PARSE and CDPR_E_INTERRUPTED. Libraries return these; only the apps map
+/// them to process exit codes (one table, docs/api.md).
 #ifndef CDPR_STATUS_H
 #define CDPR_STATUS_H
 
@@ -22,10 +26,14 @@ typedef enum {
     CDPR_E_RHS = -9,              ///< the right-hand side refused to evaluate; step undone
     CDPR_E_NO_CONVERGENCE = -10,  ///< an iterative solver hit its iteration bound
     CDPR_E_INFEASIBLE = -11,      ///< no solution with all cables in tension
-    CDPR_E_SUBSTEP_LIMIT = -12    ///< advance could not reach t+dt stably within its trial bound
+    CDPR_E_SUBSTEP_LIMIT = -12,   ///< advance could not reach t+dt stably within its trial bound
+    CDPR_E_IO = -13,              ///< host: a file, socket, thread or LCM provider failed
+    CDPR_E_PARSE = -14,           ///< host: an input file is malformed (syntax, key, type)
+    CDPR_E_INTERRUPTED = -15      ///< host: stopped early on request (a signal); work kept
 } cdpr_status_t;
 
-/// Human-readable name of a status. Never NULL (unknown values give "CDPR_UNKNOWN").
+/// Name of a status ("CDPR_E_GEOMETRY"). Never NULL (unknown values give "CDPR_UNKNOWN").
+/// O(1); no allocation; cannot fail.
 const char *cdpr_status_str(cdpr_status_t st);
 
 /// Diagnostic filled by validation: the first offending field and its index.
@@ -35,7 +43,7 @@ typedef struct {
     int index;            ///< array index / cable number of the field, or -1
 } cdpr_diag_t;
 
-/// Write a diagnostic if `diag` is not NULL; returns `st` for tail calls.
+/// Write a diagnostic if `diag` is not NULL; returns `st` for tail calls. O(1); cannot fail.
 cdpr_status_t cdpr_diag_set(cdpr_diag_t *diag, cdpr_status_t st, const char *field, int index);
 
 #endif /* CDPR_STATUS_H */

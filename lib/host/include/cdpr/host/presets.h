@@ -71,7 +71,4 @@ void cdpr_preset_geometry(const cdpr_preset_config_t *cfg, int j, cdpr_vec3_t *e
 cdpr_status_t cdpr_preset_build(const cdpr_preset_config_t *cfg, const double *length_m,
                                 cdpr_robot_params_t *p, cdpr_winch_params_t *w, cdpr_diag_t *diag);
 
-/// Cabin motion at rest for a pose (x, y, z [m], α, β, γ [rad]), R = Rz(γ) Ry(β) Rx(α).
-cdpr_cabin_motion_t cdpr_pose_to_motion(const double pose[6]);
-
 #endif /* CDPR_HOST_PRESETS_H */

@@ -18,6 +18,7 @@
 #ifndef CDPR_HOST_SCENARIO_H
 #define CDPR_HOST_SCENARIO_H
 
+#include "cdpr/plant.h"
 #include "cdpr/host/presets.h"
 #include "cdpr/host/tracker.h"
 #include "cdpr/host/trajectory.h"
@@ -30,7 +31,8 @@ typedef struct {
     double atol_quaternion;       ///< of quaternion components [-]
     double atol_rate_rad_per_s;   ///< of body rates [rad/s]
     double h_max_s;               ///< largest step [s]
-    int max_trials;               ///< RKF45 trials per control period (bounded work)
+    int max_trials;               ///< integrator trials per attempt (bounded work)
+    int max_attempts;             ///< attempts per period while the budget is refused (>= 1)
 } cdpr_scenario_integrator_t;
 
 /// A resolved scenario: every default applied, every value checked (plain data, no
@@ -43,9 +45,11 @@ typedef struct {
     double initial_pose[6];                ///< initial.pose (else the trajectory at t = 0)
     double initial_offset[6];              ///< added to the initial pose (m, rad)
     cdpr_traj_t traj;                      ///< desired trajectory
-    cdpr_tracker_gains_t gains;            ///< controller period and gains
-    cdpr_scenario_integrator_t integrator; ///< integrator settings
-    double duration_s;                     ///< simulated time [s]
+    cdpr_tracker_gains_t gains;            ///< controller gains
+    cdpr_scenario_integrator_t integrator; ///< integrator settings and work bound
+    double duration_s;                     ///< simulated time [s] (run.duration_s)
+    double period_s;                       ///< control period of plant, controller and
+                                           ///< outputs [s] (run.period_s)
     double output_rate_hz;                 ///< CSV rows per simulated second
 } cdpr_scenario_t;
 

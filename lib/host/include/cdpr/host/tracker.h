@@ -48,6 +48,7 @@
 #ifndef CDPR_HOST_TRACKER_H
 #define CDPR_HOST_TRACKER_H
 
+#include "cdpr/plant.h"
 #include "cdpr/robot.h"
 #include "cdpr/statics.h"
 #include "cdpr/status.h"
@@ -58,9 +59,8 @@
 /// about 40 % of the chord.
 #define CDPR_TRACKER_MAX_LENGTH_PER_CHORD 1.5
 
-/// Gains and period (inputs).
+/// Gains (inputs).
 typedef struct {
-    double period_s;          ///< control period Δt_c [s] (> 0)
     double kp;                ///< pose-error gain [-] (>= 0)
     double kd_s;              ///< pose-error-rate gain [s] (>= 0)
     double k_length_per_s;    ///< length-loop gain k_L [1/s] (>= 0)
@@ -71,12 +71,9 @@ typedef struct {
     double damping_rot_N_m_s; ///< wrench-space damping c_r of the rate error [N m s] (>= 0)
 } cdpr_tracker_gains_t;
 
-/// Measurements at the start of a period (inputs).
-typedef struct {
-    double t_s;                       ///< time [s]
-    cdpr_cabin_motion_t cabin;        ///< measured pose and velocities
-    double length_m[CDPR_MAX_CABLES]; ///< measured total unstretched lengths [m]
-} cdpr_tracker_meas_t;
+/// Measurements at the start of a period (inputs): time, measured pose and velocities,
+/// measured total unstretched lengths -- what the plant reports (cdpr_plant_measure).
+typedef cdpr_plant_meas_t cdpr_tracker_meas_t;
 
 /// Commands and diagnostics of one period (outputs).
 typedef struct {
@@ -96,6 +93,7 @@ typedef struct {
     cdpr_robot_t model;             ///< own robot model (statics only)
     cdpr_traj_t traj;               ///< desired trajectory
     cdpr_tracker_gains_t g;         ///< gains
+    double period_s;                ///< control period Δt_c [s]
     cdpr_statics_opts_t ik_opts;    ///< IK settings
     double l_ff_m[CDPR_MAX_CABLES]; ///< L_ff at t_next_s (internal)
     double err_f1[12];              ///< first filter stage (internal)
@@ -108,13 +106,14 @@ typedef struct {
     unsigned long steps;            ///< periods run (output)
 } cdpr_tracker_t;
 
-/// Validate and initialise: builds the model from `model_params` (6 cables) and computes
-/// L_ff(t0). Errors: CDPR_E_INVALID_ARG / CDPR_E_NOT_FINITE / CDPR_E_OUT_OF_RANGE for gains
-/// (`diag` names the field), the model's init errors, or the IK status of the desired pose at
-/// t0 (e.g. CDPR_E_INFEASIBLE: the trajectory starts outside the feasible set).
+/// Validate and initialise for control period `period_s` (> 0): builds the model from
+/// `model_params` (6 cables) and computes L_ff(t0). Errors: CDPR_E_INVALID_ARG /
+/// CDPR_E_NOT_FINITE / CDPR_E_OUT_OF_RANGE for gains and period (`diag` names the field), the
+/// model's init errors, or the IK status of the desired pose at t0 (e.g. CDPR_E_INFEASIBLE: the
+/// trajectory starts outside the feasible set).
 cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *model_params,
-                                const cdpr_traj_t *traj, const cdpr_tracker_gains_t *g, double t0_s,
-                                cdpr_diag_t *diag);
+                                const cdpr_traj_t *traj, const cdpr_tracker_gains_t *g,
+                                double period_s, double t0_s, cdpr_diag_t *diag);
 
 /// One control period from measurements at m->t_s. Always produces commands (holding the last
 /// good feed-forward when the IK fails; cmd->ik_status says why). If m->t_s is not the time

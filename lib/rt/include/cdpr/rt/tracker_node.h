@@ -88,8 +88,8 @@ typedef struct {
 /// (NULL: "CDPR_"). Errors as cdpr_tracker_init; CDPR_E_INVALID_ARG for a prefix too long.
 cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params_t *model,
                                    const cdpr_winch_params_t *winch, const cdpr_traj_t *traj,
-                                   const cdpr_tracker_gains_t *g, const char *prefix,
-                                   cdpr_diag_t *diag);
+                                   const cdpr_tracker_gains_t *g, double period_s,
+                                   const char *prefix, cdpr_diag_t *diag);
 
 /// Subscribe on `lcm` (owned by the caller, same thread). 0 or -1.
 int cdpr_rt_tracker_attach(cdpr_rt_tracker_t *t, lcm_t *lcm);

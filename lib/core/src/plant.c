@@ -1,0 +1,311 @@
+/// @file plant.c
+/// The plant, one control period at a time (plant.h).
+#include "cdpr/plant.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "check.h"
+
+void cdpr_plant_params_default(cdpr_plant_params_t *pp)
+{
+    cdpr_robot_params_default(&pp->robot);
+    cdpr_winch_params_default(&pp->winch);
+    static const cdpr_real_t origin[6] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0),
+                                          CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+    pp->initial = cdpr_cabin_motion_at_pose(origin);
+    pp->wind_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    cdpr_statics_opts_default(&pp->ik);
+#ifdef CDPR_REAL_IS_FLOAT
+    pp->start = CDPR_PLANT_START_CATENARY;
+#else
+    pp->start = CDPR_PLANT_START_SETTLED;
+#endif
+    cdpr_settle_default(&pp->settle);
+    cdpr_rkf45_params_default(&pp->settle_rkf45);
+    pp->settle_rkf45.rtol = CDPR_R(1e-9);
+    pp->settle_rkf45.atol = CDPR_R(1e-10);
+    pp->integrator = CDPR_PLANT_RKF45;
+    cdpr_rkf45_params_default(&pp->rkf45);
+    pp->atol.position_m = CDPR_R(1e-6);
+    pp->atol.velocity_m_per_s = CDPR_R(1e-5);
+    pp->atol.quaternion = CDPR_R(1e-8);
+    pp->atol.rate_rad_per_s = CDPR_R(1e-6);
+    pp->period_s = CDPR_R(0.01);
+    pp->max_trials = 50;
+    pp->max_attempts = 1;
+}
+
+cdpr_status_t cdpr_plant_params_validate(const cdpr_plant_params_t *pp, cdpr_diag_t *diag)
+{
+    if (pp == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "params", -1);
+    }
+    if (pp->integrator != CDPR_PLANT_RKF45) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "integrator", -1);
+    }
+    if (pp->start != CDPR_PLANT_START_SETTLED && pp->start != CDPR_PLANT_START_CATENARY) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "start", -1);
+    }
+    if (pp->robot.mode != CDPR_CABIN_DYNAMIC) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "robot.mode", -1);
+    }
+    CDPR_TRY(check_positive(pp->period_s, "period_s", -1, diag));
+    if (pp->period_s > CDPR_R(10.0)) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "period_s", -1);
+    }
+    if (pp->max_trials < 1) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "max_trials", -1);
+    }
+    if (pp->max_attempts < 1 || pp->max_attempts > CDPR_PLANT_MAX_ATTEMPTS) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "max_attempts", -1);
+    }
+    CDPR_TRY(check_finite_v3(pp->wind_m_per_s, "wind_m_per_s", -1, diag));
+    const cdpr_cabin_motion_t *m = &pp->initial;
+    CDPR_TRY(check_finite_v3(m->p_m, "initial.p_m", -1, diag));
+    if (!(isfinite(m->q.w) && isfinite(m->q.x) && isfinite(m->q.y) && isfinite(m->q.z))) {
+        return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "initial.q", -1);
+    }
+    CDPR_TRY(check_finite_v3(m->v_m_per_s, "initial.v_m_per_s", -1, diag));
+    CDPR_TRY(check_finite_v3(m->w_rad_per_s, "initial.w_rad_per_s", -1, diag));
+    if (cdpr_v3_norm(m->v_m_per_s) > CDPR_R(0.0) || cdpr_v3_norm(m->w_rad_per_s) > CDPR_R(0.0)) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "initial.v_m_per_s", -1);
+    }
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_status_t cdpr_plant_init_model(cdpr_plant_t *p, const cdpr_plant_params_t *pp,
+                                    cdpr_diag_t *diag)
+{
+    if (p == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "plant", -1);
+    }
+    p->ready = 0;
+    CDPR_TRY(cdpr_plant_params_validate(pp, diag));
+    p->pp = *pp;
+    p->pp.rkf45.atol_vec = NULL;
+    p->params = pp->robot;
+    CDPR_TRY(cdpr_robot_init(&p->robot, &p->params, diag));
+    const cdpr_status_t st = cdpr_statics_ik(&p->robot, &pp->initial, &pp->ik, &p->initial);
+    if (st != CDPR_OK) {
+        return cdpr_diag_set(diag, st, "initial", -1);
+    }
+    for (int j = 0; j < p->params.n_cables; ++j) {
+        p->params.cables[j].length_m = p->initial.cable[j].length_m;
+    }
+    return cdpr_robot_init(&p->robot, &p->params, diag);
+}
+
+/* Per-component absolute tolerances of the run for the current layout. */
+static void fill_atol(cdpr_plant_t *p)
+{
+    const cdpr_plant_atol_t *a = &p->pp.atol;
+    cdpr_robot_fill_atol(&p->robot, a->position_m, a->velocity_m_per_s, a->quaternion,
+                         a->rate_rad_per_s, p->atol);
+}
+
+/* Step 2: nodes on the catenaries and, for a settled start, relaxed to rest. */
+static cdpr_status_t place_and_settle(cdpr_plant_t *p, cdpr_diag_t *diag)
+{
+    cdpr_status_t st = cdpr_statics_place_catenary(&p->robot, &p->initial, p->y);
+    if (st != CDPR_OK) {
+        return cdpr_diag_set(diag, st, "initial", -1);
+    }
+    p->settle = p->pp.settle;
+    p->settle.steps = 0;
+    p->settle.resets = 0;
+    p->settle.time_s = CDPR_R(0.0);
+    p->settle.max_acc_m_per_s2 = CDPR_R(0.0);
+    if (p->pp.start != CDPR_PLANT_START_SETTLED) {
+        return CDPR_OK;
+    }
+    cdpr_diag_t d;
+    st = cdpr_rkf45_init(&p->rk, &p->pp.settle_rkf45, p->work,
+                         (int)(sizeof p->work / sizeof p->work[0]), CDPR_ROBOT_STATE_MAX,
+                         p->robot.dim, &d);
+    if (st != CDPR_OK) {
+        return cdpr_diag_set(diag, st, "settle_rkf45", -1);
+    }
+    st = cdpr_settle_robot(&p->robot, &p->rk, p->y, p->scratch, &p->settle);
+    if (st != CDPR_OK) {
+        return cdpr_diag_set(diag, st, "settle", -1);
+    }
+    return CDPR_OK;
+}
+
+/* Step 3: winches at rest, the run's inputs and integrator. */
+static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
+{
+    for (int j = 0; j < p->params.n_cables; ++j) {
+        CDPR_TRY(cdpr_winch_init(&p->winch[j], &p->pp.winch, diag));
+    }
+    p->robot.in.wind_m_per_s = p->pp.wind_m_per_s;
+    cdpr_rkf45_params_t ip = p->pp.rkf45;
+    fill_atol(p);
+    ip.atol_vec = p->atol;
+    const cdpr_status_t st =
+        cdpr_rkf45_init(&p->rk, &ip, p->work, (int)(sizeof p->work / sizeof p->work[0]),
+                        CDPR_ROBOT_STATE_MAX, p->robot.dim, diag);
+    if (st != CDPR_OK) {
+        return cdpr_diag_set(diag, st, "rkf45", (diag != NULL) ? diag->index : -1);
+    }
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cdpr_diag_t *diag)
+{
+    CDPR_TRY(cdpr_plant_init_model(p, pp, diag));
+    CDPR_TRY(place_and_settle(p, diag));
+    CDPR_TRY(start_run(p, diag));
+    static const cdpr_plant_stats_t zero_stats;
+    static const cdpr_node_stats_t zero_nodes;
+    p->stats = zero_stats;
+    p->stats.last_failure = CDPR_OK;
+    p->nodes = zero_nodes;
+    p->k = 0;
+    p->commanded = 0;
+    p->ready = 1;
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_real_t cdpr_plant_time(const cdpr_plant_t *p)
+{
+    return (cdpr_real_t)p->k * p->pp.period_s;
+}
+
+void cdpr_plant_measure(const cdpr_plant_t *p, cdpr_plant_meas_t *m)
+{
+    const cdpr_robot_t *r = &p->robot;
+    m->t_s = cdpr_plant_time(p);
+    cdpr_cabin_get_motion(p->y, &m->cabin);
+    m->cabin.q = cdpr_quat_normalize(m->cabin.q);
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        m->length_m[j] = (j < r->p.n_cables)
+                             ? cdpr_cable_total_length(&r->cable[j], p->y + r->offset[j])
+                             : CDPR_R(0.0);
+    }
+}
+
+void cdpr_plant_outputs(const cdpr_plant_t *p, cdpr_robot_out_t *out)
+{
+    cdpr_robot_outputs(&p->robot, cdpr_plant_time(p), p->y, out);
+}
+
+/* What a failed period restores: the winches and payout rates before it. */
+static void save_winches(cdpr_plant_t *p)
+{
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        p->winch_before[j] = p->winch[j];
+        p->payout_before[j] = p->robot.in.payout_m_per_s[j];
+    }
+}
+
+static void restore_winches(cdpr_plant_t *p)
+{
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        p->winch[j] = p->winch_before[j];
+        p->robot.in.payout_m_per_s[j] = p->payout_before[j];
+    }
+}
+
+int cdpr_plant_command(cdpr_plant_t *p, cdpr_winch_mode_t mode, const cdpr_real_t *value)
+{
+    if (p == NULL || value == NULL || p->ready == 0) {
+        return 0;
+    }
+    cdpr_robot_t *r = &p->robot;
+    int fl = 0;
+    save_winches(p);
+    for (int j = 0; j < r->p.n_cables; ++j) {
+        const cdpr_real_t len = cdpr_cable_total_length(&r->cable[j], p->y + r->offset[j]);
+        (void)cdpr_winch_command(&p->winch[j], mode, value[j]);
+        if (cdpr_winch_update(&p->winch[j], len, p->pp.period_s) == CDPR_WARN_MIN_LENGTH) {
+            p->stats.min_length_periods++;
+            fl |= CDPR_PLANT_MIN_LENGTH;
+        }
+        r->in.payout_m_per_s[j] = p->winch[j].u_m_per_s;
+    }
+    p->commanded = 1;
+    return fl;
+}
+
+/* The scheme's advance over exactly one period from t: up to max_attempts calls while the
+ * budget is refused (CDPR_E_SUBSTEP_LIMIT keeps y, t and what the steps learned, so another
+ * attempt over the same interval usually passes). */
+static cdpr_status_t integrate_period(cdpr_plant_t *p, cdpr_real_t t)
+{
+    cdpr_status_t as = CDPR_E_INVALID_ARG;
+    for (int attempt = 0; attempt < p->pp.max_attempts; ++attempt) {
+        cdpr_real_t tt = t;
+        as = cdpr_rkf45_advance(&p->rk, cdpr_robot_rhs, &p->robot, &tt, p->y, p->pp.period_s,
+                                p->pp.max_trials);
+        if (as != CDPR_E_SUBSTEP_LIMIT) {
+            break;
+        }
+        p->stats.budget_refusals++;
+    }
+    return as;
+}
+
+static cdpr_status_t fail_period(cdpr_plant_t *p, cdpr_status_t st, int *flags)
+{
+    p->stats.step_failures++;
+    p->stats.last_failure = st;
+    *flags = CDPR_PLANT_STEP_FAILED;
+    return st;
+}
+
+cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags)
+{
+    if (p == NULL || flags == NULL) {
+        return CDPR_E_INVALID_ARG;
+    }
+    if (p->ready == 0) {
+        return fail_period(p, CDPR_E_INVALID_ARG, flags);
+    }
+    cdpr_robot_t *r = &p->robot;
+    const cdpr_real_t dt = p->pp.period_s;
+    const cdpr_real_t t = cdpr_plant_time(p);
+    int fl = *flags;
+    if (p->commanded == 0) { /* the winches keep their rates: nothing to undo but the state */
+        save_winches(p);
+    }
+    p->commanded = 0;
+    const cdpr_status_t as = integrate_period(p, t);
+    if (as < 0) {
+        restore_winches(p);
+        return fail_period(p, as, flags);
+    }
+    cdpr_status_t ret = ((fl & CDPR_PLANT_MIN_LENGTH) != 0) ? CDPR_WARN_MIN_LENGTH : CDPR_OK;
+    if (as == CDPR_WARN_SUBSTEP_LIMIT) {
+        p->stats.substep_limit_hits++;
+        fl |= CDPR_PLANT_SUBSTEP_LIMIT;
+        ret = as;
+    }
+    p->k++;
+    p->stats.steps++;
+    cdpr_robot_normalize(r, p->y);
+    int changed = 0;
+    const cdpr_status_t ns = cdpr_winch_node_events(r, t + dt, p->y, &p->nodes, &changed);
+    if (ns == CDPR_WARN_CAPACITY) {
+        p->stats.capacity_periods++;
+        fl |= CDPR_PLANT_NODE_CAPACITY;
+        ret = (ret == CDPR_OK) ? ns : ret;
+    }
+    if (changed != 0) {
+        (void)cdpr_rkf45_set_dim(&p->rk, r->dim);
+        fill_atol(p);
+    }
+    *flags = fl;
+    return ret;
+}
+
+cdpr_status_t cdpr_plant_step(cdpr_plant_t *p, cdpr_winch_mode_t mode, const cdpr_real_t *value,
+                              int *flags)
+{
+    if (flags == NULL) {
+        return CDPR_E_INVALID_ARG;
+    }
+    *flags = cdpr_plant_command(p, mode, value);
+    return cdpr_plant_advance(p, flags);
+}
