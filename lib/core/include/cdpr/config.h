@@ -69,4 +69,8 @@ typedef double cdpr_real_t;
 /// Maximum dimension of the robot state vector.
 #define CDPR_ROBOT_STATE_MAX (CDPR_CABIN_STATE_DIM + CDPR_MAX_CABLES * CDPR_CABLE_STATE_MAX)
 
+/// pi to double precision, for every layer (wrap with CDPR_R()-free casts where float is
+/// meant: `(cdpr_real_t)CDPR_PI`).
+#define CDPR_PI 3.14159265358979323846
+
 #endif /* CDPR_CONFIG_H */
