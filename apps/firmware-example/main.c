@@ -2,14 +2,16 @@
 /// Minimal bare-metal integration of the cdpr core: what a winch-controller firmware links and
 /// calls. Built only by the cortex-m7 and cortex-m4 presets; ctest runs it under QEMU.
 ///
-/// - The model (the 50 m robot of PARAMETERS.md: six cables of 16 segments between exit points
+/// - The model (the paper's 50 m robot, docs/robots.md: six cables of 16 segments between exit
+/// points
 ///   on a 25 m circle at 30 m and a 40 kg cabin) comes from a compiled-in configuration. The
 ///   start is the static equilibrium at the home pose: sag-aware inverse kinematics gives the
 ///   unstretched lengths, and the cables start on their catenaries, at rest.
 /// - Every object is a static of known size (docs/firmware.md): nothing is allocated.
 /// - A periodic interrupt (SysTick, 1 kHz) only counts ticks; the main loop runs one control
-///   period per tick outside the interrupt: winch updates, one bounded cdpr_rkf45_advance of
-///   exactly dt, quaternion renormalisation, node events, outputs for telemetry.
+///   period per tick outside the interrupt: one cdpr_plant_step (winch updates, a bounded
+///   advance of exactly dt, quaternion renormalisation, node events; rolled back on failure),
+///   then the outputs for telemetry.
 ///
 /// Under QEMU with `-icount shift=0` the virtual clock advances 1 ns per executed instruction,
 /// so SysTick's counter measures instructions; the program calibrates that against a loop of
@@ -19,11 +21,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "cdpr/rkf45.h"
-#include "cdpr/robot.h"
-#include "cdpr/statics.h"
+#include "cdpr/plant.h"
 #include "cdpr/status.h"
-#include "cdpr/winch.h"
 
 /* ---- Compiled-in configuration -------------------------------------------------------- */
 
@@ -79,17 +78,11 @@ static const cdpr_real_t RATE_CMD_M_PER_S[N_CABLES] = {CDPR_R(0.02), CDPR_R(0.0)
 #define STATICS_SPAN_M  CDPR_R(1e-10)
 #endif
 
-/* ---- The model: static, caller-owned objects (sizes in docs/firmware.md) -------------- */
+/* ---- The model: one static, caller-owned plant (size in docs/firmware.md) ------------ */
 
-static cdpr_robot_t robot;
-static cdpr_winch_t winch[N_CABLES];
-static cdpr_rkf45_t solver;
-static cdpr_node_stats_t node_stats;
+static cdpr_plant_t plant;
+static cdpr_plant_params_t params;
 static cdpr_robot_out_t out;
-static cdpr_real_t y[CDPR_ROBOT_STATE_MAX];
-static cdpr_real_t atol[CDPR_ROBOT_STATE_MAX];
-static cdpr_real_t work[CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX];
-static cdpr_real_t t_s;
 
 /* ---- SysTick: the periodic call and the instruction counter --------------------------- */
 
@@ -127,76 +120,40 @@ static void spin(uint32_t n)
 
 /* ---- Initialisation from the compiled-in configuration -------------------------------- */
 
-static cdpr_robot_params_t params;
-static cdpr_statics_result_t home;
-
 static int init_model(void)
 {
-    cdpr_robot_params_default(&params);
-    params.n_cables = N_CABLES;
+    cdpr_plant_params_default(&params);
+    cdpr_robot_params_t *r = &params.robot;
+    r->n_cables = N_CABLES;
     for (int j = 0; j < N_CABLES; ++j) {
-        cdpr_robot_cable_params_t *c = &params.cables[j];
+        cdpr_robot_cable_params_t *c = &r->cables[j];
         c->exit_point_m = cdpr_v3(EXIT_M[j][0], EXIT_M[j][1], EXIT_M[j][2]);
         c->attach_body_m = cdpr_v3(ATTACH_M[j][0], ATTACH_M[j][1], ATTACH_M[j][2]);
         c->n_segments = N_SEGMENTS;
         c->length_m = CHORD_M;
     }
+    /* Home pose at rest: the plant's IK gives the unstretched lengths that hold it and the
+     * cables start on their catenaries (no settling on the target: CATENARY start). */
+    const cdpr_real_t home[6] = {CDPR_R(0.0), CDPR_R(0.0), CABIN_Z_M,
+                                 CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+    params.initial = cdpr_cabin_motion_at_pose(home);
+    params.start = CDPR_PLANT_START_CATENARY;
+    params.ik.force_tol_N = STATICS_FORCE_N;
+    params.ik.span_tol_m = STATICS_SPAN_M;
+    params.rkf45.rtol = RTOL;
+    params.atol.position_m = ATOL;
+    params.atol.velocity_m_per_s = ATOL;
+    params.atol.quaternion = ATOL;
+    params.atol.rate_rad_per_s = ATOL;
+    params.period_s = DT_S;
+    params.max_trials = MAX_TRIALS;
+    params.max_attempts = 1; /* the real-time work bound: MAX_TRIALS trials per period */
     cdpr_diag_t d;
-    cdpr_status_t st = cdpr_robot_init(&robot, &params, &d);
+    const cdpr_status_t st = cdpr_plant_init(&plant, &params, &d);
     if (st != CDPR_OK) {
-        printf("robot init: %s at %s[%d]\n", cdpr_status_str(st), d.field, d.index);
+        printf("plant init: %s at %s[%d]\n", cdpr_status_str(st), d.field, d.index);
         return -1;
     }
-    /* Home pose at rest: the IK gives the unstretched lengths that hold it; re-initialise
-     * with those and start on the catenaries. */
-    const cdpr_cabin_motion_t m = {{CDPR_R(0.0), CDPR_R(0.0), CABIN_Z_M},
-                                   {CDPR_R(1.0), CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)},
-                                   {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)},
-                                   {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)}};
-    cdpr_statics_opts_t so;
-    cdpr_statics_opts_default(&so);
-    so.force_tol_N = STATICS_FORCE_N;
-    so.span_tol_m = STATICS_SPAN_M;
-    st = cdpr_statics_ik(&robot, &m, &so, &home);
-    if (st != CDPR_OK) {
-        printf("statics: %s\n", cdpr_status_str(st));
-        return -1;
-    }
-    for (int j = 0; j < N_CABLES; ++j) {
-        params.cables[j].length_m = home.cable[j].length_m;
-    }
-    st = cdpr_robot_init(&robot, &params, &d);
-    if (st == CDPR_OK) {
-        st = cdpr_statics_place_catenary(&robot, &home, y);
-    }
-    if (st != CDPR_OK) {
-        printf("placement: %s\n", cdpr_status_str(st));
-        return -1;
-    }
-    cdpr_winch_params_t wp;
-    cdpr_winch_params_default(&wp);
-    for (int j = 0; j < N_CABLES; ++j) {
-        st = cdpr_winch_init(&winch[j], &wp, &d);
-        if (st == CDPR_OK) {
-            st = cdpr_winch_command(&winch[j], CDPR_WINCH_RATE, RATE_CMD_M_PER_S[j]);
-        }
-        if (st != CDPR_OK) {
-            printf("winch %d: %s\n", j, cdpr_status_str(st));
-            return -1;
-        }
-    }
-    cdpr_robot_fill_atol(&robot, ATOL, ATOL, ATOL, ATOL, atol);
-    cdpr_rkf45_params_t sp;
-    cdpr_rkf45_params_default(&sp);
-    sp.rtol = RTOL;
-    sp.atol_vec = atol;
-    st = cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),
-                         CDPR_ROBOT_STATE_MAX, robot.dim, &d);
-    if (st != CDPR_OK) {
-        printf("rkf45 init: %s at %s\n", cdpr_status_str(st), d.field);
-        return -1;
-    }
-    t_s = CDPR_R(0.0);
     return 0;
 }
 
@@ -204,28 +161,15 @@ static int init_model(void)
 
 static cdpr_status_t control_period(void)
 {
-    /* Winch commands -> payout rates for this period (speed/acceleration limits). */
-    for (int j = 0; j < N_CABLES; ++j) {
-        const cdpr_real_t len = cdpr_cable_total_length(&robot.cable[j], y + robot.offset[j]);
-        (void)cdpr_winch_update(&winch[j], len, DT_S); /* CDPR_WARN_MIN_LENGTH is a state */
-        robot.in.payout_m_per_s[j] = winch[j].u_m_per_s;
-    }
-    /* Exactly dt, at most MAX_TRIALS trials; on error y and t are unchanged. */
-    const cdpr_status_t st =
-        cdpr_rkf45_advance(&solver, cdpr_robot_rhs, &robot, &t_s, y, DT_S, MAX_TRIALS);
+    /* Winch commands -> limits -> exactly dt with at most MAX_TRIALS trials -> node events.
+     * On an error the plant is exactly as before the call (the next period tries again). */
+    int flags = 0;
+    const cdpr_status_t st = cdpr_plant_step(&plant, CDPR_WINCH_RATE, RATE_CMD_M_PER_S, &flags);
     if (st < 0) {
         return st;
     }
-    cdpr_robot_normalize(&robot, y);
-    /* Node insertion/removal at the pulleys; the state dimension may change. */
-    int changed = 0;
-    (void)cdpr_winch_node_events(&robot, t_s, y, &node_stats, &changed);
-    if (changed != 0) {
-        (void)cdpr_rkf45_set_dim(&solver, robot.dim);
-        cdpr_robot_fill_atol(&robot, ATOL, ATOL, ATOL, ATOL, atol);
-    }
     /* Cabin force and end tensions for telemetry / the controller. */
-    cdpr_robot_outputs(&robot, t_s, y, &out);
+    cdpr_plant_outputs(&plant, &out);
     return st;
 }
 
@@ -270,19 +214,20 @@ int main(void)
 
     /* Integers only: newlib-nano's printf has no floating point unless asked for. */
     int ok = 1;
-    for (int i = 0; i < robot.dim; ++i) {
-        ok = (isfinite(y[i]) != 0) ? ok : 0;
+    const cdpr_robot_t *robot = &plant.robot;
+    for (int i = 0; i < robot->dim; ++i) {
+        ok = (isfinite(plant.y[i]) != 0) ? ok : 0;
     }
     printf("cdpr firmware example: %d cables x %d segments, %s, %d periods of 1 ms\n", N_CABLES,
            N_SEGMENTS, (sizeof(cdpr_real_t) == 4u) ? "float" : "double", N_PERIODS);
     printf("cabin z: %ld mm, state dim %d, rhs evals %lu, substep-limit periods %lu\n",
-           (long)lroundf((float)(y[CDPR_CABIN_P + 2] * CDPR_R(1000.0))), robot.dim,
-           solver.stats.rhs_evals, (unsigned long)warnings);
+           (long)lroundf((float)(plant.y[CDPR_CABIN_P + 2] * CDPR_R(1000.0))), robot->dim,
+           plant.rk.stats.rhs_evals, (unsigned long)warnings);
     for (int j = 0; j < N_CABLES; ++j) {
         const long tc = (long)lroundf((float)out.tension_cabin_N[j]);
         const long tw = (long)lroundf((float)out.tension_winch_N[j]);
         printf("cable %d: tension cabin %ld N, winch %ld N, payout %ld mm/s\n", j, tc, tw,
-               (long)lroundf((float)(winch[j].u_m_per_s * CDPR_R(1000.0))));
+               (long)lroundf((float)(plant.winch[j].u_m_per_s * CDPR_R(1000.0))));
         ok = (out.tension_cabin_N[j] > CDPR_R(0.0)) ? ok : 0; /* taut, as configured */
     }
     /* With -icount shift=0: 1 instruction = 1 ns of virtual time; the calibration loop is
