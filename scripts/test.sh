@@ -30,6 +30,10 @@ stage "debug: configure, build, ctest" build_and_test debug
 # Uses the debug tree's file list; fails when any file differs from .clang-format's style.
 stage "format-check" cmake --build --preset debug --target format-check
 stage "asan: configure, build, ctest" build_and_test asan
+# The optimised build users run (-O2; the core -O3) and a second compiler: every target built
+# with clang under the same strict warnings, every test run.
+stage "release: configure, build, ctest" build_and_test release
+stage "clang: configure, build everything, ctest" build_and_test clang
 # Firmware targets (cmake/toolchains): the core and its target-capable unit tests, cross-built
 # with arm-none-eabi-gcc and run under QEMU through ctest. Cortex-M7 with the double FPU on
 # mps2-an500; Cortex-M4 with the single FPU on mps2-an386, core in float.
@@ -49,18 +53,19 @@ stage "cppcheck" cppcheck --enable=warning,style,portability,performance --std=c
 mapfile -t cdpr_tidy_sources < <(printf '%s\n' "${cdpr_sources[@]}" | grep -v '^apps/firmware-example/')
 stage "clang-tidy" clang-tidy --quiet -p build/debug "${cdpr_tidy_sources[@]}"
 # libFuzzer on the LCM winch-command decoder + validator (tests/lcm/fuzz_lcm_command.c, with
-# ASan + UBSan): its own clang build (the target exists only when the compiler is clang), the
-# seeds written by fuzz_lcm_seeds plus what earlier runs added to build/fuzz/corpus, 60 s.
+# ASan + UBSan): in the clang tree above (the target exists only when the compiler is clang),
+# the seeds written by fuzz_lcm_seeds plus what earlier runs added to build/clang/fuzz-corpus,
+# 60 s.
 # libFuzzer exits non-zero on a crash, leak, sanitizer report, slow input (> 10 s) or broken
-# contract check (the target aborts); the input is then in build/fuzz/findings/.
+# contract check (the target aborts); the input is then in build/clang/fuzz-findings/.
 fuzz_lcm() {
-    local dir=build/fuzz
-    CC=clang cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug &&
-        cmake --build "$dir" --target fuzz_lcm_command fuzz_lcm_seeds &&
-        mkdir -p "$dir/corpus" "$dir/findings" &&
-        "$dir/tests/lcm/fuzz_lcm_seeds" "$dir/corpus" || return 1
+    local dir=build/clang
+    cmake --preset clang >/dev/null &&
+        cmake --build --preset clang --target fuzz_lcm_command fuzz_lcm_seeds &&
+        mkdir -p "$dir/fuzz-corpus" "$dir/fuzz-findings" &&
+        "$dir/tests/lcm/fuzz_lcm_seeds" "$dir/fuzz-corpus" || return 1
     "$dir/tests/lcm/fuzz_lcm_command" -max_total_time=60 -timeout=10 -print_final_stats=1 \
-        -artifact_prefix="$dir/findings/" "$dir/corpus"
+        -artifact_prefix="$dir/fuzz-findings/" "$dir/fuzz-corpus"
 }
 stage "fuzz: LCM command decoder + validator, libFuzzer 60 s (clang)" fuzz_lcm
 # MISRA C:2012 screening of the firmware code (cppcheck's misra addon; rule numbers only):

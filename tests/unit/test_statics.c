@@ -206,7 +206,7 @@ static void test_infeasible_and_bad_poses_are_reported(void)
     const cdpr_cabin_motion_t tilt = pose_of(0.0, 0.0, 10.0, 1.2, 0.0, 0.0);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&robot, &tilt, &o, &res));
     cdpr_cabin_motion_t nan_pose = pose_of(0.0, 0.0, 10.0, 0.0, 0.0, 0.0);
-    nan_pose.p_m.z = NAN;
+    nan_pose.p_m.z = NAN_R;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_statics_ik(&robot, &nan_pose, &o, &res));
     o.max_iter = 0;
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_statics_ik(&robot, &out, &o, &res));
