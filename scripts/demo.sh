@@ -32,7 +32,7 @@ mkdir -p "$out"
 url='udpm://239.255.76.67:7667?ttl=0'
 echo
 echo "==== $scenario: closed loop over LCM at 1 kHz (cdpr-rt + cdpr-tracker)"
-# udpm on loopback needs a multicast route through lo (../shared/PLATFORM.md).
+# udpm on loopback needs a multicast route through lo (docs/development.md, platform notes).
 multicast=1
 if ! ip route show table all 2>/dev/null | grep -q '^multicast 224.0.0.0/4\|^224.0.0.0/4'; then
     if ! ip route add 224.0.0.0/4 dev lo 2>/dev/null; then

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Run a test binary inside a private network namespace whose loopback carries IPv4 multicast,
-# so LCM's udpm provider works without touching the host's network (../shared/PLATFORM.md):
+# so LCM's udpm provider works without touching the host's network (docs/development.md, platform notes):
 #   unshare -n sh -c 'ip link set lo up; ip route add 224.0.0.0/4 dev lo; exec ./the_test'
 # When that is impossible it prints "SKIPPED: <reason>" and exits 77, which ctest reports as
 # a skipped test (SKIP_RETURN_CODE 77), never as a pass.

@@ -4,9 +4,9 @@
 /// the bridge thread publishes the states and receives the commands through the kernel.
 ///
 /// Run by tests/lcm/run_in_netns.sh inside a private network namespace (`unshare -n`, root)
-/// where it adds the 224.0.0.0/4 route to lo, as ../shared/PLATFORM.md describes. When that
-/// is impossible (not root, no unshare, udpm cannot be created) the test prints the reason and
-/// exits with 77, which ctest reports as skipped (SKIP_RETURN_CODE), never as passed.
+/// where it adds the 224.0.0.0/4 route to lo, as docs/development.md (platform notes) describes.
+/// When that is impossible (not root, no unshare, udpm cannot be created) the test prints the
+/// reason and exits with 77, which ctest reports as skipped (SKIP_RETURN_CODE), never as passed.
 ///
 /// Why it can fail: states or commands lost or reordered on loopback (the test paces itself
 /// one message at a time, so there is no queue overflow to excuse a loss), a command not

@@ -44,7 +44,7 @@ static inline mat_t rot_z(double g)
     return r;
 }
 
-/* MODEL.md §1: R = Rz(gamma) Ry(beta) Rx(alpha), built by explicit matrix products. */
+/* docs/model.md §1: R = Rz(gamma) Ry(beta) Rx(alpha), built by explicit matrix products. */
 static inline mat_t euler_matrix(double a, double b, double g)
 {
     const mat_t rz = rot_z(g);

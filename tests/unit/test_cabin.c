@@ -1,5 +1,5 @@
 /// @file test_cabin.c
-/// The cabin rigid body (cabin.h, MODEL.md §4) against independent computations: mass
+/// The cabin rigid body (cabin.h, docs/model.md §3) against independent computations: mass
 /// properties by the parallel-axis theorem written out per element, Euler's equations in
 /// principal axes, a numerically differentiated reference motion of the body origin, the
 /// closed-form motion of a spinning body in a constant force field, and Rodrigues' formula

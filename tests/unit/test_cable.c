@@ -1,5 +1,5 @@
 /// @file test_cable.c
-/// Lumped-mass cable (cable.h, MODEL.md §2): segment forces and the RHS of one cable.
+/// Lumped-mass cable (cable.h, docs/model.md §2): segment forces and the RHS of one cable.
 ///
 /// Every expected value is written out in the test from the model's formulas (hand-derived
 /// numbers in the comments), never by calling the function under test. The geometry uses the
@@ -311,7 +311,7 @@ static void test_drag_stretched_area_factor(void)
 
 /* ---------------------------------------------------------------- RHS of a whole cable */
 
-/* Independent reference of MODEL.md §2 for one segment, written from the formulas (plain
+/* Independent reference of docs/model.md §2 for one segment, written from the formulas (plain
  * arrays, different evaluation order from the core). */
 typedef struct {
     double T;    /* tension [N] */

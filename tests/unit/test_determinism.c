@@ -1,5 +1,5 @@
 /// @file test_determinism.c
-/// The six-cable robot (PARAMETERS.md set A geometry) stepped through the real-time call:
+/// The six-cable robot (docs/robots.md set A geometry) stepped through the real-time call:
 /// no heap allocation during init and stepping, and two identical runs bit-identical.
 #include <math.h>
 #include <string.h>

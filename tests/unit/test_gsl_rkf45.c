@@ -1,5 +1,5 @@
 /// @file test_gsl_rkf45.c
-/// cdpr_rkf45 against GSL's odeiv2 rkf45 on the same robot RHS (MODEL.md §6), and the
+/// cdpr_rkf45 against GSL's odeiv2 rkf45 on the same robot RHS (docs/model.md §7), and the
 /// cdpr_gsl adapter itself (lib/gsl, host only: GSL is GPL-3).
 ///
 /// Problems: one cable from the cabin attachment (0,0,0) to the exit point (40,0,0), cabin held

@@ -1,5 +1,5 @@
 /// @file test_rkf45.c
-/// The RKF45 integrator (rkf45.h, MODEL.md §6) on problems with closed-form solutions, its
+/// The RKF45 integrator (rkf45.h, docs/model.md §7) on problems with closed-form solutions, its
 /// real-time bound, its transactional failure paths and its parameter validation.
 ///
 /// Reference solutions: y' = -lambda y -> y = y0 exp(-lambda t); x'' = -w^2 x ->

@@ -1,5 +1,5 @@
 /// @file test_statics.c
-/// Sag-aware statics of the six-cable 50 m model (PARAMETERS.md set A): IK balances the cabin
+/// Sag-aware statics of the six-cable 50 m model (docs/robots.md set A): IK balances the cabin
 /// wrench (checked here from the returned forces), each cable's catenary closes on both end
 /// points, forward statics inverts IK, infeasible poses are reported, and the lumped-mass
 /// robot settled by its own dynamics converges to the statics solution as segments increase.
@@ -29,7 +29,7 @@ static cdpr_real_t y[CDPR_ROBOT_STATE_MAX];
 static cdpr_real_t scratch[CDPR_ROBOT_STATE_MAX];
 static cdpr_real_t work[CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX];
 
-/* PARAMETERS.md set A; lengths are placeholders until IK provides them. */
+/* docs/robots.md set A; lengths are placeholders until IK provides them. */
 static void params_50m(cdpr_robot_params_t *p, int segments, const double *lengths)
 {
     static const double az_deg[6] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
@@ -75,7 +75,7 @@ static void test_ik_balances_the_cabin_and_closes_every_catenary(void)
         cdpr_statics_result_t res;
         ik(&poses[k], &res);
         /* Wrench from the returned forces, recomputed here: sum F - M g z, sum (P - c_w) x F,
-         * with the CoM at the body origin (PARAMETERS.md: b_j relative to the CoM). */
+         * with the CoM at the body origin (docs/robots.md: b_j relative to the CoM). */
         double f[3] = {0.0, 0.0, -40.0 * 9.80665};
         double m[3] = {0.0, 0.0, 0.0};
         for (int j = 0; j < 6; ++j) {
@@ -121,7 +121,7 @@ static void test_ik_balances_the_cabin_and_closes_every_catenary(void)
 
 static void test_circle_start_matches_parameter_set_facts(void)
 {
-    /* PARAMETERS.md (derived): at the circle's start every cable has L0 ~ 31.6 m. */
+    /* docs/robots.md (derived): at the circle's start every cable has L0 ~ 31.6 m. */
     cdpr_statics_result_t res;
     const cdpr_cabin_motion_t pose = pose_of(0.0, 0.0, 9.135, 0.0, 0.0, 0.0);
     ik(&pose, &res);

@@ -2,7 +2,7 @@
 /// Vector, matrix and quaternion helpers (vec3.h) and the status names (status.h).
 ///
 /// Every expectation is computed independently in the test: rotation matrices as explicit
-/// products Rz(gamma) Ry(beta) Rx(alpha) (MODEL.md §1), Rodrigues' formula for axis-angle
+/// products Rz(gamma) Ry(beta) Rx(alpha) (docs/model.md §1), Rodrigues' formula for axis-angle
 /// rotations, integer arithmetic for the hand cases, vector identities for cross and dot.
 /// The tolerances are rounding bounds derived for double; the float build scales them as
 /// tests/support/test_real.h explains (TOL).

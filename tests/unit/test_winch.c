@@ -1,7 +1,8 @@
 /// @file test_winch.c
-/// Winch payout/haul-in with node insertion and removal (MODEL.md §3): conservation of the
-/// unstretched length at every event, the last-segment window, momentum change per event,
-/// node-event counts per metre, capacity, return to the start, and the command limits.
+/// Winch payout/haul-in with node insertion and removal (docs/model.md §2, winch and node
+/// events): conservation of the unstretched length at every event, the last-segment window,
+/// momentum change per event, node-event counts per metre, capacity, return to the start, and
+/// the command limits.
 #include <math.h>
 #include <string.h>
 

@@ -1,6 +1,6 @@
-/// @file gsl_ref.h
-/// Host-side reference integration of any cdpr right-hand side with GSL's odeiv2 rkf45
-/// (MODEL.md §6: "the same RHS must be usable with GSL's gsl_odeiv2 rkf45 stepper").
+/// @file ref.h
+/// Host-side reference integration of any cdpr right-hand side with GSL's odeiv2 rkf45: the
+/// same RHS the core integrates (docs/model.md §7).
 ///
 /// Licence: GSL is GPL-3. This header and lib/gsl (target `cdpr_gsl`) are for host-side
 /// validation, tests and tools only. `cdpr_core` never includes it and never links GSL, and

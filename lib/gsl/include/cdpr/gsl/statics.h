@@ -1,4 +1,4 @@
-/// @file gsl_statics.h
+/// @file statics.h
 /// Reference solver for the sag-aware inverse kinematics with GSL's multidimensional root
 /// finder, as an independent check of cdpr_statics_ik (statics.h).
 ///

@@ -1,4 +1,4 @@
-/// @file lcm_bridge.h
+/// @file bridge.h
 /// The LCM bridge between a real-time plant thread and the rest of the world.
 ///
 /// Threading model (docs/realtime.md):
@@ -9,7 +9,7 @@
 ///    validates them and posts the good ones into the mailbox. It is the only thread that calls
 ///    lcm_*: liblcm 1.3.1 takes a GLib mutex without priority inheritance and makes a blocking
 ///    sendmsg() in lcm_publish, and its first lcm_handle starts a receive thread that inherits
-///    the creator's scheduling policy (../shared/PLATFORM.md).
+///    the creator's scheduling policy (docs/development.md, platform notes).
 ///  - The **real-time thread** uses only the functions marked "RT-safe" below: they make no
 ///    lcm_* call, no allocation, take no lock and never wait. Pushing encodes the message
 ///    straight into a ring slot (lcm_ring.h; full ring -> the message is dropped and counted)

@@ -1,4 +1,4 @@
-/// @file lcm_command.h
+/// @file command.h
 /// Winch commands received over LCM: decoding, validation, the latest-value mailbox the
 /// real-time thread reads, and the watchdog that holds the winches when commands stop.
 ///

@@ -1,4 +1,4 @@
-/// @file lcm_pack.h
+/// @file pack.h
 /// Packing the core's state into the LCM messages (lcmtypes/, package cdpr).
 ///
 /// Inputs are the robot (cdpr_robot_t), its state vector `y` at time `t_s` and, for tensions,

@@ -1,4 +1,4 @@
-/// @file lcm_ring.h
+/// @file ring.h
 /// Lock-free single-producer / single-consumer ring of preallocated, fixed-size message slots.
 ///
 /// The real-time thread (the only producer) encodes each outgoing LCM message straight into a
