@@ -28,9 +28,11 @@
 /// plant.c; the contract of the period (exactly Δt, bounded work, transactional) is the
 /// plant's, whatever the scheme.
 ///
-/// Memory: caller-owned (sizeof(cdpr_plant_t) is in docs/api.md; about 220 kB at the default
-/// capacities in double: declare it static). No function allocates, keeps a pointer it was not
-/// given, or performs I/O. Work of one period: at most max_attempts x max_trials integrator
+/// Memory: caller-owned (sizeof(cdpr_plant_t) is in docs/api.md; about 230 kB at the default
+/// capacities in double: declare it static). The plant's integrator points into the plant's own
+/// arrays, so a plant must not be copied by assignment or memcpy (the copy would integrate
+/// the original's arrays): initialise a second plant instead. No function allocates, keeps a
+/// pointer it was not given, or performs I/O. Work of one period: at most max_attempts x max_trials integrator
 /// trials (RKF45: 6 robot RHS evaluations each, O(total segments) per evaluation) plus
 /// O(state dimension) for the rollback copy and the node events.
 #ifndef CDPR_PLANT_H
