@@ -32,8 +32,8 @@
 /// capacities in double: declare it static). The plant's integrator points into the plant's own
 /// arrays, so a plant must not be copied by assignment or memcpy (the copy would integrate
 /// the original's arrays): initialise a second plant instead. No function allocates, keeps a
-/// pointer it was not given, or performs I/O. Work of one period: at most max_attempts x max_trials integrator
-/// trials (RKF45: 6 robot RHS evaluations each, O(total segments) per evaluation) plus
+/// pointer it was not given, or performs I/O. Work of one period: at most max_attempts x max_trials
+/// integrator trials (RKF45: 6 robot RHS evaluations each, O(total segments) per evaluation) plus
 /// O(state dimension) for the rollback copy and the node events.
 #ifndef CDPR_PLANT_H
 #define CDPR_PLANT_H

@@ -158,8 +158,13 @@ typedef struct {
 void cdpr_lcm_bridge_params_default(cdpr_lcm_bridge_params_t *p);
 
 /// Validate the parameters and initialise rings, validator and mailbox. No thread, no lcm_t,
-/// no allocation. On error `b` is unusable and `diag` names the first bad field
-/// ("channel_prefix", "url", "n_cables", "u_max_m_per_s" [index = winch], ...).
+/// no allocation; O(CDPR_LCM_RING_SLOTS). On error `b` is unusable and `diag` names the first
+/// bad field. Errors: CDPR_E_INVALID_ARG (NULL; a character of channel_prefix outside
+/// [A-Za-z0-9_/-]), CDPR_E_OUT_OF_RANGE (channel_prefix or url too long, watchdog_timeout_s
+/// or idle_poll_ms outside their ranges), CDPR_E_CAPACITY (n_cables outside
+/// 1..CDPR_MAX_CABLES), CDPR_E_NOT_FINITE (watchdog_timeout_s), and the errors of
+/// cdpr_lcm_limits_from_winch / cdpr_lcm_validator_init for the winch limits
+/// ("u_max_m_per_s" ..., index = winch).
 cdpr_status_t cdpr_lcm_bridge_init(cdpr_lcm_bridge_t *b, const cdpr_lcm_bridge_params_t *p,
                                    cdpr_diag_t *diag);
 

@@ -155,7 +155,9 @@ typedef struct {
 } cdpr_lcm_mailbox_t;
 
 /// Initialise: empty (reads hold until the first command), watchdog `timeout_ns` [ns] (> 0),
-/// hold command for `n_cables` winches (1..CDPR_MAX_CABLES). Before the threads start.
+/// hold command for `n_cables` winches (1..CDPR_MAX_CABLES). Before the threads start. O(1);
+/// no allocation. Errors (diag names the field): CDPR_E_INVALID_ARG (NULL), CDPR_E_CAPACITY
+/// (n_cables), CDPR_E_NOT_POSITIVE (timeout_ns).
 cdpr_status_t cdpr_lcm_mailbox_init(cdpr_lcm_mailbox_t *mb, int n_cables, int64_t timeout_ns,
                                     cdpr_diag_t *diag);
 
