@@ -1,5 +1,5 @@
 /// @file rkf45.c
-/// Runge-Kutta-Fehlberg 4(5) with step control (MODEL.md §6).
+/// Runge-Kutta-Fehlberg 4(5) with step control (docs/model.md "Time integration").
 ///
 /// Coefficients: E. Fehlberg, NASA TR R-315 (1969), table III, as exact rationals.
 #include "cdpr/rkf45.h"

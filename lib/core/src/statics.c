@@ -1,5 +1,6 @@
 /// @file statics.c
-/// Sag-aware statics and inverse kinematics (MODEL.md §5; see statics.h).
+/// Sag-aware statics and inverse kinematics (docs/model.md "Sag-aware inverse kinematics, with an
+/// external wrench"; see statics.h).
 #include "cdpr/statics.h"
 
 #include <math.h>
