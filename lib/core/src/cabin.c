@@ -1,5 +1,5 @@
 /// @file cabin.c
-/// Rigid-body cabin (MODEL.md §4).
+/// Rigid-body cabin (docs/model.md "Cabin").
 #include "cdpr/cabin.h"
 
 #include <math.h>

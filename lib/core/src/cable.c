@@ -1,5 +1,5 @@
 /// @file cable.c
-/// Lumped-mass cable: node forces and the right-hand side of one cable (MODEL.md §2).
+/// Lumped-mass cable: node forces and the right-hand side of one cable (docs/model.md "One cable").
 #include "cdpr/cable.h"
 
 #include <math.h>
@@ -9,7 +9,7 @@
 
 void cdpr_cable_params_default(cdpr_cable_params_t *p)
 {
-    /* PARAMETERS.md set A: 6 mm steel wire rope of the 50 m model. */
+    /* docs/robots.md set A: 6 mm steel wire rope of the 50 m model. */
     p->d0_m = CDPR_R(0.006);
     p->rho_kg_per_m = CDPR_R(0.14);
     p->ea_N = CDPR_R(2.0e6);
@@ -63,8 +63,8 @@ void cdpr_cable_refresh(cdpr_cable_t *c)
         c->inv_lu[k] = (k < n - 1) ? CDPR_R(1.0) / c->lu_m[k] : CDPR_R(0.0);
         c->inv_m[k] = CDPR_R(0.0);
     }
-    /* MODEL §2, paper eq. (3.1): m_i = rho (lu_{i-1} + lu_i) / 2 for free nodes. Node n-1
-     * touches the pulley-side segment whose length is a state: computed in the RHS. */
+    /* docs/model.md "One cable", paper eq. (3.1): m_i = rho (lu_{i-1} + lu_i) / 2 for free nodes.
+     * Node n-1 touches the pulley-side segment whose length is a state: computed in the RHS. */
     for (int i = 1; i < n - 1; ++i) {
         c->inv_m[i] = CDPR_R(2.0) / (c->p.rho_kg_per_m * (c->lu_m[i - 1] + c->lu_m[i]));
     }
@@ -140,8 +140,8 @@ static void seg_constants(const cdpr_cable_params_t *p, cdpr_real_t drag_k, cdpr
     k->wz = wind.z;
 }
 
-/* MODEL.md §2 for one segment from node a to node b. Written on scalars so the compiler keeps
- * everything in registers; this is the hot loop of the whole library. */
+/* docs/model.md "One cable" for one segment from node a to node b. Written on scalars so the
+ * compiler keeps everything in registers; this is the hot loop of the whole library. */
 static inline void seg_eval(const seg_k_t *k, const cdpr_real_t *ra, const cdpr_real_t *va,
                             const cdpr_real_t *rb, const cdpr_real_t *vb, cdpr_real_t lu,
                             cdpr_real_t inv_lu, cdpr_real_t lu_rate, seg_t *s)
@@ -300,7 +300,7 @@ void cdpr_cable_rhs(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cabl
     seg_k_t k;
     seg_constants(&c->p, c->drag_k, bc->wind_m_per_s, &k);
 
-    dydt[0] = u; /* MODEL §3: d lu[n-1]/dt = u */
+    dydt[0] = u; /* payout: d lu[n-1]/dt = u */
     for (int i = 0; i < 3 * nf; ++i) {
         dpos[i] = vel[i];
     }

@@ -1,5 +1,5 @@
 /// @file catenary.c
-/// Irvine's elastic catenary and its inverse (MODEL.md §5).
+/// Irvine's elastic catenary and its inverse (docs/model.md "Elastic catenary").
 #include "cdpr/catenary.h"
 
 #include <math.h>

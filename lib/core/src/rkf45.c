@@ -1,5 +1,5 @@
 /// @file rkf45.c
-/// Runge-Kutta-Fehlberg 4(5) with step control (MODEL.md §6).
+/// Runge-Kutta-Fehlberg 4(5) with step control (docs/model.md "Time integration").
 ///
 /// Coefficients: E. Fehlberg, NASA TR R-315 (1969), table III, as exact rationals.
 #include "cdpr/rkf45.h"
@@ -363,6 +363,142 @@ static cdpr_real_t shrink_after(const cdpr_rkf45_t *s, cdpr_real_t h, cdpr_real_
     return (equal != 0 && s->h_s < h_next) ? s->h_s : h_next;
 }
 
+/* Progress of one cdpr_rkf45_advance call. */
+typedef struct {
+    cdpr_real_t t0;      /* time at entry */
+    cdpr_real_t t_end;   /* t0 + dt */
+    cdpr_real_t h_saved; /* s->h_s at entry */
+    cdpr_real_t tc;      /* time reached by the accepted steps */
+    int trials;          /* trials spent */
+    int have_k1;         /* slot K1 holds f(tc, y) */
+    int equal;           /* 1: the rest is covered by equal steps, one per trial left */
+    int retry;           /* this call repeats one that returned CDPR_E_SUBSTEP_LIMIT */
+    int fresh;           /* the next step of the controller's own size resets h_ok_s */
+    int missed;          /* forced steps taken */
+} advance_t;
+
+/* Size of the next trial of advance with `budget` >= 1 trials left for `remaining`: the
+ * controller's step, or remaining / budget once equal steps are due (a->equal then stays set).
+ * *last: the trial ends the interval (h = remaining). O(budget), no RHS calls. */
+static cdpr_real_t advance_plan(const cdpr_rkf45_t *s, advance_t *a, int budget,
+                                cdpr_real_t remaining, int *last)
+{
+    cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+    const cdpr_real_t h_eq = remaining / (cdpr_real_t)budget;
+    if (a->equal == 0) {
+        /* Equal steps when the adaptive ones no longer fit even growing at grow_max, or,
+         * when repeating an interval, as soon as one more rejection would make them
+         * larger than h_ok_s (h_ok_s only grows during a repeat). */
+        const int last_chance = (a->retry != 0 && h_eq <= s->h_ok_s &&
+                                 (budget == 1 || remaining / (cdpr_real_t)(budget - 1) > s->h_ok_s))
+                                    ? 1
+                                    : 0;
+        if (budget == 1 || last_chance != 0 || can_reach(s, h, budget, remaining) == 0) {
+            a->equal = 1;
+        }
+    }
+    if (a->equal != 0) {
+        h = h_eq;
+    }
+    /* Do not leave a sliver much shorter than the step: take the rest now. */
+    *last = (h >= remaining * CDPR_R(0.999)) ? 1 : 0;
+    if (*last != 0) {
+        h = remaining;
+    }
+    return h;
+}
+
+/* Accept a trial of size h with error norm err (a forced step when err > 1): y takes the new
+ * state yn, a->tc advances, h_ok_s and h_s are updated. O(dim). */
+static void advance_accept(cdpr_rkf45_t *s, advance_t *a, cdpr_real_t *y, const cdpr_real_t *yn,
+                           cdpr_real_t h, int last, cdpr_real_t err)
+{
+    copy(y, yn, s->dim);
+    a->have_k1 = 0;
+    a->tc = (last != 0) ? a->t_end : a->tc + h;
+    s->stats.steps_accepted++;
+    if (err > CDPR_R(1.0)) {
+        s->stats.forced_steps++;
+        a->missed++;
+    } else {
+        /* A step shortened to reach t_end or an equal step is not the controller's
+         * choice: it only raises h_ok_s. */
+        const int own = (last == 0 && a->equal == 0) ? 1 : 0;
+        note_accepted(s, h, a->fresh & own);
+        a->fresh &= !own;
+    }
+    const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+    s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
+}
+
+/* Act on a trial of size h from (a->tc, y) with error norm err and new state yn: accept it
+ * (y and a->tc advance) or reject it (h_s shrinks). CDPR_OK to go on, else the error that ends
+ * the call: CDPR_E_STATE_NOT_FINITE, CDPR_E_STEP_TOO_SMALL, or CDPR_E_SUBSTEP_LIMIT (an
+ * equal step refused). O(dim). */
+static cdpr_status_t advance_judge(cdpr_rkf45_t *s, advance_t *a, cdpr_real_t *y,
+                                   const cdpr_real_t *yn, cdpr_real_t h, int last, cdpr_real_t err)
+{
+    cdpr_status_t st = CDPR_OK;
+    if (!isfinite(err)) {
+        if (start_is_bad(s, y) != 0) {
+            st = CDPR_E_STATE_NOT_FINITE;
+        } else {
+            s->stats.nonfinite_rejected++;
+            s->h_s = shrink_after(s, h, s->p.shrink_min, a->equal);
+        }
+    } else if (err <= CDPR_R(1.0) || (a->equal != 0 && err <= s->p.force_err_max)) {
+        /* An equal step that misses the tolerance is accepted ("forced") only within
+         * force_err_max: a mode that the step amplifies is refused as soon as its share of
+         * the error estimate reaches that bound, whatever the budget. */
+        advance_accept(s, a, y, yn, h, last, err);
+    } else {
+        s->stats.steps_rejected++;
+        s->h_s = shrink_after(s, h, step_factor(s, err), a->equal);
+    }
+    if ((st == CDPR_OK) && (s->h_s < s->p.h_min_s)) {
+        if (h <= s->p.h_min_s) {
+            st = CDPR_E_STEP_TOO_SMALL;
+        } else {
+            s->h_s = s->p.h_min_s;
+        }
+    }
+    if ((st == CDPR_OK) && (a->equal != 0) && (a->have_k1 != 0)) {
+        /* An equal step was refused (have_k1: not accepted): the rest cannot be covered
+         * within the budget. Give up now rather than spend the other trials. */
+        st = CDPR_E_SUBSTEP_LIMIT;
+    }
+    return st;
+}
+
+/* End of an advance call with loop status st: on an error, y and *t are restored from the
+ * backup; on success *t = t_end and a forced step turns CDPR_OK into CDPR_WARN_SUBSTEP_LIMIT.
+ * O(dim). */
+static cdpr_status_t advance_finish(cdpr_rkf45_t *s, const advance_t *a, cdpr_status_t st,
+                                    cdpr_real_t *t, cdpr_real_t *y)
+{
+    if (st < 0) {
+        copy(y, slot(s, YBAK), s->dim);
+        *t = a->t0;
+        if (st == CDPR_E_SUBSTEP_LIMIT) {
+            /* Keep h_s and h_ok_s as learned: the next call starts from them instead of
+             * repeating the same rejections, and plans its equal steps early (retry). */
+            s->retry = 1;
+            s->stats.substep_limit_failures++;
+        } else {
+            s->h_s = (s->h_s < a->h_saved) ? s->h_s : a->h_saved;
+        }
+        s->stats.failures++;
+        return st;
+    }
+    *t = a->t_end;
+    s->retry = 0;
+    if (a->missed != 0) {
+        s->stats.substep_limit_hits++;
+        return CDPR_WARN_SUBSTEP_LIMIT;
+    }
+    return CDPR_OK;
+}
+
 cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                                  cdpr_real_t *y, cdpr_real_t dt, int max_trials)
 {
@@ -370,127 +506,42 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
         !(dt > CDPR_R(0.0)) || max_trials < 1) {
         return CDPR_E_INVALID_ARG;
     }
-    const int n = s->dim;
-    if (all_finite(y, n) == 0) {
+    if (all_finite(y, s->dim) == 0) {
         s->stats.failures++;
         return CDPR_E_STATE_NOT_FINITE;
     }
     cdpr_real_t *yn = slot(s, YNEW);
-    cdpr_real_t *bak = slot(s, YBAK);
-    const cdpr_real_t t0 = *t;
-    const cdpr_real_t t_end = t0 + dt;
-    const cdpr_real_t h_saved = s->h_s;
-    copy(bak, y, n);
+    advance_t a;
+    a.t0 = *t;
+    a.t_end = a.t0 + dt;
+    a.h_saved = s->h_s;
+    a.tc = a.t0;
+    a.trials = 0;
+    a.have_k1 = 0;
+    a.equal = 0;
+    a.retry = s->retry;
+    a.fresh = !a.retry;
+    a.missed = 0;
+    copy(slot(s, YBAK), y, s->dim);
 
-    cdpr_real_t tc = t0;
-    int have_k1 = 0;
-    int trials = 0;
-    int equal = 0;              /* 1: the rest is covered by equal steps, one per trial left */
-    const int retry = s->retry; /* this call repeats one that returned CDPR_E_SUBSTEP_LIMIT */
-    int fresh = !retry;         /* the next step of the controller's own size resets h_ok_s */
-    int missed = 0;
     cdpr_status_t st = CDPR_OK;
-    while (tc < t_end) {
-        const cdpr_real_t remaining = t_end - tc;
-        const int budget = max_trials - trials;
+    while ((st == CDPR_OK) && (a.tc < a.t_end)) {
+        const cdpr_real_t remaining = a.t_end - a.tc;
+        const int budget = max_trials - a.trials;
         if (budget < 1) {
             st = CDPR_E_SUBSTEP_LIMIT; /* not reached: the last trial is always an equal step */
-            break;
-        }
-        cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
-        const cdpr_real_t h_eq = remaining / (cdpr_real_t)budget;
-        if (equal == 0) {
-            /* Equal steps when the adaptive ones no longer fit even growing at grow_max, or,
-             * when repeating an interval, as soon as one more rejection would make them
-             * larger than h_ok_s (h_ok_s only grows during a repeat). */
-            const int last_chance =
-                (retry != 0 && h_eq <= s->h_ok_s &&
-                 (budget == 1 || remaining / (cdpr_real_t)(budget - 1) > s->h_ok_s))
-                    ? 1
-                    : 0;
-            if (budget == 1 || last_chance != 0 || can_reach(s, h, budget, remaining) == 0) {
-                equal = 1;
-            }
-        }
-        if (equal != 0) {
-            h = h_eq;
-        }
-        /* Do not leave a sliver much shorter than the step: take the rest now. */
-        const int last = (h >= remaining * CDPR_R(0.999)) ? 1 : 0;
-        if (last != 0) {
-            h = remaining;
-        }
-        cdpr_real_t err = CDPR_R(0.0);
-        trials++;
-        if (trial(s, f, ctx, tc, y, h, yn, &err, have_k1) != CDPR_OK) {
-            st = CDPR_E_RHS;
-            break;
-        }
-        have_k1 = 1; /* until a step is accepted, the next trial starts from the same point */
-        if (!isfinite(err)) {
-            if (start_is_bad(s, y) != 0) {
-                st = CDPR_E_STATE_NOT_FINITE;
-                break;
-            }
-            s->stats.nonfinite_rejected++;
-            s->h_s = shrink_after(s, h, s->p.shrink_min, equal);
-        } else if (err <= CDPR_R(1.0) || (equal != 0 && err <= s->p.force_err_max)) {
-            /* An equal step that misses the tolerance is accepted ("forced") only within
-             * force_err_max: a mode that the step amplifies is refused as soon as its share of
-             * the error estimate reaches that bound, whatever the budget. */
-            copy(y, yn, n);
-            have_k1 = 0;
-            tc = (last != 0) ? t_end : tc + h;
-            s->stats.steps_accepted++;
-            if (err > CDPR_R(1.0)) {
-                s->stats.forced_steps++;
-                missed++;
+        } else {
+            int last = 0;
+            const cdpr_real_t h = advance_plan(s, &a, budget, remaining, &last);
+            cdpr_real_t err = CDPR_R(0.0);
+            a.trials++;
+            if (trial(s, f, ctx, a.tc, y, h, yn, &err, a.have_k1) != CDPR_OK) {
+                st = CDPR_E_RHS;
             } else {
-                /* A step shortened to reach t_end or an equal step is not the controller's
-                 * choice: it only raises h_ok_s. */
-                const int own = (last == 0 && equal == 0) ? 1 : 0;
-                note_accepted(s, h, fresh & own);
-                fresh &= !own;
+                a.have_k1 = 1; /* until a step is accepted, the next trial starts from here */
+                st = advance_judge(s, &a, y, yn, h, last, err);
             }
-            const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
-            s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
-        } else {
-            s->stats.steps_rejected++;
-            s->h_s = shrink_after(s, h, step_factor(s, err), equal);
-        }
-        if (s->h_s < s->p.h_min_s) {
-            if (h <= s->p.h_min_s) {
-                st = CDPR_E_STEP_TOO_SMALL;
-                break;
-            }
-            s->h_s = s->p.h_min_s;
-        }
-        if (equal != 0 && have_k1 != 0) {
-            /* An equal step was refused (have_k1: not accepted): the rest cannot be covered
-             * within the budget. Give up now rather than spend the other trials. */
-            st = CDPR_E_SUBSTEP_LIMIT;
-            break;
         }
     }
-    if (st < 0) {
-        copy(y, bak, n);
-        *t = t0;
-        if (st == CDPR_E_SUBSTEP_LIMIT) {
-            /* Keep h_s and h_ok_s as learned: the next call starts from them instead of
-             * repeating the same rejections, and plans its equal steps early (retry). */
-            s->retry = 1;
-            s->stats.substep_limit_failures++;
-        } else {
-            s->h_s = (s->h_s < h_saved) ? s->h_s : h_saved;
-        }
-        s->stats.failures++;
-        return st;
-    }
-    *t = t_end;
-    s->retry = 0;
-    if (missed != 0) {
-        s->stats.substep_limit_hits++;
-        return CDPR_WARN_SUBSTEP_LIMIT;
-    }
-    return CDPR_OK;
+    return advance_finish(s, &a, st, t, y);
 }

@@ -1,5 +1,5 @@
 /// @file robot.c
-/// Robot assembly: state layout, full RHS, outputs (MODEL.md §2, §4).
+/// Robot assembly: state layout, full RHS, outputs (docs/model.md "One cable", "Cabin", "Robot").
 #include "cdpr/robot.h"
 
 #include <math.h>
@@ -23,7 +23,7 @@ void cdpr_robot_params_default(cdpr_robot_params_t *p)
     p->mode = CDPR_CABIN_DYNAMIC;
 }
 
-/* Node-0 lumped masses rho lu_0 / 2 added to the cabin (MODEL §2). */
+/* Node-0 lumped masses rho lu_0 / 2 added to the cabin (docs/model.md "One cable"). */
 static cdpr_status_t combine_cabin(cdpr_cabin_t *cab, const cdpr_robot_params_t *p,
                                    const cdpr_cable_t *cables, cdpr_diag_t *diag)
 {
@@ -187,7 +187,7 @@ static void fill_bc(const cdpr_robot_t *r, int j, const cdpr_cabin_motion_t *m,
 }
 
 /* Moment of the world force F applied at body point b about the combined CoM, body axes:
- * (b - c) x (R^T F) (MODEL §4). */
+ * (b - c) x (R^T F) (docs/model.md "Cabin"). */
 static cdpr_vec3_t moment_body(const cdpr_robot_t *r, int j, const cdpr_mat3_t *R, cdpr_vec3_t F)
 {
     const cdpr_vec3_t arm = cdpr_v3_sub(r->p.cables[j].attach_body_m, r->cabin.com_body_m);

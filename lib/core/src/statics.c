@@ -1,5 +1,6 @@
 /// @file statics.c
-/// Sag-aware statics and inverse kinematics (MODEL.md §5; see statics.h).
+/// Sag-aware statics and inverse kinematics (docs/model.md "Sag-aware inverse kinematics, with an
+/// external wrench"; see statics.h).
 #include "cdpr/statics.h"
 
 #include <math.h>
@@ -368,6 +369,141 @@ cdpr_status_t cdpr_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion_t *
     return cdpr_statics_ik_wrench(r, pose, zero, zero, o, res);
 }
 
+/* 1 if some exit point is above its attachment. */
+static int any_exit_above(const geom_t g[NC])
+{
+    int any_above = 0;
+    for (int j = 0; j < NC; ++j) {
+        any_above |= (g[j].h > CDPR_R(0.0)) ? 1 : 0;
+    }
+    return any_above;
+}
+
+/* Unknowns of the outer Newton of the IK and what they give: H, V, L per cable, the wrench
+ * residual rv, its Jacobian J (destroyed by each linear solve) and the norm rn of rv. */
+typedef struct {
+    cdpr_real_t H[NC];
+    cdpr_real_t V[NC];
+    cdpr_real_t L[NC];
+    cdpr_real_t rv[NC];
+    cdpr_real_t J[NC][NC];
+    cdpr_real_t rn;
+} ik_iter_t;
+
+/* Starting point of the outer Newton from the massless tensions of `straight`, or, when it is
+ * NULL, an even share of the load per cable. O(cables). */
+static void ik_start(const cdpr_robot_t *r, const geom_t *g, const load_t *ld,
+                     const cdpr_statics_result_t *straight, ik_iter_t *s)
+{
+    for (int j = 0; j < NC; ++j) {
+        const cdpr_real_t chord = CDPR_SQRT(g[j].l * g[j].l + g[j].h * g[j].h);
+        const cdpr_real_t t =
+            (straight != NULL) ? straight->cable[j].tension_winch_N : ld->scale / (cdpr_real_t)NC;
+        const cdpr_real_t w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
+        s->H[j] = t * g[j].l / chord;
+        /* A massless tension near zero means a deep sag in reality: start no lower than the
+         * H of a catenary whose sag is about its span (H = w l / 8), where the inner problem
+         * is well conditioned; Newton moves it from there. */
+        const cdpr_real_t h_floor = w * g[j].l / CDPR_R(8.0);
+        s->H[j] = (s->H[j] > h_floor) ? s->H[j] : h_floor;
+        s->L[j] = chord / (CDPR_R(1.0) + t / r->p.cables[j].cable.ea_N);
+        s->V[j] = t * g[j].h / chord - CDPR_R(0.5) * w * s->L[j];
+    }
+}
+
+/* Newton step dH from J dH = -rv (s->J is destroyed). 0 on success, with *wants_push = 1 if
+ * the full step would make some H non-positive; -1 if J is singular (*wants_push untouched). */
+static int ik_direction(ik_iter_t *s, cdpr_real_t dH[NC], int *wants_push)
+{
+    cdpr_real_t b[NC];
+    for (int i = 0; i < NC; ++i) {
+        b[i] = -s->rv[i];
+    }
+    const int singular = solve_linear(NC, s->J, b, dH);
+    if (singular == 0) {
+        int push = 0;
+        for (int j = 0; j < NC; ++j) {
+            push |= (s->H[j] + dH[j] > CDPR_R(0.0)) ? 0 : 1;
+        }
+        *wants_push = push;
+    }
+    return singular;
+}
+
+/* Backtracking along dH: halve the step (at most 40 times) until every H stays positive and
+ * the residual norm decreases. 1 with s moved there, or 0 with s unchanged. */
+static int ik_line_search(const cdpr_robot_t *r, const geom_t *g, const cdpr_statics_opts_t *o,
+                          const load_t *ld, const cdpr_real_t dH[NC], ik_iter_t *s)
+{
+    cdpr_real_t a = CDPR_R(1.0);
+    int ok = 0;
+    for (int k = 0; k < 40; ++k) {
+        ik_iter_t n;
+        int positive = 1;
+        for (int j = 0; j < NC; ++j) {
+            n.H[j] = s->H[j] + a * dH[j];
+            n.V[j] = s->V[j];
+            n.L[j] = s->L[j];
+            positive &= (n.H[j] > CDPR_R(0.0)) ? 1 : 0;
+        }
+        if (positive != 0 && wrench(r, g, n.H, o, ld, n.V, n.L, n.rv, n.J) == CDPR_OK &&
+            norm6(n.rv) < s->rn) {
+            n.rn = norm6(n.rv);
+            *s = n;
+            ok = 1;
+            break;
+        }
+        a *= CDPR_R(0.5);
+    }
+    return ok;
+}
+
+/* Outer Newton from s (residual and Jacobian evaluated) until s->rn <= tol, at most
+ * o->max_iter iterations (*iterations: the count used, on success). `fail` is the status of a
+ * failure that is not attributed to a pushing cable. */
+static cdpr_status_t ik_newton(const cdpr_robot_t *r, const geom_t *g, const cdpr_statics_opts_t *o,
+                               const load_t *ld, cdpr_real_t tol, cdpr_status_t fail, ik_iter_t *s,
+                               int *iterations)
+{
+    int it = 0;
+    int wants_push = 0; /* the last full Newton step would have made some H non-positive */
+    while (s->rn > tol) {
+        if (it >= o->max_iter) {
+            return (wants_push != 0) ? CDPR_E_INFEASIBLE : fail;
+        }
+        ++it;
+        cdpr_real_t dH[NC];
+        if (ik_direction(s, dH, &wants_push) != 0) {
+            return CDPR_E_INFEASIBLE;
+        }
+        if (ik_line_search(r, g, o, ld, dH, s) == 0) {
+            /* Stuck while the Newton step points through H = 0, or against it: the
+             * equilibrium would need a pushing cable. */
+            for (int j = 0; j < NC; ++j) {
+                wants_push |= (s->H[j] < CDPR_R(1e-6) * ld->scale) ? 1 : 0;
+            }
+            return (wants_push != 0) ? CDPR_E_INFEASIBLE : fail;
+        }
+    }
+    *iterations = it;
+    return CDPR_OK;
+}
+
+/* Write the converged IK into res: the cables, the pose at rest, the iteration count. */
+static void ik_fill_result(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose, const geom_t *g,
+                           const ik_iter_t *s, int it, cdpr_statics_result_t *res)
+{
+    res->n_cables = NC;
+    for (int j = 0; j < NC; ++j) {
+        fill_cable(r, j, &g[j], s->H[j], s->V[j], s->L[j], &res->cable[j]);
+    }
+    res->pose = *pose;
+    res->pose.v_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+    res->pose.w_rad_per_s = res->pose.v_m_per_s;
+    res->iterations = it;
+    res->residual = s->rn;
+}
+
 cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                                      cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
                                      const cdpr_statics_opts_t *o, cdpr_statics_result_t *res)
@@ -392,112 +528,24 @@ cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_mot
     /* A sagging cable can pull its cabin end upward only if the exit point is above it
      * (V(s) grows along the cable): with every exit point at or below its attachment a load
      * that needs an upward pull (weight above any upward external force) cannot be carried. */
-    int any_above = 0;
-    for (int j = 0; j < NC; ++j) {
-        any_above |= (g[j].h > CDPR_R(0.0)) ? 1 : 0;
-    }
-    if (any_above == 0 && ld.f.z < CDPR_R(0.0)) {
+    if (any_exit_above(g) == 0 && ld.f.z < CDPR_R(0.0)) {
         return CDPR_E_INFEASIBLE;
     }
     /* When Newton fails, it is reported as infeasible if the massless model has no
      * all-pulling solution either (the two agree away from the boundary of the set). */
     const cdpr_status_t fail = (have_straight != 0) ? CDPR_E_NO_CONVERGENCE : CDPR_E_INFEASIBLE;
-    cdpr_real_t H[NC];
-    cdpr_real_t V[NC];
-    cdpr_real_t L[NC];
-    for (int j = 0; j < NC; ++j) {
-        const cdpr_real_t chord = CDPR_SQRT(g[j].l * g[j].l + g[j].h * g[j].h);
-        const cdpr_real_t t =
-            (have_straight != 0) ? straight.cable[j].tension_winch_N : ld.scale / (cdpr_real_t)NC;
-        const cdpr_real_t w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
-        H[j] = t * g[j].l / chord;
-        /* A massless tension near zero means a deep sag in reality: start no lower than the
-         * H of a catenary whose sag is about its span (H = w l / 8), where the inner problem
-         * is well conditioned; Newton moves it from there. */
-        const cdpr_real_t h_floor = w * g[j].l / CDPR_R(8.0);
-        H[j] = (H[j] > h_floor) ? H[j] : h_floor;
-        L[j] = chord / (CDPR_R(1.0) + t / r->p.cables[j].cable.ea_N);
-        V[j] = t * g[j].h / chord - CDPR_R(0.5) * w * L[j];
-    }
-
-    cdpr_real_t rv[NC];
-    cdpr_real_t J[NC][NC];
-    if (wrench(r, g, H, o, &ld, V, L, rv, J) != CDPR_OK) {
+    ik_iter_t s;
+    ik_start(r, g, &ld, (have_straight != 0) ? &straight : NULL, &s);
+    if (wrench(r, g, s.H, o, &ld, s.V, s.L, s.rv, s.J) != CDPR_OK) {
         return fail;
     }
-    cdpr_real_t rn = norm6(rv);
+    s.rn = norm6(s.rv);
     int it = 0;
-    int wants_push = 0; /* the last full Newton step would have made some H non-positive */
-    while (rn > tol) {
-        if (it >= o->max_iter) {
-            return (wants_push != 0) ? CDPR_E_INFEASIBLE : fail;
-        }
-        ++it;
-        cdpr_real_t b[NC];
-        for (int i = 0; i < NC; ++i) {
-            b[i] = -rv[i];
-        }
-        cdpr_real_t dH[NC];
-        if (solve_linear(NC, J, b, dH) != 0) {
-            return CDPR_E_INFEASIBLE;
-        }
-        wants_push = 0;
-        for (int j = 0; j < NC; ++j) {
-            wants_push |= (H[j] + dH[j] > CDPR_R(0.0)) ? 0 : 1;
-        }
-        /* Backtracking: keep every H positive and decrease the residual. */
-        cdpr_real_t a = CDPR_R(1.0);
-        int ok = 0;
-        for (int k = 0; k < 40; ++k) {
-            cdpr_real_t Hn[NC];
-            cdpr_real_t Vn[NC];
-            cdpr_real_t Ln[NC];
-            int positive = 1;
-            for (int j = 0; j < NC; ++j) {
-                Hn[j] = H[j] + a * dH[j];
-                Vn[j] = V[j];
-                Ln[j] = L[j];
-                positive &= (Hn[j] > CDPR_R(0.0)) ? 1 : 0;
-            }
-            if (positive != 0) {
-                cdpr_real_t rnew[NC];
-                cdpr_real_t Jn[NC][NC];
-                if (wrench(r, g, Hn, o, &ld, Vn, Ln, rnew, Jn) == CDPR_OK && norm6(rnew) < rn) {
-                    for (int j = 0; j < NC; ++j) {
-                        H[j] = Hn[j];
-                        V[j] = Vn[j];
-                        L[j] = Ln[j];
-                        rv[j] = rnew[j];
-                        for (int i = 0; i < NC; ++i) {
-                            J[i][j] = Jn[i][j];
-                        }
-                    }
-                    rn = norm6(rv);
-                    ok = 1;
-                    break;
-                }
-            }
-            a *= CDPR_R(0.5);
-        }
-        if (ok == 0) {
-            /* Stuck while the Newton step points through H = 0, or against it: the
-             * equilibrium would need a pushing cable. */
-            for (int j = 0; j < NC; ++j) {
-                wants_push |= (H[j] < CDPR_R(1e-6) * ld.scale) ? 1 : 0;
-            }
-            return (wants_push != 0) ? CDPR_E_INFEASIBLE : fail;
-        }
+    const cdpr_status_t st = ik_newton(r, g, o, &ld, tol, fail, &s, &it);
+    if (st == CDPR_OK) {
+        ik_fill_result(r, pose, g, &s, it, res);
     }
-    res->n_cables = NC;
-    for (int j = 0; j < NC; ++j) {
-        fill_cable(r, j, &g[j], H[j], V[j], L[j], &res->cable[j]);
-    }
-    res->pose = *pose;
-    res->pose.v_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
-    res->pose.w_rad_per_s = res->pose.v_m_per_s;
-    res->iterations = it;
-    res->residual = rn;
-    return CDPR_OK;
+    return st;
 }
 
 /* Pose displaced from `base` by dx (position) and a rotation vector dth (world frame). */

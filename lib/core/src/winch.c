@@ -1,5 +1,5 @@
 /// @file winch.c
-/// Winch commands and node insertion/removal (MODEL.md §3).
+/// Winch commands and node insertion/removal (docs/model.md "Winch and node events").
 #include "cdpr/winch.h"
 
 #include <math.h>
@@ -116,7 +116,7 @@ static void last_free_node(const cdpr_robot_t *r, int j, const cdpr_cabin_motion
     }
 }
 
-/* Insert a node Delta from node n-1 along the last segment (MODEL §3). */
+/* Insert a node Delta from node n-1 along the last segment (winch.h). */
 static void insert_node(cdpr_robot_t *r, int j, const cdpr_cabin_motion_t *m, cdpr_real_t *y)
 {
     cdpr_cable_t *c = &r->cable[j];
@@ -144,7 +144,7 @@ static void insert_node(cdpr_robot_t *r, int j, const cdpr_cabin_motion_t *m, cd
     y[o] = lu_last - delta;
 }
 
-/* Remove node n-1, merging the last two segments (MODEL §3). */
+/* Remove node n-1, merging the last two segments (winch.h). */
 static void remove_node(cdpr_robot_t *r, int j, cdpr_real_t *y)
 {
     cdpr_cable_t *c = &r->cable[j];
@@ -212,7 +212,7 @@ cdpr_status_t cdpr_winch_node_events(cdpr_robot_t *r, cdpr_real_t t_s, cdpr_real
         }
     }
     if (cabin_dirty != 0) {
-        /* lu_0 changed: node 0's lumped mass on the cabin changed with it (MODEL §2). */
+        /* lu_0 changed: node 0's lumped mass on the cabin changed with it (robot.h). */
         (void)cdpr_robot_refresh_cabin(r);
     }
     return st;

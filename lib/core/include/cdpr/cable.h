@@ -1,5 +1,5 @@
 /// @file cable.h
-/// One cable discretised by the lumped-mass method (MODEL.md §2, paper §3.1).
+/// One cable discretised by the lumped-mass method (docs/model.md "One cable", paper §3.1).
 ///
 /// Nodes i = 0..n: node 0 moves with the cabin attachment, node n is the pulley exit point
 /// (fixed in space). Segment k joins nodes k and k+1 and has unstretched length lu[k]. Forces
@@ -15,6 +15,8 @@
 ///
 /// Memory: the object is caller-owned, sizeof(cdpr_cable_t) grows with CDPR_MAX_SEGMENTS.
 /// Nothing allocates; the object holds no resources (no deinit). Reentrant across objects.
+/// Pointer arguments must be valid unless a function says it checks them; n below is the
+/// cable's current segment count c->n.
 #ifndef CDPR_CABLE_H
 #define CDPR_CABLE_H
 
@@ -37,7 +39,7 @@ typedef struct {
 typedef struct {
     cdpr_cable_params_t p;                 ///< copy of the validated parameters
     int n;                                 ///< active segments, 1..CDPR_MAX_SEGMENTS
-    cdpr_real_t delta_m;                   ///< nominal segment length Delta [m] (MODEL §3)
+    cdpr_real_t delta_m;                   ///< nominal segment length Delta [m] (winch.h)
     cdpr_real_t lu_m[CDPR_MAX_SEGMENTS];   ///< unstretched lengths; for k = n-1 the state y[0] is
                                            ///< authoritative (lu_m[n-1]: value at init/last event)
     cdpr_real_t inv_lu[CDPR_MAX_SEGMENTS]; ///< 1/lu_m[k] for k < n-1 [1/m]
@@ -71,34 +73,52 @@ typedef struct {
     cdpr_vec3_t drag_N;    ///< aerodynamic force on the whole segment F_k [N]
 } cdpr_segment_t;
 
-/// Fill `p` with the documented defaults (the 50 m model's 6 mm wire rope).
+/// Fill `p` with the defaults of docs/robots.md set A (`paper-50m`: 6 mm steel wire rope).
+/// O(1), cannot fail.
 void cdpr_cable_params_default(cdpr_cable_params_t *p);
 
-/// Check every field; on error fill `diag` (may be NULL) with the first bad field.
+/// Check every field. O(1). Returns, for the first bad field (`diag`, may be NULL, names it
+/// by its member name, index -1):
+/// - CDPR_E_INVALID_ARG: p is NULL ("params").
+/// - CDPR_E_NOT_FINITE: a field is NaN/Inf.
+/// - CDPR_E_NOT_POSITIVE: d0_m, rho_kg_per_m or ea_N <= 0.
+/// - CDPR_E_OUT_OF_RANGE: damping_Ns, cd, cm or rho_air_kg_per_m3 < 0.
+/// CDPR_OK (diag: status OK, field "", index -1) otherwise.
 cdpr_status_t cdpr_cable_params_validate(const cdpr_cable_params_t *p, cdpr_diag_t *diag);
 
 /// Initialise a cable of `n_segments` equal segments and total unstretched length
-/// `length_m` [m]. Validates everything first; on error `c` is not written.
+/// `length_m` [m]. Validates everything first; on error `c` is not written. O(CDPR_MAX_SEGMENTS).
+/// Returns (diag, may be NULL, names the first bad field):
+/// - CDPR_E_INVALID_ARG: c is NULL ("cable") or p is NULL ("params").
+/// - every error of cdpr_cable_params_validate for p.
+/// - CDPR_E_CAPACITY: n_segments outside [1, CDPR_MAX_SEGMENTS] ("n_segments", index
+///   n_segments).
+/// - CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE: length_m NaN/Inf / <= 0 ("length_m").
+/// CDPR_OK otherwise.
 cdpr_status_t cdpr_cable_init(cdpr_cable_t *c, const cdpr_cable_params_t *p, int n_segments,
                               cdpr_real_t length_m, cdpr_diag_t *diag);
 
-/// Number of state components of the cable's current block: 1 + 6 (n - 1).
+/// Number of state components of the cable's current block: 1 + 6 (n - 1). O(1), cannot fail.
 int cdpr_cable_state_dim(const cdpr_cable_t *c);
 
-/// Total unstretched length sum(lu) [m]; `y` is the cable's state block (for lu[n-1]).
+/// Total unstretched length sum(lu) [m]; `y` is the cable's state block (for lu[n-1]). O(n),
+/// cannot fail.
 cdpr_real_t cdpr_cable_total_length(const cdpr_cable_t *c, const cdpr_real_t *y);
 
-/// Recompute the cached reciprocals after lu_m[] changed (node events).
+/// Recompute the cached reciprocals and node masses from lu_m[] and p after they changed
+/// (node events). Needs lu_m[k] > 0 for k < n - 1. O(CDPR_MAX_SEGMENTS), cannot fail.
 void cdpr_cable_refresh(cdpr_cable_t *c);
 
-/// Write the state block for nodes on the straight line r0 -> rn at their unstretched
-/// arclength fractions, at rest. Work O(n).
+/// Write the state block (cdpr_cable_state_dim components; y[0] = lu_m[n-1]) for nodes on the
+/// straight line r0 -> rn at their unstretched arclength fractions of lu_m[], at rest. O(n),
+/// cannot fail.
 void cdpr_cable_place_straight(const cdpr_cable_t *c, cdpr_vec3_t r0_m, cdpr_vec3_t rn_m,
                                cdpr_real_t *y);
 
-/// Node force model of one segment (MODEL.md §2): tension with slack and strain-rate damping,
-/// drag split in normal and tangential parts relative to the wind.
-/// `lu_rate_m_per_s` is d lu/dt of this segment. Pure function; O(1).
+/// Node force model of one segment (docs/model.md "One cable"): tension with slack and
+/// strain-rate damping, drag split in normal and tangential parts relative to the wind.
+/// `lu_rate_m_per_s` is d lu/dt of this segment; lu_m must be > 0. Pure function; O(1), cannot
+/// fail.
 void cdpr_cable_segment_eval(const cdpr_cable_params_t *p, cdpr_vec3_t ra, cdpr_vec3_t va,
                              cdpr_vec3_t rb, cdpr_vec3_t vb, cdpr_real_t lu_m,
                              cdpr_real_t lu_rate_m_per_s, cdpr_vec3_t wind_m_per_s,
@@ -106,12 +126,15 @@ void cdpr_cable_segment_eval(const cdpr_cable_params_t *p, cdpr_vec3_t ra, cdpr_
 
 /// Right-hand side of one cable: writes d/dt of the cable's state block `y` into `dydt`
 /// (same layout) and, if `out` is not NULL, the end forces. Paper eqs. (3.1)-(3.4).
-/// Work: O(n), 3 square roots per segment (2 without drag); allocation: none.
+/// Work: O(n), 3 square roots and 1 division per segment, with or without drag. No
+/// allocation; stack scratch of 13 (CDPR_MAX_SEGMENTS + 1) reals (6.8 kB at 64 segments in
+/// double). Cannot fail (NaN/Inf in the inputs propagate to dydt).
 void cdpr_cable_rhs(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cable_bc_t *bc,
                     cdpr_real_t *dydt, cdpr_cable_out_t *out);
 
 /// End forces only (segments 0 and n-1), without the node accelerations: what the cabin
-/// feels and what the winch measures. Same values as cdpr_cable_rhs's `out`. Work O(1).
+/// feels and what the winch measures. Same values as cdpr_cable_rhs's `out`. O(1), cannot
+/// fail.
 void cdpr_cable_end_forces(const cdpr_cable_t *c, const cdpr_real_t *y, const cdpr_cable_bc_t *bc,
                            cdpr_cable_out_t *out);
 

@@ -6,8 +6,10 @@
 ///   max_i |err_i| / (atol_i + rtol * max(|y_i|, |ynew_i|)) <= 1.
 /// Memory: the caller provides the workspace (CDPR_RKF45_WORK_PER_DIM * dim_max reals) and,
 /// optionally, the per-component absolute tolerances; both pointers are kept (they must outlive
-/// the solver). Nothing allocates. Transactional: when a call fails, y and t are unchanged.
-/// Reentrant across solver objects.
+/// the solver). Nothing allocates. Transactional: when a step or advance call fails, y and t
+/// are unchanged (the solver's step size and counters may change, as documented per call).
+/// Reentrant across solver objects. Pointer arguments must be valid unless a function says it
+/// checks them.
 #ifndef CDPR_RKF45_H
 #define CDPR_RKF45_H
 
@@ -48,7 +50,8 @@ typedef struct {
     unsigned long forced_steps;       ///< steps accepted without meeting the tolerance (advance)
     unsigned long substep_limit_hits; ///< advance calls that returned CDPR_WARN_SUBSTEP_LIMIT
     unsigned long substep_limit_failures; ///< advance calls that returned CDPR_E_SUBSTEP_LIMIT
-    unsigned long failures;               ///< calls that returned an error (state restored)
+    unsigned long failures;               ///< step/advance calls that returned an error other than
+                                          ///< CDPR_E_INVALID_ARG (state restored)
 } cdpr_rkf45_stats_t;
 
 /// Solver object (caller-owned).
@@ -58,52 +61,80 @@ typedef struct {
     int dim_max;           ///< capacity of the workspace in state components
     int dim;               ///< current dimension (<= dim_max)
     cdpr_real_t h_s;       ///< step size to try next [s]
-    /// Step size known to pass the error test [s]: the largest step of the controller's own
-    /// size that passed it in the last call that took one (cdpr_rkf45_step: that step; a step
-    /// shortened to land on the end of the interval, or an equal step of advance, can only
-    /// raise it); while advance repeats an interval (retry = 1) it only grows. 0 after init and
-    /// set_dim. Sizes the equal steps of a repeated advance call.
+    /// Largest step size that passed the error test [s], counted from the latest step of the
+    /// controller's own size (not shortened to land on the end of the interval, not an equal
+    /// step of advance) accepted by cdpr_rkf45_step or by an advance call with retry = 0; any
+    /// other step that passes the test can only raise it, forced steps leave it alone. 0 after
+    /// init and set_dim. An advance call with retry = 1 sizes its equal steps by it.
     cdpr_real_t h_ok_s;
-    int retry; ///< 1 after advance returned CDPR_E_SUBSTEP_LIMIT, until an advance succeeds
-    cdpr_real_t last_err; ///< error norm of the last trial (<= 1 means accepted)
+    int retry; ///< 1 after advance returned CDPR_E_SUBSTEP_LIMIT, until an advance call succeeds
+    cdpr_real_t last_err; ///< error norm of the last trial (<= 1: it passed the error test)
     cdpr_rkf45_stats_t stats;
 } cdpr_rkf45_t;
 
-/// Documented defaults.
+/// Documented defaults. O(1), cannot fail.
 void cdpr_rkf45_params_default(cdpr_rkf45_params_t *p);
 
-/// Validate the settings against `dim` (atol_vec entries are checked when given).
+/// Validate the settings against `dim` (the first dim entries of atol_vec when it is given).
+/// O(dim) with atol_vec, else O(1). Returns, for the first bad field (`diag`, may be NULL,
+/// names it by its member name; index -1, or the component for atol_vec):
+/// - CDPR_E_INVALID_ARG: p is NULL ("rkf45").
+/// - CDPR_E_NOT_FINITE: a field, or an atol_vec entry, is NaN/Inf.
+/// - CDPR_E_NOT_POSITIVE: atol, an atol_vec entry, h_init_s, h_min_s, h_max_s, safety or
+///   shrink_min <= 0.
+/// - CDPR_E_OUT_OF_RANGE: rtol < 0, h_max_s < h_min_s, safety >= 1, shrink_min >= 1,
+///   grow_max <= 1, or force_err_max < 1.
+/// CDPR_OK (diag: status OK, field "", index -1) otherwise.
 cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, cdpr_diag_t *diag);
 
 /// Initialise with a caller workspace of `work_len` reals for states up to `dim_max`
-/// components (work_len >= CDPR_RKF45_WORK_PER_DIM * dim_max), current dimension `dim`.
+/// components (work_len >= CDPR_RKF45_WORK_PER_DIM * dim_max), current dimension `dim`. The
+/// first step is min(h_init_s, h_max_s); counters are zeroed; the workspace is not touched.
+/// O(dim) with atol_vec, else O(1). On error `s` is not written. Returns (diag, may be NULL):
+/// - CDPR_E_INVALID_ARG: s ("solver") or work ("work") is NULL.
+/// - CDPR_E_OUT_OF_RANGE: dim_max < 1 ("dim_max", index dim_max).
+/// - CDPR_E_CAPACITY: dim outside [1, dim_max] ("dim", index dim); work_len too small
+///   ("work_len", index work_len).
+/// - every error of cdpr_rkf45_params_validate(p, dim).
+/// CDPR_OK otherwise.
 cdpr_status_t cdpr_rkf45_init(cdpr_rkf45_t *s, const cdpr_rkf45_params_t *p, cdpr_real_t *work,
                               int work_len, int dim_max, int dim, cdpr_diag_t *diag);
 
 /// Change the state dimension (after node insertion/removal). The next step restarts from
-/// min(h, h_init) and h_ok_s is cleared, since the error history no longer describes the new
-/// system.
+/// min(h_s, h_init_s) and h_ok_s is cleared: the error history does not describe the new
+/// system. retry and the counters are kept. atol_vec is not re-checked: it must hold dim valid
+/// entries (cdpr_robot_fill_atol). O(1). CDPR_E_CAPACITY (s unchanged) when s is NULL or dim
+/// is outside [1, dim_max]; CDPR_OK otherwise.
 cdpr_status_t cdpr_rkf45_set_dim(cdpr_rkf45_t *s, int dim);
 
 /// One RKF45 trial of size h from (t, y) without step-size control: writes the 5th-order
-/// solution into y_out and returns the weighted error norm in *err (may be NULL). 6 calls of f.
-/// Used by benchmarks and tests; y is not modified (y_out may not alias y).
+/// solution into y_out and returns the weighted error norm in *err (may be NULL; +Inf when the
+/// new state or the norm is not finite), also kept in s->last_err. Used by benchmarks and
+/// tests. 6 calls of f plus O(dim); no argument checks. y is not modified; y, y_out and the
+/// workspace must not overlap. Returns CDPR_OK, or CDPR_E_RHS when f refused (y_out and *err
+/// not written). Counts its calls of f in stats.rhs_evals; the step-size state is not touched.
 cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t t,
                                const cdpr_real_t *y, cdpr_real_t h, cdpr_real_t *y_out,
                                cdpr_real_t *err);
 
 /// One accepted adaptive step from *t, never past t_end: retries rejected trials with smaller
-/// h (each retry is bounded below by h_min; it reuses f(t, y), so costs 5 calls of f instead
-/// of 6). On success y and *t advance.
-/// Errors (y, *t unchanged): CDPR_E_STATE_NOT_FINITE (y or f(t,y) not finite),
-/// CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS.
+/// h (a retry reuses f(t, y), so costs 5 calls of f instead of 6). On success y and *t advance.
+/// Work: each rejection shrinks h by a factor of at least max(safety, shrink_min), and h_min_s
+/// ends it, so at most 2 + ln(h_max_s / h_min_s) / ln(1 / max(safety, shrink_min)) trials
+/// (264 with the defaults), each 6 (first) or 5 calls of f plus O(dim).
+/// Errors (y, *t unchanged; s->h_s keeps any reduction by rejected trials):
+/// - CDPR_E_INVALID_ARG: s, f, t or y is NULL, *t or t_end is NaN/Inf, or t_end <= *t
+///   (nothing changed, not counted in stats.failures).
+/// - CDPR_E_STATE_NOT_FINITE: y or f(t, y) is not finite.
+/// - CDPR_E_STEP_TOO_SMALL: a trial of size <= h_min_s was rejected.
+/// - CDPR_E_RHS: f refused.
 cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                               cdpr_real_t *y, cdpr_real_t t_end);
 
 /// Advance by exactly dt with at most `max_trials` trials: the bounded-work call of a
 /// real-time loop. Work, whatever the outcome: at most max_trials trials of at most 6 calls of
 /// f each (<= 6 * max_trials RHS evaluations) plus O(max_trials * (dim + max_trials))
-/// arithmetic.
+/// arithmetic; no allocation.
 ///
 /// The trials are adaptive steps (as cdpr_rkf45_step) until these no longer fit in the trials
 /// left even growing at grow_max per step; the rest of the interval is then covered by equal
@@ -116,10 +147,10 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
 /// where the estimate is meaningful, as for stiff linear modes; across a discontinuity of f the
 /// estimate says less, and p.force_err_max = 1 forbids forced steps altogether.)
 /// A call that repeats an interval after CDPR_E_SUBSTEP_LIMIT (s->retry) switches to equal
-/// steps earlier: as soon as one more rejection would make them larger than s->h_ok_s, the
-/// largest step that passed the error test while trying this interval. Any other call whose
-/// equal steps are all accepted gives the same bits as the former fallback, which accepted
-/// every equal step without a bound.
+/// steps earlier: as soon as one more rejection would make them larger than s->h_ok_s (the
+/// largest step known to pass the error test; during a repeat it only grows). With s->retry = 0,
+/// force_err_max only decides whether an equal step is refused: a call that refuses none takes
+/// the same steps, with the same result bits, as with any larger force_err_max.
 ///
 /// Outcomes:
 /// - CDPR_OK: *t = t + dt, y advanced, every accepted step passed the error test.
@@ -134,8 +165,11 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
 ///   holds), plans equal steps no larger than steps that passed the error test; that is not a
 ///   guarantee: an interval the budget cannot cover within force_err_max fails every time
 ///   (raise max_trials, or accept larger errors with force_err_max).
-/// - Other errors (y, *t bit-identical; s->h_s not raised): CDPR_E_INVALID_ARG,
-///   CDPR_E_STATE_NOT_FINITE (y or f(t, y) not finite), CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS.
+/// - CDPR_E_INVALID_ARG: s, f, t or y is NULL, *t or dt is NaN/Inf, dt <= 0, or
+///   max_trials < 1. Nothing changed, not counted.
+/// - Other errors (y, *t bit-identical; s->h_s not raised; counted in stats.failures):
+///   CDPR_E_STATE_NOT_FINITE (y or f(t, y) not finite), CDPR_E_STEP_TOO_SMALL (a trial of
+///   size <= h_min_s rejected), CDPR_E_RHS (f refused).
 cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_t *t,
                                  cdpr_real_t *y, cdpr_real_t dt, int max_trials);
 

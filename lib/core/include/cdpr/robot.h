@@ -1,6 +1,6 @@
 /// @file robot.h
 /// The cable robot: up to CDPR_MAX_CABLES lumped-mass cables between fixed pulley exit points
-/// and a rigid cabin (MODEL.md §1, §2, §4).
+/// and a rigid cabin (docs/model.md "Frames and geometry", "One cable", "Cabin", "Robot").
 ///
 /// State vector layout (dimension cdpr_robot_state_dim()):
 ///   y[0..12]                 cabin block (cabin.h: p, q, v, w)
@@ -8,9 +8,10 @@
 /// The layout changes only when a node is inserted or removed (winch module, between steps).
 ///
 /// Memory: caller-owned, fixed size (see docs/api.md for sizeof at several capacities); the
-/// object holds no resources. cdpr_robot_rhs makes no allocation and does O(total segments)
+/// object holds no resources and no function allocates. cdpr_robot_rhs does O(total segments)
 /// work. Inputs (payout rates, wind, external loads, prescribed motion) are plain fields of
-/// `in` that the caller may change between steps.
+/// `in` that the caller may change between steps. Pointer arguments must be valid unless a
+/// function says it checks them; r must have passed cdpr_robot_init.
 #ifndef CDPR_ROBOT_H
 #define CDPR_ROBOT_H
 
@@ -26,7 +27,8 @@ typedef enum {
     CDPR_CABIN_PRESCRIBED = 1 ///< pose imposed by in.motion_fn (inverse dynamics), or held
 } cdpr_cabin_mode_t;
 
-/// Prescribed cabin motion at time t [s] (MODEL §4, the paper's inverse dynamic formulation).
+/// Prescribed cabin motion at time t [s] (docs/model.md "Cabin", prescribed mode: the paper's
+/// inverse dynamic formulation). Must fill every field of *m.
 typedef void (*cdpr_motion_fn)(cdpr_real_t t_s, void *ctx, cdpr_cabin_motion_t *m);
 
 /// One cable of the robot (inputs).
@@ -77,54 +79,82 @@ typedef struct {
 } cdpr_robot_t;
 
 /// Defaults: one cable of default parameters, default cabin, standard gravity, dynamic mode.
+/// O(CDPR_MAX_CABLES), cannot fail.
 void cdpr_robot_params_default(cdpr_robot_params_t *p);
 
 /// Validate every field and initialise (inputs zeroed). On error `r` is not written and
-/// `diag` names the first bad field (index = cable number where it applies).
+/// `diag` (may be NULL) names the first bad field. O(n_cables CDPR_MAX_SEGMENTS); stack:
+/// CDPR_MAX_CABLES cdpr_cable_t (9.7 kB at the default capacities in double). Returns:
+/// - CDPR_E_INVALID_ARG: r ("robot") or p ("params") is NULL.
+/// - CDPR_E_CAPACITY: n_cables outside [1, CDPR_MAX_CABLES] ("n_cables", index n_cables).
+/// - CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE: g_m_per_s2 NaN/Inf / <= 0 ("g_m_per_s2").
+/// - CDPR_E_OUT_OF_RANGE: mode is not a cdpr_cabin_mode_t value ("mode", index mode).
+/// - CDPR_E_NOT_FINITE: exit_point_m or attach_body_m of cable j ("exit_point_m",
+///   "attach_body_m", index j).
+/// - every error of cdpr_cable_init for cable j's cable, n_segments and length_m (its field,
+///   index j).
+/// - every error of cdpr_cabin_init for p->cabin with the cables' node-0 masses (its field and
+///   index; in practice those of cdpr_cabin_params_validate).
+/// CDPR_OK otherwise. Geometry (an attachment on its exit point) is not checked here.
 cdpr_status_t cdpr_robot_init(cdpr_robot_t *r, const cdpr_robot_params_t *p, cdpr_diag_t *diag);
 
-/// Current state dimension.
+/// Current state dimension. O(1), cannot fail.
 int cdpr_robot_state_dim(const cdpr_robot_t *r);
 
-/// Cabin motion the cables see at (t, y): the state in dynamic mode, the prescription (or the
-/// held pose, at rest) in prescribed mode.
+/// Cabin motion the cables see at (t, y): the state in dynamic mode (q as stored); in
+/// prescribed mode in.motion_fn(t) with q normalised, or with motion_fn NULL the state's pose
+/// at rest. O(1) plus one call of motion_fn; cannot fail.
 void cdpr_robot_cabin_motion(const cdpr_robot_t *r, cdpr_real_t t_s, const cdpr_real_t *y,
                              cdpr_cabin_motion_t *m);
 
-/// Recompute the combined cabin mass properties after a node-0 segment length changed.
+/// Recompute the combined cabin mass properties from r->p.cabin and the node-0 segment
+/// lengths lu_m[0] (for a one-segment cable: its length at the last node event), after lu_0
+/// changed. O(n_cables). Returns what cdpr_cabin_init returns: CDPR_OK for a robot that passed
+/// init with r->p.cabin unchanged since; otherwise its error, with r->cabin unchanged.
 cdpr_status_t cdpr_robot_refresh_cabin(cdpr_robot_t *r);
 
-/// Recompute the state offsets after a cable's node count changed.
+/// Recompute the state offsets and r->dim after a cable's node count changed.
+/// O(CDPR_MAX_CABLES), cannot fail.
 void cdpr_robot_update_layout(cdpr_robot_t *r);
 
-/// World position and velocity of attachment j for the cabin state block `y`.
+/// World position and velocity of attachment j (0 <= j < n_cables, not checked) for the cabin
+/// motion `m` (rotation from the normalised m->q). O(1), cannot fail.
 void cdpr_robot_attachment(const cdpr_robot_t *r, int j, const cdpr_cabin_motion_t *m,
                            cdpr_vec3_t *pos_m, cdpr_vec3_t *vel_m_per_s);
 
-/// Write a full state: the cabin at motion `m`, every cable straight from its attachment to its
-/// exit point with nodes at their unstretched fractions, at rest. CDPR_E_NOT_FINITE for a
-/// NaN/Inf motion, CDPR_E_GEOMETRY if an attachment coincides with its exit point (y untouched
-/// in both cases). Work O(total nodes).
+/// Write a full state (r->dim components): the cabin at motion `m` (q normalised), every cable
+/// straight from its attachment to its exit point with nodes at their unstretched fractions, at
+/// rest. O(total nodes). Returns (y untouched on error):
+/// - CDPR_E_NOT_FINITE: a component of m is NaN/Inf.
+/// - CDPR_E_GEOMETRY: an attachment coincides with its exit point.
+/// CDPR_OK otherwise.
 cdpr_status_t cdpr_robot_place_straight(const cdpr_robot_t *r, const cdpr_cabin_motion_t *m,
                                         cdpr_real_t *y);
 
-/// Full right-hand side, usable by cdpr_rkf45 and by GSL (ctx is the cdpr_robot_t *).
-/// Always returns CDPR_OK for a robot that passed init. Work O(total segments).
+/// Full right-hand side, usable by cdpr_rkf45 and by GSL (ctx is the cdpr_robot_t *; not
+/// modified). O(total segments) plus one call of in.motion_fn in prescribed mode; stack: one
+/// cable's scratch (cdpr_cable_rhs). Cannot fail: always returns CDPR_OK (NaN/Inf in y
+/// propagate to dydt, which the integrator detects).
 cdpr_status_t cdpr_robot_rhs(cdpr_real_t t_s, const cdpr_real_t *y, cdpr_real_t *dydt, void *ctx);
 
-/// Cable forces on the cabin and the end tensions at (t, y). Work O(cables).
+/// Cable forces on the cabin and the end tensions at (t, y); the entries of cables
+/// n_cables..CDPR_MAX_CABLES-1 are zeroed. O(CDPR_MAX_CABLES), cannot fail.
 void cdpr_robot_outputs(const cdpr_robot_t *r, cdpr_real_t t_s, const cdpr_real_t *y,
                         cdpr_robot_out_t *out);
 
 /// Prescribed mode: write the prescribed motion at t into the cabin block of y (call after
-/// each accepted step so outputs show the imposed pose). No-op in dynamic mode.
+/// each accepted step so outputs show the imposed pose). No-op in dynamic mode and when
+/// in.motion_fn is NULL (the held pose stays in y). O(1), cannot fail.
 void cdpr_robot_sync_prescribed(const cdpr_robot_t *r, cdpr_real_t t_s, cdpr_real_t *y);
 
-/// Renormalise the cabin quaternion of y (after each accepted step, MODEL §4).
+/// Renormalise the cabin quaternion of y (after each accepted step, docs/model.md "Cabin").
+/// A quaternion of zero or NaN norm becomes the identity (cdpr_quat_normalize). O(1), cannot
+/// fail.
 void cdpr_robot_normalize(const cdpr_robot_t *r, cdpr_real_t *y);
 
 /// Per-component absolute tolerances for cdpr_rkf45: positions and lengths [m], velocities
-/// [m/s], quaternion components [-], body rates [rad/s]. Writes dim entries.
+/// [m/s], quaternion components [-], body rates [rad/s]. Writes r->dim entries; call again
+/// after node events. O(r->dim), cannot fail.
 void cdpr_robot_fill_atol(const cdpr_robot_t *r, cdpr_real_t pos_m, cdpr_real_t vel_m_per_s,
                           cdpr_real_t quat, cdpr_real_t rate_rad_per_s, cdpr_real_t *atol);
 

@@ -29,7 +29,8 @@ typedef struct {
     cdpr_real_t max_acc_m_per_s2; ///< largest acceleration at the last check [m/s^2]
 } cdpr_settle_t;
 
-/// Defaults: 2e6 steps, 0.01 s, 1e-6 m/s^2 (double) / 1e-2 m/s^2 (float).
+/// Defaults: 2e6 steps, 0.01 s, 1e-6 m/s^2 (double) / 1e-2 m/s^2 (float); outputs zeroed.
+/// O(1), cannot fail.
 ///
 /// Float: at rest the node accelerations keep the rounding of the segment forces, a few times
 /// EA 2 u_f / m_node (u_f = 2^-24). Measured: 2e-3 - 9e-3 m/s^2 on the soft validation cables
@@ -46,10 +47,19 @@ void cdpr_settle_default(cdpr_settle_t *cfg);
 /// when the body origin is the centre of mass). O(total nodes); no allocation; cannot fail.
 cdpr_real_t cdpr_settle_kinetic_energy(const cdpr_robot_t *r, const cdpr_real_t *y);
 
-/// Relax y (dimension r->dim) to rest. `scratch` holds r->dim reals. The solver must have
-/// been initialised for r->dim. Returns CDPR_OK when converged (y at rest: velocities zero),
-/// CDPR_E_NO_CONVERGENCE when max_steps ran out (y is the last state, still valid), or an
-/// integrator error (y is the last good state).
+/// Relax y (dimension r->dim) to rest: velocities are zeroed at the start and at each
+/// kinetic-energy peak; r->in is used as given (zero payout rates keep the lengths). `scratch`
+/// holds r->dim reals. The solver's state (h_s, counters) carries over from and into the
+/// caller. Work: at most cfg->max_steps calls of cdpr_rkf45_step, each bounded as documented
+/// there, plus at most one RHS call and O(total nodes) per step; no allocation.
+/// Returns (cfg->steps, resets, time_s and max_acc_m_per_s2 report the run in every case but
+/// CDPR_E_INVALID_ARG):
+/// - CDPR_OK: converged, y at rest (velocities zero).
+/// - CDPR_E_INVALID_ARG: r, solver, y, scratch or cfg is NULL, max_steps < 1, max_step_s or
+///   acc_tol_m_per_s2 not > 0, or solver->dim != r->dim (nothing changed).
+/// - CDPR_E_NO_CONVERGENCE: max_steps ran out; y is the last state, still valid.
+/// - an error of cdpr_rkf45_step (CDPR_E_STATE_NOT_FINITE, CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS):
+///   y is the last good state (not the input state: its velocities were zeroed).
 cdpr_status_t cdpr_settle_robot(const cdpr_robot_t *r, cdpr_rkf45_t *solver, cdpr_real_t *y,
                                 cdpr_real_t *scratch, cdpr_settle_t *cfg);
 

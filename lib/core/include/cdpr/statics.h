@@ -1,7 +1,7 @@
 /// @file statics.h
-/// Sag-aware static equilibrium of the robot (MODEL.md §5): inverse kinematics with elastic
-/// catenary cables, the forward problem, the massless straight-cable comparison, and the
-/// initial state on the catenaries.
+/// Sag-aware static equilibrium of the robot: inverse kinematics with elastic catenary cables,
+/// the forward problem, the massless straight-cable comparison, and the initial state on the
+/// catenaries (docs/model.md "Sag-aware inverse kinematics, with an external wrench").
 ///
 /// Model: each cable j is an elastic catenary (catenary.h) in the vertical plane through its
 /// cabin attachment P_j = p + R b_j and its exit point A_j. It pulls the cabin with
@@ -24,8 +24,9 @@
 /// test_gsl_statics; 0.4 km for a sideways load of one cabin weight at the circle's start).
 /// Callers that command lengths should check L_j against the chord.
 ///
-/// Memory: caller-owned results, no allocation. Work: bounded by the iteration limits
-/// (outer <= max_iter, inner <= max_iter per cable per outer iteration).
+/// Memory: caller-owned results, no allocation. Work: bounded by the iteration limits, given
+/// per function. Every function requires 6 cables (the wrench has 6 components). Pointer
+/// arguments must be valid unless a function says it checks them.
 #ifndef CDPR_STATICS_H
 #define CDPR_STATICS_H
 
@@ -81,43 +82,85 @@ typedef struct {
     cdpr_real_t residual;     ///< final wrench residual norm [N, N m]
 } cdpr_statics_result_t;
 
-/// Defaults.
+/// Defaults. O(1), cannot fail.
 void cdpr_statics_opts_default(cdpr_statics_opts_t *o);
 
 /// Sag-aware inverse kinematics: the six cables' forces and unstretched lengths that hold the
-/// cabin at `pose` (velocities ignored) against its weight alone. Requires 6 cables. Errors:
-/// CDPR_E_INVALID_ARG, CDPR_E_NOT_FINITE, CDPR_E_GEOMETRY (attachment above/at its exit point
-/// horizontally coincident), CDPR_E_INFEASIBLE, CDPR_E_NO_CONVERGENCE; `res` is written only on
-/// success.
+/// cabin at `pose` (velocities ignored) against its weight alone: cdpr_statics_ik_wrench with
+/// a zero wrench (same work, results and errors).
 cdpr_status_t cdpr_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                               const cdpr_statics_opts_t *o, cdpr_statics_result_t *res);
 
 /// Sag-aware inverse kinematics under the cabin's weight plus an external wrench: the cable
 /// forces balance -M g z + f_ext_N and tau_ext_Nm (world axes; the torque about the cabin's
 /// centre of mass, f_ext_N acting there; see the model above). With a zero wrench it is
-/// cdpr_statics_ik (bit for bit). Same work bound, memory and errors as cdpr_statics_ik, plus
-/// CDPR_E_NOT_FINITE for a non-finite wrench; CDPR_E_INFEASIBLE when the loaded equilibrium
-/// needs a pushing cable (e.g. a lateral load the cables cannot take at that pose).
+/// cdpr_statics_ik (bit for bit). Newton on the 6 H_j from the massless solution for the same
+/// load; converged when the wrench residual norm <= force_tol_N + 1e3 eps |load|, with
+/// |load| = M g + |f_ext_N| + |tau_ext_Nm|.
+/// Work: at most 1 + 40 max_iter wrench evaluations, each 6 inner catenary solves of at most
+/// 2 (max_iter + 1) Newton iterations with up to 41 closed-form evaluations each; no
+/// allocation. `res` is written only on success. Returns:
+/// - CDPR_E_INVALID_ARG: r, pose, res or o is NULL, r->p.n_cables != 6, or o->max_iter < 1.
+/// - CDPR_E_NOT_FINITE: o->force_tol_N or o->span_tol_m, pose->p_m, pose->q or the wrench is
+///   NaN/Inf; CDPR_E_NOT_POSITIVE: a tolerance <= 0.
+/// - CDPR_E_GEOMETRY: an attachment and its exit point are horizontally coincident (span
+///   <= 1e-9 (1 + |rise|) m): a vertical cable has no catenary plane.
+/// - CDPR_E_INFEASIBLE: the equilibrium needs a pushing cable: every exit point is at or
+///   below its attachment while the load needs an upward pull; the Newton Jacobian is
+///   singular; Newton stops (iteration bound, or no descent) while its last full step would
+///   make some H_j <= 0, or finds no descent with some H_j < 1e-6 |load|; or Newton fails and
+///   the massless model has no all-pulling solution either (e.g. a lateral load the cables
+///   cannot take at that pose).
+/// - CDPR_E_NO_CONVERGENCE: any other failure of the outer Newton or of an inner catenary
+///   solve (iteration bound, no descent within 40 step halvings).
+/// CDPR_OK otherwise.
 cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                                      cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
                                      const cdpr_statics_opts_t *o, cdpr_statics_result_t *res);
 
 /// Massless straight-cable inverse kinematics for comparison: tensions along the straight
-/// chords balancing the cabin weight; lengths are the chords divided by (1 + T/EA).
+/// chords balancing the cabin weight (same tension at both ends); lengths are the chords
+/// divided by (1 + T/EA). One 6x6 linear solve: O(1), no allocation. `res` is written only on
+/// success (iterations 0, residual 0). Returns:
+/// - CDPR_E_INVALID_ARG: r, pose or res is NULL, or r->p.n_cables != 6.
+/// - CDPR_E_NOT_FINITE: pose->p_m or pose->q is NaN/Inf.
+/// - CDPR_E_GEOMETRY: as cdpr_statics_ik_wrench.
+/// - CDPR_E_INFEASIBLE: the chord directions cannot span the wrench (singular), or some
+///   tension would be <= 0.
+/// CDPR_OK otherwise.
 cdpr_status_t cdpr_statics_ik_straight(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                                        cdpr_statics_result_t *res);
 
 /// Forward statics: the pose at which cables of unstretched lengths `length_m[j]` hold the
 /// cabin in equilibrium, starting the search at `guess`. Newton on the 6 pose coordinates
-/// (position and a rotation vector), Jacobian by central differences, bounded iterations.
+/// (position and a rotation vector), Jacobian by central differences; converged when the
+/// wrench residual norm <= force_tol_N + 1e3 eps M g. Work: at most 1 + 52 max_iter wrench
+/// evaluations (12 for the Jacobian, up to 40 in the line search), each 6 cdpr_catenary_solve
+/// calls of at most 3 + 40 max_iter span evaluations; no allocation. `res` is written only on
+/// success. Returns:
+/// - CDPR_E_INVALID_ARG: r, length_m, guess, res or o is NULL, r->p.n_cables != 6, or
+///   o->max_iter < 1.
+/// - CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE: a tolerance or length_m[j] NaN/Inf / <= 0;
+///   CDPR_E_NOT_FINITE: guess->p_m or guess->q NaN/Inf.
+/// - CDPR_E_GEOMETRY (as cdpr_statics_ik_wrench) or an error of cdpr_catenary_solve at the
+///   guess or at a pose of the difference Jacobian.
+/// - CDPR_E_INFEASIBLE: the Jacobian is singular (no static stiffness in some direction).
+/// - CDPR_E_NO_CONVERGENCE: max_iter iterations, or no descent within 40 step halvings.
+/// CDPR_OK otherwise.
 cdpr_status_t cdpr_statics_forward(const cdpr_robot_t *r, const cdpr_real_t *length_m,
                                    const cdpr_cabin_motion_t *guess, const cdpr_statics_opts_t *o,
                                    cdpr_statics_result_t *res);
 
 /// Place every cable's nodes on its catenary of `res` (from cdpr_statics_ik at the same pose)
-/// at their unstretched arclengths, cabin at res->pose, at rest. The robot must have been
-/// initialised with length_m[j] = res->cable[j].length_m. Follow with cdpr_settle_robot to
-/// reach the discrete chain's own equilibrium.
+/// at their unstretched arclengths, cabin at res->pose, at rest; writes r->dim components.
+/// The robot must have been initialised with length_m[j] = res->cable[j].length_m (not
+/// checked). Follow with cdpr_settle_robot to reach the discrete chain's own equilibrium.
+/// O(total nodes), no allocation. Returns (y untouched on error):
+/// - CDPR_E_INVALID_ARG: r, res or y is NULL, res->n_cables != r->p.n_cables, or
+///   r->p.n_cables != 6.
+/// - CDPR_E_NOT_FINITE: res->pose.p_m or res->pose.q is NaN/Inf.
+/// - CDPR_E_GEOMETRY: as cdpr_statics_ik_wrench.
+/// CDPR_OK otherwise.
 cdpr_status_t cdpr_statics_place_catenary(const cdpr_robot_t *r, const cdpr_statics_result_t *res,
                                           cdpr_real_t *y);
 

@@ -2,7 +2,12 @@
 /// Small 3-vector, 3x3 matrix and unit-quaternion helpers.
 ///
 /// Value types, no allocation, no state. Quaternions are (w, x, y, z), body -> world.
-/// Euler angles follow MODEL.md §1: R = Rz(gamma) * Ry(beta) * Rx(alpha) (fixed axes X-Y-Z).
+/// Euler angles follow docs/model.md "Frames and geometry": R = Rz(gamma) * Ry(beta) * Rx(alpha)
+/// (fixed axes X-Y-Z).
+///
+/// Every function here is O(1), allocates nothing and cannot fail: NaN/Inf inputs propagate to
+/// the result (exceptions: cdpr_m3_inverse and cdpr_quat_normalize, below). Pointer arguments
+/// must be valid.
 #ifndef CDPR_VEC3_H
 #define CDPR_VEC3_H
 
@@ -72,13 +77,14 @@ cdpr_vec3_t cdpr_m3_mul_v3(const cdpr_mat3_t *m, cdpr_vec3_t a);
 cdpr_vec3_t cdpr_m3t_mul_v3(const cdpr_mat3_t *m, cdpr_vec3_t a);
 
 /// Inverse of a 3x3 matrix by cofactors. Returns 0 on success, -1 if |det| is not above
-/// `min_abs_det` (out unchanged).
+/// `min_abs_det` or is NaN (out unchanged).
 int cdpr_m3_inverse(const cdpr_mat3_t *m, cdpr_real_t min_abs_det, cdpr_mat3_t *out);
 
 /// Hamilton product a (x) b.
 cdpr_quat_t cdpr_quat_mul(cdpr_quat_t a, cdpr_quat_t b);
 
-/// q / |q|. A zero quaternion yields identity.
+/// q / |q|. A quaternion whose norm is not > 0 (zero, or NaN) yields the identity; one with an
+/// infinite component gives NaN.
 cdpr_quat_t cdpr_quat_normalize(cdpr_quat_t q);
 
 /// Rotation matrix of a unit quaternion (body -> world).
@@ -88,7 +94,9 @@ void cdpr_quat_to_mat3(cdpr_quat_t q, cdpr_mat3_t *r);
 cdpr_quat_t cdpr_quat_from_euler(cdpr_real_t alpha_rad, cdpr_real_t beta_rad,
                                  cdpr_real_t gamma_rad);
 
-/// Inverse of cdpr_quat_from_euler: alpha, gamma in (-pi, pi], beta in [-pi/2, pi/2].
+/// Inverse of cdpr_quat_from_euler for the normalised q: alpha, gamma in (-pi, pi], beta in
+/// [-pi/2, pi/2]. At beta = +-pi/2 (gimbal lock) R does not determine alpha and gamma
+/// separately: the pair returned comes from rounding and need not reproduce q.
 void cdpr_quat_to_euler(cdpr_quat_t q, cdpr_real_t *alpha_rad, cdpr_real_t *beta_rad,
                         cdpr_real_t *gamma_rad);
 
