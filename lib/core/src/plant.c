@@ -121,7 +121,7 @@ static cdpr_status_t place_and_settle(cdpr_plant_t *p, cdpr_diag_t *diag)
     }
     cdpr_diag_t d;
     st = cdpr_rkf45_init(&p->rk, &p->pp.settle_rkf45, p->work,
-                         (int)(sizeof p->work / sizeof p->work[0]), CDPR_ROBOT_STATE_MAX,
+                         CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX, CDPR_ROBOT_STATE_MAX,
                          p->robot.dim, &d);
     if (st != CDPR_OK) {
         return cdpr_diag_set(diag, st, "settle_rkf45", -1);
@@ -144,7 +144,7 @@ static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
     fill_atol(p);
     ip.atol_vec = p->atol;
     const cdpr_status_t st =
-        cdpr_rkf45_init(&p->rk, &ip, p->work, (int)(sizeof p->work / sizeof p->work[0]),
+        cdpr_rkf45_init(&p->rk, &ip, p->work, CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX,
                         CDPR_ROBOT_STATE_MAX, p->robot.dim, diag);
     if (st != CDPR_OK) {
         return cdpr_diag_set(diag, st, "rkf45", (diag != NULL) ? diag->index : -1);
@@ -272,7 +272,7 @@ cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags)
     }
     p->commanded = 0;
     const cdpr_status_t as = integrate_period(p, t);
-    if (as < 0) {
+    if (as < CDPR_OK) {
         restore_winches(p);
         return fail_period(p, as, flags);
     }

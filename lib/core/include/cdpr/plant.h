@@ -48,12 +48,10 @@
 #include "cdpr/winch.h"
 
 /// Bits of the flags of a period (equal to cabin_state_t.FLAG_* of the LCM types).
-enum {
-    CDPR_PLANT_SUBSTEP_LIMIT = 2, ///< the advance met its trial bound (tolerance not met)
-    CDPR_PLANT_NODE_CAPACITY = 4, ///< a cable wanted a node at capacity
-    CDPR_PLANT_MIN_LENGTH = 8,    ///< a winch is held at its minimum length
-    CDPR_PLANT_STEP_FAILED = 16   ///< the period failed: the plant is as before the call
-};
+#define CDPR_PLANT_SUBSTEP_LIMIT 2  ///< the advance met its trial bound (tolerance not met)
+#define CDPR_PLANT_NODE_CAPACITY 4  ///< a cable wanted a node at capacity
+#define CDPR_PLANT_MIN_LENGTH    8  ///< a winch is held at its minimum length
+#define CDPR_PLANT_STEP_FAILED   16 ///< the period failed: the plant is as before the call
 
 /// Integration scheme of the plant.
 typedef enum {
