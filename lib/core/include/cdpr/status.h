@@ -3,7 +3,10 @@
 /// bad field.
 ///
 /// Zero is success, positive is success with a caveat (a warning: the result is valid but an
-/// accuracy or capacity bound was hit), negative is an error (nothing was changed). The core
+/// accuracy or capacity bound was hit), negative is an error. After an error a transactional
+/// call (cdpr_rkf45_advance, cdpr_plant_step, every *_init's output object) leaves the state it
+/// integrates as it was; what a call does leave behind on error (counters, a learned step
+/// size, an iteration count) is stated in its header. The core
 /// returns CDPR_OK .. CDPR_E_SUBSTEP_LIMIT; the host layers (files, LCM, threads) add
 /// CDPR_E_IO, CDPR_E_PARSE and CDPR_E_INTERRUPTED. Libraries return these; only the apps map
 /// them to process exit codes (one table, docs/api.md).
