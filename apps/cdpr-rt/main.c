@@ -84,24 +84,20 @@ static void usage(FILE *f)
 
 static int parse(int argc, char **argv, options_t *o)
 {
-    static const struct option longopts[] = {
-        {"rate", required_argument, NULL, CDPR_APP_OPT_RATE},
-        {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},
-        {"lockstep", no_argument, NULL, 'l'},
-        {"lockstep-timeout", required_argument, NULL, 'L'},
-        {"realtime", no_argument, NULL, 'R'},
-        {"priority", required_argument, NULL, 'P'},
-        {"max-trials", required_argument, NULL, CDPR_APP_OPT_MAX_TRIALS},
-        {"max-attempts", required_argument, NULL, CDPR_APP_OPT_MAX_ATTEMPTS},
-        {"watchdog", required_argument, NULL, 'w'},
-        {"start-delay", required_argument, NULL, 's'},
-        {"lcm-url", required_argument, NULL, 'u'},
-        {"prefix", required_argument, NULL, 'p'},
-        {"with-tracker", no_argument, NULL, 't'},
-        {"tracker-out", required_argument, NULL, 'o'},
-        {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0}};
+    static const struct option longopts[] = {CDPR_APP_OVERRIDE_OPTIONS,
+                                             {"lockstep", no_argument, NULL, 'l'},
+                                             {"lockstep-timeout", required_argument, NULL, 'L'},
+                                             {"realtime", no_argument, NULL, 'R'},
+                                             {"priority", required_argument, NULL, 'P'},
+                                             {"watchdog", required_argument, NULL, 'w'},
+                                             {"start-delay", required_argument, NULL, 's'},
+                                             {"lcm-url", required_argument, NULL, 'u'},
+                                             {"prefix", required_argument, NULL, 'p'},
+                                             {"with-tracker", no_argument, NULL, 't'},
+                                             {"tracker-out", required_argument, NULL, 'o'},
+                                             {"quiet", no_argument, NULL, 'q'},
+                                             {"help", no_argument, NULL, 'h'},
+                                             {NULL, 0, NULL, 0}};
     int c;
     double v = 0.0;
     while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {

@@ -99,20 +99,16 @@ static void usage(FILE *f)
 
 static int parse(int argc, char **argv, options_t *o)
 {
-    static const struct option longopts[] = {
-        {"rate", required_argument, NULL, CDPR_APP_OPT_RATE},
-        {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},
-        {"max-trials", required_argument, NULL, CDPR_APP_OPT_MAX_TRIALS},
-        {"max-attempts", required_argument, NULL, CDPR_APP_OPT_MAX_ATTEMPTS},
-        {"idle-exit", required_argument, NULL, 'i'},
-        {"lcm-url", required_argument, NULL, 'u'},
-        {"prefix", required_argument, NULL, 'p'},
-        {"out", required_argument, NULL, 'o'},
-        {"no-plot", no_argument, NULL, 'n'},
-        {"replay", required_argument, NULL, 'R'},
-        {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0}};
+    static const struct option longopts[] = {CDPR_APP_OVERRIDE_OPTIONS,
+                                             {"idle-exit", required_argument, NULL, 'i'},
+                                             {"lcm-url", required_argument, NULL, 'u'},
+                                             {"prefix", required_argument, NULL, 'p'},
+                                             {"out", required_argument, NULL, 'o'},
+                                             {"no-plot", no_argument, NULL, 'n'},
+                                             {"replay", required_argument, NULL, 'R'},
+                                             {"quiet", no_argument, NULL, 'q'},
+                                             {"help", no_argument, NULL, 'h'},
+                                             {NULL, 0, NULL, 0}};
     int c;
     while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
         const int ov = cdpr_app_override_opt("cdpr-tracker", c, optarg, &o->ov);

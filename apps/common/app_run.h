@@ -17,6 +17,15 @@ enum {
     CDPR_APP_OPT_MAX_ATTEMPTS = 'M' ///< --max-attempts N  integrator.max_attempts
 };
 
+/// The four override options, for the apps' getopt_long tables.
+// clang-format off
+#define CDPR_APP_OVERRIDE_OPTIONS                                                                  \
+    {"rate", required_argument, NULL, CDPR_APP_OPT_RATE},                                          \
+    {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},                                  \
+    {"max-trials", required_argument, NULL, CDPR_APP_OPT_MAX_TRIALS},                              \
+    {"max-attempts", required_argument, NULL, CDPR_APP_OPT_MAX_ATTEMPTS}
+// clang-format on
+
 /// If getopt code `c` is an override option, parse its argument into `ov` (any finite number:
 /// the ranges are the scenario's, checked by cdpr_app_scenario). Returns 1 when it was one
 /// and parsed, 0 when `c` is not an override option, -1 after printing why the argument is not
