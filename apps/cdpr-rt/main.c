@@ -13,7 +13,6 @@
 #include <getopt.h>
 #include <limits.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,14 +27,6 @@
 #ifndef CDPR_SOURCE_DIR
 #define CDPR_SOURCE_DIR "."
 #endif
-
-static volatile int g_stop = 0;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    g_stop = 1;
-}
 
 typedef struct {
     const char *scenario;
@@ -187,17 +178,6 @@ static int tracker_open(lcm_t *lcm, void *ctx)
     return cdpr_rt_tracker_attach(t, lcm);
 }
 
-/* SIGINT/SIGTERM set g_stop; the periodic thread checks it. */
-static void install_stop_handler(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    (void)sigaction(SIGINT, &sa, NULL);
-    (void)sigaction(SIGTERM, &sa, NULL);
-}
-
 /* The in-process tracker on the bridge thread, recording what it sees. */
 static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc)
 {
@@ -265,8 +245,7 @@ int main(int argc, char **argv)
     if (st != CDPR_OK) {
         return cdpr_app_exit_code(st);
     }
-    install_stop_handler();
-    o.rt.stop = &g_stop;
+    o.rt.stop = cdpr_app_stop_on_signals();
     if (o.with_tracker != 0) {
         o.rt.lcm.on_open = tracker_open;
         o.rt.lcm.on_open_ctx = &g_tracker;

@@ -17,7 +17,6 @@
 #include <errno.h>
 #include <stdint.h>
 #include <getopt.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,25 +35,6 @@
 #ifndef CDPR_SOURCE_DIR
 #define CDPR_SOURCE_DIR "."
 #endif
-
-static volatile int g_stop = 0;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    g_stop = 1;
-}
-
-/* SIGINT/SIGTERM set g_stop; the loops check it. */
-static void install_stop_handler(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    (void)sigaction(SIGINT, &sa, NULL);
-    (void)sigaction(SIGTERM, &sa, NULL);
-}
 
 typedef struct {
     const char *scenario;
@@ -181,6 +161,7 @@ typedef struct {
     int finished;
 } replay_t;
 static replay_t g_replay;
+static const volatile int *g_stop; /* set by SIGINT/SIGTERM (cdpr_app_stop_on_signals) */
 
 /* Read the recorded commands and states of a lockstep run. CDPR_OK, CDPR_E_IO (cannot open,
  * out of memory) or CDPR_E_PARSE (no events of ours). */
@@ -330,7 +311,7 @@ static cdpr_status_t replay_run(const options_t *o)
     }
     double last_rx = cdpr_clock_now_s();
     long seen = 0;
-    while (g_stop == 0 && r->finished == 0) {
+    while (*g_stop == 0 && r->finished == 0) {
         if (lcm_handle_timeout(r->lcm, 50) < 0) {
             break;
         }
@@ -415,7 +396,7 @@ static cdpr_status_t serve(const options_t *o, const cdpr_scenario_t *sc, lcm_t 
     const double period_s = sc->period_s;
     double last_rx = cdpr_clock_now_s();
     uint64_t states_seen = 0;
-    while (g_stop == 0) {
+    while (*g_stop == 0) {
         const int h = lcm_handle_timeout(lcm, 50);
         if (h < 0) {
             fprintf(stderr, "cdpr-tracker: lcm_handle failed\n");
@@ -489,7 +470,7 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
     if (o.replay != NULL) {
-        install_stop_handler();
+        g_stop = cdpr_app_stop_on_signals();
         return cdpr_app_exit_code(replay_run(&o));
     }
     cdpr_scenario_t sc;
@@ -501,7 +482,7 @@ int main(int argc, char **argv)
     if (st != CDPR_OK) {
         return cdpr_app_exit_code(st);
     }
-    install_stop_handler();
+    g_stop = cdpr_app_stop_on_signals();
     if (o.quiet == 0) {
         fprintf(stderr, "cdpr-tracker: %s: waiting for %sCABIN_STATE on %s (%g Hz)\n", o.scenario,
                 (o.prefix != NULL) ? o.prefix : "CDPR_", (o.url != NULL) ? o.url : "default URL",

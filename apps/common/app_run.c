@@ -3,6 +3,7 @@
 #include "app_run.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -50,6 +51,25 @@ cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
         fprintf(stderr, "%s: %s\n", prog, err.msg);
     }
     return st;
+}
+
+static volatile int g_stop = 0;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+const volatile int *cdpr_app_stop_on_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    (void)sigaction(SIGINT, &sa, NULL);
+    (void)sigaction(SIGTERM, &sa, NULL);
+    return &g_stop;
 }
 
 const char *cdpr_app_title(const cdpr_scenario_t *sc)

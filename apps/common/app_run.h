@@ -37,6 +37,10 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
                                 const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc);
 
+/// Install SIGINT/SIGTERM handlers that set the returned flag (0 until a signal came; the
+/// apps' loops and the plant node's periodic thread check it). Same flag on every call.
+const volatile int *cdpr_app_stop_on_signals(void);
+
 /// Title of a run's figures: the scenario's description, else its file.
 const char *cdpr_app_title(const cdpr_scenario_t *sc);
 
