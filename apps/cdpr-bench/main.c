@@ -23,16 +23,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <gsl/gsl_odeiv2.h>
 #include <gsl/gsl_version.h>
 
+#include "app_status.h"
+#include "cdpr/config.h"
 #include "cdpr/gsl/ref.h"
+#include "cdpr/host/clock.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
 
-#define DEG_TO_RAD (3.14159265358979323846 / 180.0)
+#define DEG_TO_RAD (CDPR_PI / 180.0)
 
 typedef struct {
     double min_time_s; /* each run repeats the operation for at least this long [s] */
@@ -117,13 +119,6 @@ static int make_robot(int n_cables, int n_segments)
 /* ------------------------------------------------------------------------------------------ */
 /* Timing                                                                                      */
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* One timed operation: `reps` repetitions; returns the units of work done (for per-unit
  * times, e.g. accepted steps), or `reps` when each repetition is one unit. */
 typedef double (*bench_fn)(void *ctx, long reps);
@@ -138,9 +133,9 @@ static timing_t measure(bench_fn fn, void *ctx, const options_t *o)
     /* Calibrate: grow reps until one run lasts min_time (the growth also warms caches). */
     long reps = 1;
     for (;;) {
-        const double t0 = now_s();
+        const double t0 = cdpr_clock_now_s();
         (void)fn(ctx, reps);
-        const double dt = now_s() - t0;
+        const double dt = cdpr_clock_now_s() - t0;
         if (dt >= o->min_time_s) {
             break;
         }
@@ -152,9 +147,9 @@ static timing_t measure(bench_fn fn, void *ctx, const options_t *o)
     r.reps = reps;
     r.ns_per_unit = (double)INFINITY;
     for (int k = 0; k < o->runs; ++k) {
-        const double t0 = now_s();
+        const double t0 = cdpr_clock_now_s();
         const double units = fn(ctx, reps);
-        const double ns = 1e9 * (now_s() - t0) / units;
+        const double ns = 1e9 * (cdpr_clock_now_s() - t0) / units;
         if (ns < r.ns_per_unit) {
             r.ns_per_unit = ns;
         }
@@ -500,24 +495,25 @@ int main(int argc, char **argv)
             break;
         case 'h':
             usage(stdout);
-            return 0;
+            return cdpr_app_exit_code(CDPR_OK);
         default:
             usage(stderr);
-            return 2;
+            return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
         }
     }
     if (optind < argc) {
         fprintf(stderr, "cdpr-bench: unexpected argument '%s'\n", argv[optind]);
         usage(stderr);
-        return 2;
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
 
     printf("cdpr-bench: the cdpr core's RHS and RKF45 step vs GSL rkf45 on the same RHS\n");
     print_machine(&o);
     if (table_rhs(&o) != 0 || table_step(&o) != 0 || table_adaptive(&o) != 0) {
-        return 1;
+        /* A benchmark robot or integrator the core refused (the message says which). */
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
     printf("Allocation: the timed loops of our side call only cdpr_core, which references no\n"
            "allocator (core_symbols test); GSL's objects are allocated before timing.\n");
-    return 0;
+    return cdpr_app_exit_code(CDPR_OK);
 }
