@@ -73,8 +73,9 @@ static void usage(FILE *f)
            "  --no-plot        no figures\n"
            "  --quiet          no summary on stdout\n"
            "  --help           this text\n\n"
-           "exit codes: 0 finished, 1 stopped (signal or silence), 2 bad command line or\n"
-           "            scenario, 3 LCM or output failure, unreadable scenario or log\n");
+           "exit codes: 0 finished, 1 stopped (signal or silence) or a replayed state differs,\n"
+           "            2 bad command line or scenario, 3 LCM or output failure, unreadable\n"
+           "            scenario or log\n");
 }
 
 static int parse(int argc, char **argv, options_t *o)
@@ -288,7 +289,8 @@ static void replay_on_state(const lcm_recv_buf_t *rbuf, const char *channel, voi
 }
 
 /* Replay: CDPR_OK when every recorded state was reproduced bit for bit, CDPR_E_INTERRUPTED
- * when not (a signal, silence, a state that differs), or the error that kept it from running. */
+ * after a signal, CDPR_E_MISMATCH when not (silence, a state that differs), or the error that
+ * kept it from running. */
 static cdpr_status_t replay_run(const options_t *o)
 {
     replay_t *r = &g_replay;
@@ -327,7 +329,10 @@ static cdpr_status_t replay_run(const options_t *o)
     printf("cdpr-tracker: replay of %s: %ld commands sent, %ld states compared, %ld differ\n",
            o->replay, r->answered, r->compared, r->mismatched);
     const int ok = r->finished != 0 && r->mismatched == 0 && r->compared == r->n;
-    return ok ? CDPR_OK : CDPR_E_INTERRUPTED;
+    if (ok) {
+        return CDPR_OK;
+    }
+    return (*g_stop != 0) ? CDPR_E_INTERRUPTED : CDPR_E_MISMATCH;
 }
 
 static cdpr_plant_t g_model; /* the controller's own model: IK of the initial pose only */

@@ -18,6 +18,7 @@ static void test_every_status_has_its_documented_exit_code(void)
         {CDPR_WARN_CAPACITY, 0},
         {CDPR_WARN_MIN_LENGTH, 0},
         {CDPR_E_INTERRUPTED, 1},
+        {CDPR_E_MISMATCH, 1},
         {CDPR_E_STATE_NOT_FINITE, 1},
         {CDPR_E_STEP_TOO_SMALL, 1},
         {CDPR_E_RHS, 1},
@@ -33,8 +34,8 @@ static void test_every_status_has_its_documented_exit_code(void)
         {CDPR_E_PARSE, 2},
         {CDPR_E_IO, 3},
     };
-    /* Every value from CDPR_E_INTERRUPTED (-15) to CDPR_WARN_MIN_LENGTH (3) is listed. */
-    TEST_ASSERT_EQUAL_INT(19, (int)(sizeof table / sizeof table[0]));
+    /* Every value from CDPR_E_MISMATCH (-16) to CDPR_WARN_MIN_LENGTH (3) is listed. */
+    TEST_ASSERT_EQUAL_INT(20, (int)(sizeof table / sizeof table[0]));
     for (size_t i = 0; i < sizeof table / sizeof table[0]; ++i) {
         TEST_ASSERT_EQUAL_INT_MESSAGE(table[i].code, cdpr_app_exit_code(table[i].st),
                                       cdpr_status_str(table[i].st));
@@ -43,7 +44,7 @@ static void test_every_status_has_its_documented_exit_code(void)
 
 static void test_an_unknown_status_is_exit_4(void)
 {
-    TEST_ASSERT_EQUAL_INT(4, cdpr_app_exit_code((cdpr_status_t)-16));
+    TEST_ASSERT_EQUAL_INT(4, cdpr_app_exit_code((cdpr_status_t)-17));
     TEST_ASSERT_EQUAL_INT(4, cdpr_app_exit_code((cdpr_status_t)4));
     TEST_ASSERT_EQUAL_INT(4, cdpr_app_exit_code((cdpr_status_t)-1000));
 }

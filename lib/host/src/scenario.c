@@ -586,10 +586,9 @@ static void take(double *dst, const double *src, int n)
     }
 }
 
-static void resolve(const raw_t *r, cdpr_scenario_t *sc)
+/* robot: the preset, then every override the file gives. */
+static void resolve_robot(const raw_robot_t *rr, cdpr_preset_config_t *c)
 {
-    const raw_robot_t *rr = &r->robot;
-    cdpr_preset_config_t *c = &sc->robot;
     (void)cdpr_preset_get(rr->preset, c);
     if (rr->segments != NULL) {
         c->segments = (int)*rr->segments; /* whole and in range: check_whole_numbers */
@@ -627,6 +626,11 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
         take(&c->winch.kp_per_s, rr->winch->kp_per_s, 1);
         take(&c->winch.min_length_m, rr->winch->min_length_m, 1);
     }
+}
+
+/* initial and trajectory sections. */
+static void resolve_motion(const raw_t *r, cdpr_scenario_t *sc)
+{
     if (r->initial != NULL) {
         sc->has_initial_pose = (r->initial->pose != NULL) ? 1 : 0;
         take(sc->initial_pose, r->initial->pose, 6);
@@ -658,6 +662,11 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
     if (r->trajectory.hold != NULL) {
         take(t->hold_pose, r->trajectory.hold->pose, 6);
     }
+}
+
+/* controller, integrator and run sections, and the description. */
+static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
+{
     sc->gains.kp = r->controller.kp;
     take(&sc->gains.kd_s, r->controller.kd_s, 1);
     sc->gains.k_length_per_s = r->controller.k_length_per_s;
@@ -686,6 +695,13 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
     if (r->description != NULL) {
         snprintf(sc->description, sizeof sc->description, "%s", r->description);
     }
+}
+
+static void resolve(const raw_t *r, cdpr_scenario_t *sc)
+{
+    resolve_robot(&r->robot, &sc->robot);
+    resolve_motion(r, sc);
+    resolve_run(r, sc);
 }
 
 /* Which trajectory blocks a file gave: exactly the one matching `type`. */
@@ -875,10 +891,11 @@ static void core_check(vctx_t *v)
     }
 }
 
-cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+/* robot section: ranges, then the core's own validation of the built parameters. */
+static void check_robot(vctx_t *vp)
 {
-    vctx_t v = {sc, err, CDPR_OK};
-    const cdpr_preset_config_t *c = &sc->robot;
+    vctx_t v = *vp;
+    const cdpr_preset_config_t *c = &v.sc->robot;
     irange(&v, "robot.segments", c->segments, 1, CDPR_MAX_SEGMENTS);
     range(&v, "robot.gravity_m_per_s2", &c->gravity_m_per_s2, 1, 0.0, 100.0, 1);
     range(&v, "robot.wind_m_per_s", c->wind_m_per_s, 3, -100.0, 100.0, 0);
@@ -904,6 +921,14 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
     range(&v, "robot.winch.kp_per_s", &c->winch.kp_per_s, 1, 0.0, 1e4, 1);
     range(&v, "robot.winch.min_length_m", &c->winch.min_length_m, 1, 0.0, 1e5, 1);
     core_check(&v);
+    *vp = v;
+}
+
+/* initial and trajectory sections. */
+static void check_motion(vctx_t *vp)
+{
+    vctx_t v = *vp;
+    const cdpr_scenario_t *sc = v.sc;
     if (sc->has_initial_pose != 0) {
         pose_range(&v, "initial.pose", sc->initial_pose);
     }
@@ -932,6 +957,14 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
         pose_range(&v, "trajectory.hold.pose", t->hold_pose);
         break;
     }
+    *vp = v;
+}
+
+/* controller, integrator and run sections (ranges). */
+static void check_run(vctx_t *vp)
+{
+    vctx_t v = *vp;
+    const cdpr_scenario_t *sc = v.sc;
     range(&v, "controller.kp", &sc->gains.kp, 1, 0.0, 1e3, 0);
     range(&v, "controller.kd_s", &sc->gains.kd_s, 1, 0.0, 1e3, 0);
     range(&v, "controller.k_length_per_s", &sc->gains.k_length_per_s, 1, 0.0, 1e4, 0);
@@ -951,6 +984,15 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
     range(&v, "run.duration_s", &sc->duration_s, 1, 0.0, 1e6, 1);
     range(&v, "run.period_s", &sc->period_s, 1, 0.0, 10.0, 1);
     range(&v, "run.output_rate_hz", &sc->output_rate_hz, 1, 0.0, 1e6, 0);
+    *vp = v;
+}
+
+cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+{
+    vctx_t v = {sc, err, CDPR_OK};
+    check_robot(&v);
+    check_motion(&v);
+    check_run(&v);
     if (v.failed == CDPR_OK) {
         /* Whole control periods, and whole periods per output row. */
         const double periods = sc->duration_s / sc->period_s;
