@@ -4,7 +4,7 @@
 ///
 /// Prints three tables and the machine:
 ///   (a) ns per segment per cdpr_robot_rhs evaluation, 1 and 6 cables x {8, 16, 32, 64}
-///       segments, on the 50 m model (PARAMETERS.md set A) with taut cables and small random
+///       segments, on the 50 m model (docs/robots.md set A) with taut cables and small random
 ///       node velocities (every branch of the segment model is taken);
 ///   (b) one fixed-h RKF45 step: cdpr_rkf45_trial vs gsl_odeiv2_step_apply (both 6 RHS calls);
 ///   (c) adaptive stepping as users call it: cdpr_rkf45_step vs gsl_odeiv2_evolve_apply, per
@@ -61,7 +61,7 @@ static double lcg_uniform(void) /* in [-1, 1) */
     return (double)(lcg_state >> 11) * (2.0 / 9007199254740992.0) - 1.0;
 }
 
-/* PARAMETERS.md set A: exit points (25 cos th, 25 sin th, 30) m, th_j = (j-1) 60 deg; cabin at
+/* docs/robots.md set A: exit points (25 cos th, 25 sin th, 30) m, th_j = (j-1) 60 deg; cabin at
  * (0, 0, 9.135) m, level; attachments radius 2 m, z = -0.5 m, azimuths 25, 35, 145, 155, 265,
  * 275 deg; default cable (6 mm, 0.14 kg/m, EA 2e6 N, c 170 N s). Unstretched length = straight
  * distance / 1.002: every segment is stretched 0.2 % (taut, the tension branch is taken).

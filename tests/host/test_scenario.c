@@ -1,6 +1,6 @@
 /// @file test_scenario.c
 /// Scenario files: a file using every key resolves to exactly the values written in it;
-/// omitted keys take the preset's values (PARAMETERS.md, typed in here independently);
+/// omitted keys take the preset's values (docs/robots.md, typed in here independently);
 /// the committed scenarios load with the paper's numbers; and every kind of bad file (missing
 /// key, wrong type, unknown key, NaN/Inf, out of range, wrong length, inconsistent sections,
 /// unreachable pose, broken YAML) is rejected with a message naming the file, the key and
@@ -247,7 +247,7 @@ static void test_omitted_keys_take_the_preset(void)
     cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
-    /* PARAMETERS.md set A, typed in from the table. */
+    /* docs/robots.md set A, typed in from the table. */
     const cdpr_preset_config_t *c = &sc.robot;
     TEST_ASSERT_EQUAL_DOUBLE(25.0, c->exit_radius_m);
     TEST_ASSERT_EQUAL_DOUBLE(30.0, c->exit_height_m);
@@ -299,7 +299,7 @@ static void test_committed_scenarios_hold_the_papers_numbers(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(
         CDPR_OK, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/paper-circle.yaml", &sc, &err),
         err.msg);
-    /* Paper §4 and PARAMETERS.md: centre (0, -2, 9.135), r 2 m, 2 m/s, ccw, start (0, 0,
+    /* Paper §4 and docs/robots.md: centre (0, -2, 9.135), r 2 m, 2 m/s, ccw, start (0, 0,
      * 9.135), offset (0, 1, -1470) mm. */
     TEST_ASSERT_EQUAL_INT(CDPR_TRAJ_CIRCLE, sc.traj.type);
     TEST_ASSERT_EQUAL_DOUBLE(-2.0, sc.traj.centre_m[1]);
@@ -315,7 +315,7 @@ static void test_committed_scenarios_hold_the_papers_numbers(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(
         CDPR_OK, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/paper-line.yaml", &sc, &err),
         err.msg);
-    /* Paper §4 poses, γ mapped to γ - π (PARAMETERS.md). Written to 14 decimals in the file. */
+    /* Paper §4 poses, γ mapped to γ - π (docs/robots.md). Written to 14 decimals in the file. */
     const double from[6] = {2.00, 1.00, 16.0, 0.0889, -0.1756, 3.108 - PI};
     const double to[6] = {2.50, 1.50, 16.2, 0.135, -0.263, 3.121 - PI};
     for (int i = 0; i < 6; ++i) {

@@ -1,5 +1,5 @@
 /// @file presets.c
-/// PARAMETERS.md sets A and B; docs/robots.md gives every value's tag and source.
+/// The parameter sets A and B of docs/robots.md, which gives every value's tag and source.
 #include "cdpr/host/presets.h"
 
 #include "cdpr/config.h"
@@ -20,7 +20,7 @@ const char *cdpr_preset_name(cdpr_preset_t preset)
 }
 
 /* Six towers at (j-1) 60 deg; attachments in twisted pairs at +-5 deg about 30, 150, 270 deg
- * (PARAMETERS.md "Pitfalls": radial attachments leave yaw without static stiffness). */
+ * (docs/robots.md: radial attachments leave yaw without static stiffness). */
 static void hexagon(cdpr_preset_config_t *c)
 {
     static const double attach_deg[CDPR_ROBOT_CABLES] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
