@@ -157,11 +157,18 @@ cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cd
     CDPR_TRY(cdpr_plant_init_model(p, pp, diag));
     CDPR_TRY(place_and_settle(p, diag));
     CDPR_TRY(start_run(p, diag));
-    static const cdpr_plant_stats_t zero_stats;
-    static const cdpr_node_stats_t zero_nodes;
-    p->stats = zero_stats;
+    p->stats.steps = 0U;
+    p->stats.step_failures = 0U;
+    p->stats.substep_limit_hits = 0U;
+    p->stats.min_length_periods = 0U;
+    p->stats.capacity_periods = 0U;
+    p->stats.budget_refusals = 0U;
     p->stats.last_failure = CDPR_OK;
-    p->nodes = zero_nodes;
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        p->nodes.insertions[j] = 0U;
+        p->nodes.removals[j] = 0U;
+        p->nodes.capacity_hits[j] = 0U;
+    }
     p->k = 0;
     p->commanded = 0;
     p->ready = 1;

@@ -1,6 +1,6 @@
 /// @file trajectory.h
-/// Desired cabin trajectories of the scenarios (docs/validation.md §8): the paper's circle and line,
-/// and a hold. Poses are (x, y, z [m], α, β, γ [rad]) with R = Rz(γ) Ry(β) Rx(α).
+/// Desired cabin trajectories of the scenarios (docs/validation.md §8): the paper's circle and
+/// line, and a hold. Poses are (x, y, z [m], α, β, γ [rad]) with R = Rz(γ) Ry(β) Rx(α).
 ///
 /// - hold:   a fixed pose.
 /// - circle: horizontal circle, centre c, radius r, constant attitude; the path length
