@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds and tests the project the way CI does: Debug, then AddressSanitizer+UBSan, plus
 # static checks. Every stage runs even after a failure, so the summary is complete; the exit
 # status is non-zero if any stage failed.

@@ -27,7 +27,7 @@ int main(void)
         return 1;
     }
     lcm_destroy(lcm);
-    printf("cdpr %s: every component links (winch command: %d bytes, %s)\n", cdpr_version(),
-           bytes, cdpr_status_str(CDPR_OK));
+    printf("cdpr %s: every component links (winch command: %d bytes, %s)\n", cdpr_version(), bytes,
+           cdpr_status_str(CDPR_OK));
     return 0;
 }
