@@ -38,7 +38,7 @@ comment_for() {
 insert() {
     local f=$1 tmp
     tmp=$(mktemp)
-    if head -n 1 "$f" | grep -q '^#!'; then
+    if head -n 1 "$f" | grep '^#!' >/dev/null; then
         { head -n 1 "$f"; comment_for "$f"; tail -n +2 "$f"; } >"$tmp"
     else
         { comment_for "$f"; cat "$f"; } >"$tmp"
@@ -66,7 +66,7 @@ missing=()
 while IFS= read -r -d '' f; do
     [[ -f $f ]] || continue # deleted in the work tree
     under "$f" || continue
-    if ! head -n 3 "$f" | grep -qF "$id"; then
+    if ! head -n 3 "$f" | grep -F "$id" >/dev/null; then
         if [[ $fix == 1 ]]; then
             insert "$f"
             echo "spdx: added to $f"

@@ -8,10 +8,12 @@
 #      every other component linked once (CDPR_CONSUMER_ALL);
 #   2. pkg-config cdpr-core: cc $(pkg-config --cflags) state_bits.c $(pkg-config --libs);
 #      every .pc file validated and resolved;
+#   3. the libraries built shared (CDPR_SHARED=ON): SONAMEs, only cdpr_* exported, and 1.'s
+#      consumer linked against them;
 #   each prints the state bits of state_bits.c, byte-identical to build/release's
 #   tests/consumer/cdpr-consumer-{host,core}.
 #  Cortex-M7 (cortex-m7 preset, installed to its own prefix), tests/consumer/firmware, Release:
-#   3. the installed package;  4. add_subdirectory(<src>/lib/core <binary-dir>);
+#   4. the installed package;  5. add_subdirectory(<src>/lib/core <binary-dir>);
 #   each: 0 FMA instructions (vfma/vfms/vfnma/vfnms) in the libcdpr_core.a it links, and the
 #   output under QEMU mps2-an500 byte-identical to build/cortex-m7's cdpr-consumer-core.
 #
@@ -127,6 +129,46 @@ else
     bad "pkg-config cdpr-host consumer: compile or link failed"
 fi
 unset PKG_CONFIG_PATH
+
+# 3. shared libraries (CDPR_SHARED=ON, the release preset's flags; libraries only): SONAMEs,
+# only cdpr_* symbols exported, and the find_package consumer linked against them.
+b=$work/shared
+shared=$work/prefix-shared
+if quiet cmake -S . -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS_RELEASE="-O2 -DNDEBUG" \
+    -DCDPR_SHARED=ON -DCDPR_BUILD_TESTS=OFF -DCDPR_BUILD_APPS=OFF -DCDPR_WERROR=ON &&
+    quiet cmake --build "$b" -j "$jobs" && quiet cmake --install "$b" --prefix "$shared"; then
+    so_ok=1
+    for lib in core gsl host lcm lcmtypes rt; do
+        so=$(find "$shared" -name "libcdpr_$lib.so.0" | head -n 1)
+        if [[ -z $so ]]; then
+            bad "shared: libcdpr_$lib.so.0 not installed"
+            so_ok=0
+            continue
+        fi
+        soname=$(readelf -d "$so" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
+        others=$(nm -D --defined-only "$so" | awk '$2 ~ /^[TDBRVW]$/ && $3 !~ /^cdpr_/' | wc -l)
+        if [[ $soname != "libcdpr_$lib.so.0" || $others != 0 ]]; then
+            bad "shared: $so has SONAME '$soname' and $others exported non-cdpr_ symbols"
+            so_ok=0
+        fi
+    done
+    [[ $so_ok == 1 ]] && ok "shared: libcdpr_{core,gsl,host,lcm,lcmtypes,rt}.so.0, only cdpr_* exported"
+    bs=$work/package-shared
+    if quiet cmake -S tests/consumer/package -B "$bs" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_PREFIX_PATH="$shared" && quiet cmake --build "$bs" -j "$jobs"; then
+        if ldd "$bs/cdpr-consumer-host" | grep "libcdpr_host.so.0 => $shared/" >/dev/null; then
+            "$bs/cdpr-consumer-host" >"$work/package-shared.txt" || bad "shared consumer exited $?"
+            same "find_package consumer on the shared libraries == in-project cdpr-consumer-host" \
+                "$work/ref-host.txt" "$work/package-shared.txt"
+        else
+            bad "shared consumer does not load $shared's libcdpr_host.so.0"
+        fi
+    else
+        bad "find_package consumer on the shared libraries: configure or build failed"
+    fi
+else
+    bad "shared build (CDPR_SHARED=ON): configure, build or install failed"
+fi
 
 # ---- Cortex-M7 -------------------------------------------------------------------------------
 m7=$work/prefix-m7
