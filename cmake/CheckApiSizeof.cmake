@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Fails unless the sizeof table of docs/api.md matches the build: PROG prints `name bytes`
 # lines (tests/docs/api_sizeof.c); the table between the lines `<!-- sizeof:begin -->` and
 # `<!-- sizeof:end -->` has one row per object, `| `name` | bytes |` (digits, optionally

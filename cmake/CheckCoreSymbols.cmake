@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Fails if the core library references a symbol it must never need: heap allocation, stdio,
 # GSL (GPL-3, host only), LCM or threads. The core must stay allocation-free and portable to
 # bare-metal firmware, and this catches a stray call before it reaches a target.

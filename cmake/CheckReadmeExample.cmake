@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Fails unless README.md's core example is the compiled one: the first ```c block after the
 # heading "## Using the core" must be byte-identical to the lines between "/* [readme] */" and
 # "/* [/readme] */" of examples/quickstart.c (markers excluded). On a difference it names the

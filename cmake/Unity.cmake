@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Provides the target unity::framework (ThrowTheSwitch Unity) for the tests.
 #
 # Resolution order (see the project's UNITY.md notes; Unity's sources are never vendored):

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file quickstart.c
 /// The smallest complete use of the core: build the plant of the paper's 50 m six-cable robot
 /// in code, step it for one second of 10 ms control periods while two winches pay out, print

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Real-time benchmark (docs/realtime.md, "Benchmark at 1 kHz"): cdpr-rt runs the paper's circle
 # on the 50 m model at 1 kHz for DURATION seconds (default 60) with 6 x 16 and 6 x 32
 # segments, each with and without SCHED_FIFO + mlockall, the example tracker in-process over

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The main job. Installs what is missing, builds the Release configuration, and runs
 #  1. the validation case of the foundation: one cable released from the straight chord
 #     between two fixed points settles into its sagging shape; mid-span sag and end tensions

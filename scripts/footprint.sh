@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Footprint of the core on the firmware targets: code and data size of libcdpr_core.a per
 # object (arm-none-eabi-size), worst-case stack of the step path (from the -fstack-usage /
 # -fcallgraph-info output of the cortex-m7 and cortex-m4 builds) and sizeof of the objects a

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Controller gain sweep over a scenario file (docs/validation.md §8).
 
 Runs cdpr-sim once per combination of the controller keys given on the command line and

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # MISRA C:2012 check of the firmware code (lib/core) with cppcheck's misra addon.
 #
 #   scripts/misra.sh            check: non-zero when a rule not in the deviation table of

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Plot the settled lumped-mass cable against Irvine's elastic catenary.
 # Usage: gnuplot -e "dir='out/settle'" scripts/plot_settle.gp
 if (!exists("dir")) dir = 'out/settle'

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Figures of a cdpr-sim run (cdpr-sim calls this; see docs/scenarios.md).
 # Usage: gnuplot -c scripts/plot_sim.gp DIR KIND [TITLE]
 #   DIR   output directory of the run (reads DIR/timeseries.csv)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs the build dependencies (Debian bookworm) and obtains the Unity test framework
 # offline, from Debian's ntpsec source package. Idempotent: a second run only checks and
 # does not touch the network.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds and tests the project the way CI does: Debug, then AddressSanitizer+UBSan, plus
 # static checks. Every stage runs even after a failure, so the summary is complete; the exit
 # status is non-zero if any stage failed.
@@ -26,6 +27,8 @@ build_and_test() {
     cmake --preset "$1" && cmake --build --preset "$1" && ctest --preset "$1"
 }
 
+# Every tracked source file carries its SPDX licence identifier (LICENSE: BSD-3-Clause).
+stage "spdx: licence identifiers (scripts/spdx.sh)" scripts/spdx.sh
 stage "debug: configure, build, ctest" build_and_test debug
 # Uses the debug tree's file list; fails when any file differs from .clang-format's style.
 stage "format-check" cmake --build --preset debug --target format-check
@@ -39,6 +42,12 @@ stage "clang: configure, build everything, ctest" build_and_test clang
 # mps2-an500; Cortex-M4 with the single FPU on mps2-an386, core in float.
 stage "cortex-m7: configure, build, ctest on QEMU mps2-an500" build_and_test cortex-m7
 stage "cortex-m4 (float): configure, build, ctest on QEMU mps2-an386" build_and_test cortex-m4
+# The library as users consume it (tests/consumer/run.sh): the release and cortex-m7 trees
+# above installed to temporary prefixes; out-of-tree consumers through find_package, pkg-config
+# and, on the Cortex-M7, the installed package and add_subdirectory(lib/core <binary-dir>),
+# each bit-identical to the project's own build, the M7 ones without fused multiply-adds.
+stage "consumers: installed package, pkg-config, firmware routes (tests/consumer)" \
+    tests/consumer/run.sh
 # Code/data size and worst-case stack of the step path from those two builds.
 stage "footprint (docs/firmware.md)" scripts/footprint.sh
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Shared part of the arm-none-eabi toolchain files (included by arm-none-eabi-m7.cmake and
 # arm-none-eabi-m4.cmake after they set CDPR_ARM_CPU_FLAGS and CDPR_QEMU_MACHINE).
 #

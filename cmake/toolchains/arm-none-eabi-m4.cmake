@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Cortex-M4 with the single-precision FPU (fpv4-sp-d16). Every double operation is a software
 # library call there, so the core is built in float (CDPR_REAL_FLOAT -> CDPR_REAL_IS_FLOAT,
 # the default this file sets; the cortex-m4 preset sets it too). Emulated by QEMU's

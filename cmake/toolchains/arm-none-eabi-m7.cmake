@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Cortex-M7 with the double-precision FPU (fpv5-d16): the core computes in double, as on the
 # host. Emulated by QEMU's mps2-an500 board (Cortex-M7 FPGA image for the MPS2).
 #

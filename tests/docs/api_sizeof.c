@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file api_sizeof.c
 /// Prints `name bytes` for each caller-owned object of the core, one per line, at the
 /// capacities and real type this build uses. ctest api_sizeof (cmake/CheckApiSizeof.cmake)

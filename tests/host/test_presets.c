@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_presets.c
 /// Robot presets against the facts docs/robots.md derived independently (its own statics):
 /// set A along the paper's circle and line (lengths, tensions, length rates), set B at the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_scenario.c
 /// Scenario files: a file using every key resolves to exactly the values written in it;
 /// omitted keys take the preset's values (docs/robots.md, typed in here independently);

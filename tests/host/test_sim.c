@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_sim.c
 /// Scenario regression: the paper's circle and line, run from their committed scenario files
 /// (shortened to 2.5 s and 4 s for CI time: the circle's violent first seconds with node events

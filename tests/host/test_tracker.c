@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_tracker.c
 /// The tracking controller: its length Jacobian against finite differences of the straight
 /// cable lengths, its command law against a hand evaluation, the d'Alembert load against

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_trajectory.c
 /// Trajectories against their definitions: the circle's geometry, speed and direction, its
 /// speed ramp, the line's end points and rates, every derivative against a central finite

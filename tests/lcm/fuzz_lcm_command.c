@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file fuzz_lcm_command.c
 /// libFuzzer target: arbitrary bytes on the winch command channel -> the generated decoder and
 /// our validator (cdpr_lcm_validator_accept), then the mailbox and the watchdog read, exactly

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file fuzz_lcm_seeds.c
 /// Writes a seed corpus for fuzz_lcm_command into the directory given as argv[1]: valid winch
 /// commands in both modes (so the fuzzer starts past the 8-byte fingerprint check) and one of

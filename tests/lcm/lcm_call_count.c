@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file lcm_call_count.c
 /// Per-thread counting wrappers of liblcm calls (lcm_call_count.h). GNU ld/lld --wrap.
 #include "lcm_call_count.h"

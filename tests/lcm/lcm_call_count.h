@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file lcm_call_count.h
 /// Counts liblcm calls per thread in a test executable (tests/lcm only).
 ///

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Run a test binary inside a private network namespace whose loopback carries IPv4 multicast,
 # so LCM's udpm provider works without touching the host's network (docs/development.md, platform notes):
 #   unshare -n sh -c 'ip link set lo up; ip route add 224.0.0.0/4 dev lo; exec ./the_test'

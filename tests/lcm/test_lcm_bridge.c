@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_lcm_bridge.c
 /// The LCM bridge (lcm_bridge.h) over a real liblcm `memq://` provider, in-process: the
 /// bridge thread owns the lcm_t; an example controller runs on that thread (on_open hook,

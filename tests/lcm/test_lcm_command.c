@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_lcm_command.c
 /// Winch command validation, decoding of malformed bytes through the generated decoder, the
 /// latest-value mailbox and the watchdog (lcm_command.h). No LCM transport: bytes are made

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_lcm_pack.c
 /// Packing the core's state into the LCM messages (lcm_pack.h), and each message through the
 /// generated encoder and decoder.

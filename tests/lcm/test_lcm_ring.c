@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_lcm_ring.c
 /// The SPSC ring of encoded slots (lcm_ring.h): argument checks, fill to capacity, the
 /// drop-newest policy and its counters, index wrap-around, claim/commit semantics, and a

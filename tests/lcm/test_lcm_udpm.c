@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_lcm_udpm.c
 /// The bridge over real UDP multicast on loopback: a controller with its own lcm_t on its own
 /// thread (as a separate process would have) answers each cabin state with a winch command;

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Closed loop over udpm on loopback, two processes, lockstep: cdpr-rt (plant) and
 # cdpr-tracker (controller) exchange state/commands as UDP multicast datagrams while
 # lcm-logger records the channels. Then

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_rt_loop.c
 /// The real-time plant node (lib/rt) over a real liblcm memq:// provider, in-process:
 ///  - lockstep closed loop over LCM == the in-process loop (plant + controller called

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file alloc_count.c
 /// Counting replacements for the C allocation functions (test executables only).
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file alloc_count.h
 /// Heap allocation counter for the host unit tests.
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file ref_mat3.h
 /// Test-only reference 3x3 linear algebra, written from definitions and independent of the
 /// core's vec3.h, so tests can check the core against it. Header-only (static inline).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_real.h
 /// Tolerances for the build's real type (cdpr_real_t, config.h).
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file alloc_count_target.c
 /// The allocation counter's interface for bare-metal test builds, where it cannot count.
 ///

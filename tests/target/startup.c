@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file startup.c
 /// Reset and fault handling for bare-metal executables on QEMU's MPS2 boards (mps2-an500:
 /// Cortex-M7, mps2-an386: Cortex-M4), used by the unit tests and the firmware example.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_alloc_count.c
 /// Self-test of tests/support/alloc_count.c: the counter must see the allocations the other
 /// tests rely on it to catch.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_cabin.c
 /// The cabin rigid body (cabin.h, docs/model.md §3) against independent computations: mass
 /// properties by the parallel-axis theorem written out per element, Euler's equations in

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_cable.c
 /// Lumped-mass cable (cable.h, docs/model.md §2): segment forces and the RHS of one cable.
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_catenary.c
 /// Elastic catenary: the core's closed form and Newton inverse against an independent
 /// reference (quadrature of the defining ODE), its physical limits, and the lumped-mass cable

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_determinism.c
 /// The six-cable robot (docs/robots.md set A geometry) stepped through the real-time call:
 /// no heap allocation during init and stepping, and two identical runs bit-identical.

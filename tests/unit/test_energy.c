@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_energy.c
 /// Conservation laws: with no damping and no drag the lumped-mass model is conservative, so
 /// kinetic + gravitational + elastic energy (computed here independently of the core's RHS)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_gsl_rkf45.c
 /// cdpr_rkf45 against GSL's odeiv2 rkf45 on the same robot RHS (docs/model.md §7), and the
 /// cdpr_gsl adapter itself (lib/gsl, host only: GSL is GPL-3).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_gsl_statics.c
 /// The core's sag-aware IK (nested Newton, analytic Jacobian) against an independent
 /// formulation solved by GSL (all 18 unknowns at once, Powell hybrid, numerical Jacobian),

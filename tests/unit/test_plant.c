@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_plant.c
 /// The plant (plant.h): a settled start is the static equilibrium of the catenary statics and
 /// stays at rest; a refused period rolls everything back byte for byte; the payout changes

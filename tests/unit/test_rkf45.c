@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_rkf45.c
 /// The RKF45 integrator (rkf45.h, docs/model.md §7) on problems with closed-form solutions, its
 /// real-time bound, its transactional failure paths and its parameter validation.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_robot.c
 /// The robot object (robot.h): parameter validation (every field, its status, diag.field and
 /// diag.index), transactional init, state layout, the full RHS against its parts, outputs,

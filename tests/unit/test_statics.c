@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_statics.c
 /// Sag-aware statics of the six-cable 50 m model (docs/robots.md set A): IK balances the cabin
 /// wrench (checked here from the returned forces), each cable's catenary closes on both end

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_vec3.c
 /// Vector, matrix and quaternion helpers (vec3.h) and the status names (status.h).
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_winch.c
 /// Winch payout/haul-in with node insertion and removal (docs/model.md §2, winch and node
 /// events): conservation of the unstretched length at every event, the last-segment window,

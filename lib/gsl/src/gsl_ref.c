@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file gsl_ref.c
 /// GSL odeiv2 rkf45 on a cdpr RHS: adapter, reference integration, preallocated stepper.
 /// Host only (GSL is GPL-3); see gsl_ref.h.

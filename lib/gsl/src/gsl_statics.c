@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file gsl_statics.c
 /// Sag-aware IK with gsl_multiroot (see gsl_statics.h).
 #include "cdpr/gsl/statics.h"

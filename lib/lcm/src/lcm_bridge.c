@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file lcm_bridge.c
 /// The LCM bridge thread, its publisher and receiver, and the real-time side API
 /// (lcm_bridge.h). POSIX + Linux (eventfd); built with _GNU_SOURCE by CMake.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file lcm_check.h
 /// Internal: a C99 compile-time assertion (no _Static_assert before C11).
 #ifndef CDPR_LCM_CHECK_H

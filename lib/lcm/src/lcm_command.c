@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file lcm_command.c
 /// Winch command decoding, validation, mailbox and watchdog (lcm_command.h).
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file lcm_pack.c
 /// Core state -> LCM messages (lcm_pack.h).
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file lcm_ring.c
 /// SPSC ring of encoded message slots (lcm_ring.h).
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file ref.h
 /// Host-side reference integration of any cdpr right-hand side with GSL's odeiv2 rkf45: the
 /// same RHS the core integrates (docs/model.md §7).

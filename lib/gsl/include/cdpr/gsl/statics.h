@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file statics.h
 /// Reference solver for the sag-aware inverse kinematics with GSL's multidimensional root
 /// finder, as an independent check of cdpr_statics_ik (statics.h).

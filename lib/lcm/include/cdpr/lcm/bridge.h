@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file bridge.h
 /// The LCM bridge between a real-time plant thread and the rest of the world.
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file command.h
 /// Winch commands received over LCM: decoding, validation, the latest-value mailbox the
 /// real-time thread reads, and the watchdog that holds the winches when commands stop.

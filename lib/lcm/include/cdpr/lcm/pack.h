@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file pack.h
 /// Packing the core's state into the LCM messages (lcmtypes/, package cdpr).
 ///

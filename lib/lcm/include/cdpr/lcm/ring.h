@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file ring.h
 /// Lock-free single-producer / single-consumer ring of preallocated, fixed-size message slots.
 ///

@@ -1,0 +1,219 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# Consumer tests (scripts/test.sh stage `consumers`): the library used the way a user uses it,
+# from outside the source tree, compared with the same program built inside the project.
+#
+#  host (release preset, installed to a temporary prefix):
+#   1. find_package(cdpr 0.1 REQUIRED COMPONENTS core host) -- tests/consumer/package; also
+#      every other component linked once (CDPR_CONSUMER_ALL);
+#   2. pkg-config cdpr-core: cc $(pkg-config --cflags) state_bits.c $(pkg-config --libs);
+#      every .pc file validated and resolved;
+#   3. the libraries built shared (CDPR_SHARED=ON): SONAMEs, only cdpr_* exported, and 1.'s
+#      consumer linked against them;
+#   each prints the state bits of state_bits.c, byte-identical to build/release's
+#   tests/consumer/cdpr-consumer-{host,core}.
+#  Cortex-M7 (cortex-m7 preset, installed to its own prefix), tests/consumer/firmware, Release:
+#   4. the installed package;  5. add_subdirectory(<src>/lib/core <binary-dir>);
+#   each: 0 FMA instructions (vfma/vfms/vfnma/vfnms) in the libcdpr_core.a it links, and the
+#   output under QEMU mps2-an500 byte-identical to build/cortex-m7's cdpr-consumer-core.
+#
+# Reuses (and brings up to date) build/release and build/cortex-m7; everything else lives in
+# a temporary directory, removed at the end (CDPR_CONSUMER_KEEP=1 keeps it). Exit status 0
+# when every check passed.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+src=$PWD
+jobs=${CDPR_JOBS:-2}
+work=$(mktemp -d "${TMPDIR:-/tmp}/cdpr-consumers.XXXXXX")
+if [[ ${CDPR_CONSUMER_KEEP:-0} != 1 ]]; then
+    trap 'rm -rf "$work"' EXIT
+else
+    echo "consumers: keeping $work"
+fi
+failed=0
+ok() { echo "consumers: PASS $*"; }
+bad() {
+    echo "consumers: FAIL $*" >&2
+    failed=1
+}
+# same <what> <expected file> <actual file>
+same() {
+    if cmp -s "$2" "$3"; then
+        ok "$1 ($(wc -l <"$3") lines identical)"
+    else
+        bad "$1: output differs"
+        diff "$2" "$3" | head -n 10 >&2 || true
+    fi
+}
+# fma_count <archive>: fused multiply-add instructions in the disassembly.
+fma_count() {
+    arm-none-eabi-objdump -d "$1" | grep -cE 'vfn?m[as]' || true
+}
+qemu_m7() {
+    timeout 120 qemu-system-arm -M mps2-an500 -semihosting -nographic -kernel "$1"
+}
+quiet() {
+    local log=$work/log.txt
+    if ! "$@" >"$log" 2>&1; then
+        cat "$log" >&2
+        return 1
+    fi
+}
+
+# ---- host: release build installed to a prefix --------------------------------------------
+host=$work/prefix-host
+quiet cmake --preset release
+quiet cmake --build --preset release -j "$jobs"
+quiet cmake --install build/release --prefix "$host"
+build/release/tests/consumer/cdpr-consumer-host >"$work/ref-host.txt"
+build/release/tests/consumer/cdpr-consumer-core >"$work/ref-core.txt"
+
+# 1. find_package
+b=$work/package
+if quiet cmake -S tests/consumer/package -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$host" -DCDPR_CONSUMER_ALL=ON &&
+    quiet cmake --build "$b" -j "$jobs"; then
+    if grep -q "^cdpr_DIR:PATH=$host/" "$b/CMakeCache.txt"; then
+        ok "find_package found the installed package ($(grep '^cdpr_DIR' "$b/CMakeCache.txt"))"
+    else
+        bad "find_package did not use $host: $(grep '^cdpr_DIR' "$b/CMakeCache.txt")"
+    fi
+    "$b/cdpr-consumer-host" >"$work/package.txt" || bad "find_package consumer exited $?"
+    same "find_package(cdpr COMPONENTS core host) consumer == in-project cdpr-consumer-host" \
+        "$work/ref-host.txt" "$work/package.txt"
+    if "$b/cdpr-consumer-all" >"$work/all.txt"; then
+        ok "all components (gsl, lcm, lcmtypes, rt) link and run: $(cat "$work/all.txt")"
+    else
+        bad "cdpr-consumer-all exited non-zero"
+    fi
+else
+    bad "find_package consumer: configure or build failed"
+fi
+# A component that is not installed is reported, and fails a REQUIRED find.
+if cmake -S tests/consumer/package -B "$work/package-bad" -G Ninja \
+    -DCMAKE_PREFIX_PATH="$work/prefix-m7-not-yet" >/dev/null 2>&1; then
+    bad "find_package(cdpr REQUIRED) succeeded without an installed package"
+else
+    ok "find_package(cdpr REQUIRED) fails without an installed package"
+fi
+
+# 2. pkg-config
+pc_dir=$(dirname "$(find "$host" -name cdpr-core.pc | head -n 1)")
+export PKG_CONFIG_PATH=$pc_dir
+pc_ok=1
+for m in cdpr-core cdpr-host cdpr-lcm cdpr-rt cdpr-gsl; do
+    if ! pkg-config --validate "$m" || ! pkg-config --exists --print-errors "$m"; then
+        bad "pkg-config $m does not validate or resolve"
+        pc_ok=0
+    fi
+done
+[[ $pc_ok == 1 ]] && ok "pkg-config: cdpr-core cdpr-host cdpr-lcm cdpr-rt cdpr-gsl validate and resolve"
+read -r -a pc_cflags <<<"$(pkg-config --cflags cdpr-core)"
+read -r -a pc_libs <<<"$(pkg-config --libs cdpr-core)"
+if cc -O2 -Wall -Wextra -Werror "${pc_cflags[@]}" tests/consumer/state_bits.c "${pc_libs[@]}" \
+    -o "$work/pkgconfig-core"; then
+    "$work/pkgconfig-core" >"$work/pkgconfig.txt" || bad "pkg-config consumer exited $?"
+    same "pkg-config cdpr-core consumer == in-project cdpr-consumer-core" \
+        "$work/ref-core.txt" "$work/pkgconfig.txt"
+else
+    bad "pkg-config consumer: compile or link failed"
+fi
+read -r -a pc_cflags <<<"$(pkg-config --cflags cdpr-host)"
+read -r -a pc_libs <<<"$(pkg-config --libs cdpr-host)"
+if cc -O2 -Wall -Wextra -Werror -DCDPR_CONSUMER_HOST "${pc_cflags[@]}" tests/consumer/state_bits.c \
+    "${pc_libs[@]}" -o "$work/pkgconfig-host"; then
+    "$work/pkgconfig-host" >"$work/pkgconfig-host.txt" || bad "pkg-config host consumer exited $?"
+    same "pkg-config cdpr-host consumer == in-project cdpr-consumer-host" \
+        "$work/ref-host.txt" "$work/pkgconfig-host.txt"
+else
+    bad "pkg-config cdpr-host consumer: compile or link failed"
+fi
+unset PKG_CONFIG_PATH
+
+# 3. shared libraries (CDPR_SHARED=ON, the release preset's flags; libraries only): SONAMEs,
+# only cdpr_* symbols exported, and the find_package consumer linked against them.
+b=$work/shared
+shared=$work/prefix-shared
+if quiet cmake -S . -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS_RELEASE="-O2 -DNDEBUG" \
+    -DCDPR_SHARED=ON -DCDPR_BUILD_TESTS=OFF -DCDPR_BUILD_APPS=OFF -DCDPR_WERROR=ON &&
+    quiet cmake --build "$b" -j "$jobs" && quiet cmake --install "$b" --prefix "$shared"; then
+    so_ok=1
+    for lib in core gsl host lcm lcmtypes rt; do
+        so=$(find "$shared" -name "libcdpr_$lib.so.0" | head -n 1)
+        if [[ -z $so ]]; then
+            bad "shared: libcdpr_$lib.so.0 not installed"
+            so_ok=0
+            continue
+        fi
+        soname=$(readelf -d "$so" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
+        others=$(nm -D --defined-only "$so" | awk '$2 ~ /^[TDBRVW]$/ && $3 !~ /^cdpr_/' | wc -l)
+        if [[ $soname != "libcdpr_$lib.so.0" || $others != 0 ]]; then
+            bad "shared: $so has SONAME '$soname' and $others exported non-cdpr_ symbols"
+            so_ok=0
+        fi
+    done
+    [[ $so_ok == 1 ]] && ok "shared: libcdpr_{core,gsl,host,lcm,lcmtypes,rt}.so.0, only cdpr_* exported"
+    bs=$work/package-shared
+    if quiet cmake -S tests/consumer/package -B "$bs" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_PREFIX_PATH="$shared" && quiet cmake --build "$bs" -j "$jobs"; then
+        if ldd "$bs/cdpr-consumer-host" | grep "libcdpr_host.so.0 => $shared/" >/dev/null; then
+            "$bs/cdpr-consumer-host" >"$work/package-shared.txt" || bad "shared consumer exited $?"
+            same "find_package consumer on the shared libraries == in-project cdpr-consumer-host" \
+                "$work/ref-host.txt" "$work/package-shared.txt"
+        else
+            bad "shared consumer does not load $shared's libcdpr_host.so.0"
+        fi
+    else
+        bad "find_package consumer on the shared libraries: configure or build failed"
+    fi
+else
+    bad "shared build (CDPR_SHARED=ON): configure, build or install failed"
+fi
+
+# ---- Cortex-M7 -------------------------------------------------------------------------------
+m7=$work/prefix-m7
+quiet cmake --preset cortex-m7
+quiet cmake --build --preset cortex-m7 -j "$jobs"
+quiet cmake --install build/cortex-m7 --prefix "$m7"
+qemu_m7 build/cortex-m7/tests/consumer/cdpr-consumer-core >"$work/ref-m7.txt"
+n=$(fma_count build/cortex-m7/lib/core/libcdpr_core.a)
+echo "consumers: the cortex-m7 preset's own libcdpr_core.a: $n FMA instructions"
+
+toolchain=$src/cmake/toolchains/arm-none-eabi-m7.cmake
+for route in package subdirectory; do
+    b=$work/firmware-$route
+    if ! quiet cmake -S tests/consumer/firmware -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_TOOLCHAIN_FILE="$toolchain" -DCDPR_SOURCE_DIR="$src" \
+        -DCDPR_CONSUMER_ROUTE=$route -DCMAKE_PREFIX_PATH="$m7" ||
+        ! quiet cmake --build "$b" -j "$jobs"; then
+        bad "Cortex-M7 $route consumer: configure or build failed"
+        continue
+    fi
+    archive=$(cat "$b/CDPR_CORE_ARCHIVE.txt")
+    n=$(fma_count "$archive")
+    if [[ $n == 0 ]]; then
+        ok "Cortex-M7 $route consumer: 0 FMA instructions in ${archive#"$work"/}"
+    else
+        bad "Cortex-M7 $route consumer: $n FMA instructions in $archive"
+    fi
+    if qemu_m7 "$b/state_bits.elf" >"$work/m7-$route.txt"; then
+        same "Cortex-M7 $route consumer on QEMU == the cortex-m7 preset's cdpr-consumer-core" \
+            "$work/ref-m7.txt" "$work/m7-$route.txt"
+    else
+        bad "Cortex-M7 $route consumer failed under QEMU"
+    fi
+done
+
+# Not a pass condition: whether the M7 and the x86-64 host compute the same bits.
+if cmp -s "$work/ref-core.txt" "$work/ref-m7.txt"; then
+    echo "consumers: note: Cortex-M7 and host outputs are identical"
+else
+    echo "consumers: note: Cortex-M7 and host outputs differ in" \
+        "$(diff "$work/ref-core.txt" "$work/ref-m7.txt" | grep -c '^>' || true) lines (libm)"
+fi
+
+if [[ $failed != 0 ]]; then
+    echo "consumers: FAILED"
+    exit 1
+fi
+echo "consumers: OK"
