@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file main.c
 /// cdpr-bench: cost of the core's right-hand side and of one RKF45 step, against GSL's rkf45
 /// on the identical RHS, state and step (docs/performance.md).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file main.c
 /// cdpr-rt: the real-time plant node. Loads a scenario, initialises the robot at static
 /// equilibrium, then steps it in a periodic thread, publishing cabin state, cable tensions,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file main.c
 /// cdpr-settle: a single cable released from the straight line between two fixed points,
 /// settled to rest by the lumped-mass dynamics, compared with Irvine's elastic catenary.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file main.c
 /// cdpr-sim: run a scenario file (closed-loop tracking of a trajectory by the lumped-mass
 /// robot) and write DIR/timeseries.csv, DIR/summary.json and PNG figures (gnuplot).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file main.c
 /// cdpr-tracker: the example external tracking controller. A separate process that speaks only
 /// LCM: it subscribes to the plant's cabin state and cable tensions, follows the scenario's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file app_run.c
 /// Scenario, overrides and outputs of the scenario-running apps (app_run.h).
 #include "app_run.h"

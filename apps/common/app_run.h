@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file app_run.h
 /// What the scenario-running apps (cdpr-sim, cdpr-rt, cdpr-tracker) share: the override
 /// options (--rate, --duration, --max-trials, --max-attempts) applied to the scenario file by

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file app_status.c
 /// Status -> exit code (app_status.h).
 #include "app_status.h"

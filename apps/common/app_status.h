@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file app_status.h
 /// The apps' one table from library statuses (cdpr_status_t) to process exit codes. Libraries
 /// return statuses, never exit codes; every app ends with `return cdpr_app_exit_code(st);`.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file main.c
 /// Minimal bare-metal integration of the cdpr core: what a winch-controller firmware links and
 /// calls. Built only by the cortex-m7 and cortex-m4 presets; ctest runs it under QEMU.

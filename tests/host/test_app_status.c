@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_app_status.c
 /// The apps' one status -> exit-code table (apps/common/app_status.h) against its documented
 /// values, written out here independently: every status of cdpr/status.h, and an unknown one.

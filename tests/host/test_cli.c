@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_cli.c
 /// Command-line numbers (cli.h): the status of every kind of argument, *out only on success.
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_override.c
 /// Command-line overrides of a scenario's run settings (cdpr_scenario_override): a value that
 /// differs from the file prints one note, an equal one prints nothing, a value the scenario's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_results.c
 /// The result writers: timeseries.csv (header and row format, record.h) from a hand-made
 /// period, the statistics of the summary, summary.json written and read back, and write or

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file cabin.c
 /// Rigid-body cabin (docs/model.md "Cabin").
 #include "cdpr/cabin.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file cable.c
 /// Lumped-mass cable: node forces and the right-hand side of one cable (docs/model.md "One cable").
 #include "cdpr/cable.h"

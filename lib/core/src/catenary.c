@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file catenary.c
 /// Irvine's elastic catenary and its inverse (docs/model.md "Elastic catenary").
 #include "cdpr/catenary.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file check.h
 /// Internal validation helpers shared by the core's *_validate functions (not installed).
 #ifndef CDPR_CHECK_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file plant.c
 /// The plant, one control period at a time (plant.h).
 #include "cdpr/plant.h"

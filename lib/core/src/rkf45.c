@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file rkf45.c
 /// Runge-Kutta-Fehlberg 4(5) with step control (docs/model.md "Time integration").
 ///

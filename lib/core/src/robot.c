@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file robot.c
 /// Robot assembly: state layout, full RHS, outputs (docs/model.md "One cable", "Cabin", "Robot").
 #include "cdpr/robot.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file settle.c
 /// Kinetic-damping relaxation (see settle.h).
 #include "cdpr/settle.h"

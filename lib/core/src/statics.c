@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file statics.c
 /// Sag-aware statics and inverse kinematics (docs/model.md "Sag-aware inverse kinematics, with an
 /// external wrench"; see statics.h).

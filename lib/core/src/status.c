@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file status.c
 /// Status names and the diagnostic helper.
 #include "cdpr/status.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file vec3.c
 /// Vector, matrix and quaternion helpers (see vec3.h).
 #include "cdpr/vec3.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file winch.c
 /// Winch commands and node insertion/removal (docs/model.md "Winch and node events").
 #include "cdpr/winch.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file cli.c
 /// Command-line helpers (cli.h).
 #include "cdpr/host/cli.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file clock.c
 /// Wall-clock helper (clock.h).
 #include "cdpr/host/clock.h"

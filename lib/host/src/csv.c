@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file csv.c
 /// CSV writer (csv.h).
 #include "cdpr/host/csv.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file fs.c
 /// File-system helpers (fs.h).
 #include "cdpr/host/fs.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file plant.c
 /// The core plant built from a scenario (cdpr/host/plant.h).
 #include "cdpr/host/plant.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file plot.c
 /// gnuplot runner (plot.h).
 #include "cdpr/host/plot.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file presets.c
 /// The parameter sets A and B of docs/robots.md, which gives every value's tag and source.
 #include "cdpr/host/presets.h"

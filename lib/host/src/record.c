@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file record.c
 /// Recorder of a tracking run: CSV rows and summary statistics (record.h).
 #include "cdpr/host/record.h"

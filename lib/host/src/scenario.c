@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file scenario.c
 /// Scenario files through libcyaml: a schema of "raw" structs (optional keys are pointers, so
 /// absence is visible), resolved onto a preset, then checked key by key.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file sim.c
 /// Batch closed-loop run of a scenario (see sim.h).
 #include "cdpr/host/sim.h"

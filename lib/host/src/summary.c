@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file summary.c
 /// summary.json writer and reader, and the end-of-run block (summary.h).
 #include "cdpr/host/summary.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file tracker.c
 /// Sag-aware feed-forward (statics plus the d'Alembert load of the desired motion) plus pose
 /// feedback through the straight-cable Jacobian.

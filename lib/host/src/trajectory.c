@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file trajectory.c
 /// Circle, line and hold trajectories (docs/validation.md §8; scenario geometry in docs/robots.md).
 #include "cdpr/host/trajectory.h"

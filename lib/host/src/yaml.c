@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file yaml.c
 /// The libcyaml loader set-up (yaml.h).
 #include "cdpr/host/yaml.h"

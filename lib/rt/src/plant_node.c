@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file plant_node.c
 /// The real-time plant node (plant_node.h).
 #include "cdpr/rt/plant_node.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file tracker_node.c
 /// The tracking controller as an LCM node (tracker_node.h).
 #include "cdpr/rt/tracker_node.h"

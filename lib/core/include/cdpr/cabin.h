@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file cabin.h
 /// The cabin: a rigid body driven by the cable forces (docs/model.md "Cabin").
 ///

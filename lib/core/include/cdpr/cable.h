@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file cable.h
 /// One cable discretised by the lumped-mass method (docs/model.md "One cable", paper §3.1).
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file catenary.h
 /// Elastic catenary (Irvine, Cable Structures, 1981, §2.2): a uniform elastic cable hanging
 /// under its own weight between two points (docs/model.md "Elastic catenary").

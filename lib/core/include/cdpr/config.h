@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file config.h
 /// Compile-time configuration of the cdpr core: the real type and the capacities.
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file plant.h
 /// The plant: the lumped-mass robot, its integrator and its winches, stepped one control period
 /// at a time from winch commands, with rollback on failure. It is what a winch-controller

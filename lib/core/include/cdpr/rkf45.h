@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file rkf45.h
 /// Adaptive Runge-Kutta-Fehlberg 4(5) integrator over a generic f(t, y, dydt, ctx).
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file robot.h
 /// The cable robot: up to CDPR_MAX_CABLES lumped-mass cables between fixed pulley exit points
 /// and a rigid cabin (docs/model.md "Frames and geometry", "One cable", "Cabin", "Robot").

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file settle.h
 /// Relaxation of a robot state to its discrete static equilibrium by kinetic damping
 /// (dynamic relaxation, Barnes 1977 / Cundall): integrate the true equations of motion and,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file statics.h
 /// Sag-aware static equilibrium of the robot: inverse kinematics with elastic catenary cables,
 /// the forward problem, the massless straight-cable comparison, and the initial state on the

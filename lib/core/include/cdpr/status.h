@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file status.h
 /// One status enum for every library of the project, and the diagnostic that names the first
 /// bad field.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file vec3.h
 /// Small 3-vector, 3x3 matrix and unit-quaternion helpers.
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file winch.h
 /// Winches: payout-rate commands with speed/acceleration limits, and node insertion/removal
 /// at the pulley end of each cable (docs/model.md "Winch and node events", paper §3.2-3.3).

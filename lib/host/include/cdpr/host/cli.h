@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file cli.h
 /// Command-line helpers shared by the host apps (getopt_long does the parsing).
 #ifndef CDPR_HOST_CLI_H

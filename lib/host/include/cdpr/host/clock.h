@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file clock.h
 /// Wall-clock helper of the host tools (progress, run times; never the plant's time).
 #ifndef CDPR_HOST_CLOCK_H

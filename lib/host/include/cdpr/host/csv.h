@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file csv.h
 /// Minimal CSV writer for time series: a header row of column names, then rows of numbers
 /// printed with %.17g (round-trip exact, so two runs' files are byte-identical exactly when

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file fs.h
 /// File-system helpers of the host tools: create an output directory with its parents and
 /// build the path of a file in it.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file plant.h
 /// The plant of a scenario: builds the core's cdpr_plant_t (cdpr/plant.h) from a checked
 /// scenario, with errors that name the scenario key. The plant itself -- robot, integrator,

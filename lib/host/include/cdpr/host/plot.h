@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file plot.h
 /// The figures of a run: gnuplot run on a script (scripts/plot_sim.gp) without a shell.
 ///

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file presets.h
 /// Robot configurations of the project's parameter sets (docs/robots.md): the paper's
 /// reconstructed "50 m model" (set A) and a FAST-like full-scale robot (set B).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file record.h
 /// Recorder of a tracking run: timeseries.csv (header and one row per output period, columns
 /// in docs/scenarios.md, %.17g) and the error, tension and node statistics of the summary

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file scenario.h
 /// Scenario files: YAML mapped onto C structs by libcyaml's schema (no hand-written parser).
 ///

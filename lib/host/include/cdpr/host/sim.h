@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file sim.h
 /// Batch simulation of a scenario: the plant (lumped-mass robot, RKF45, winches, node events)
 /// closed by the tracking controller (tracker.h), with a CSV time series and a summary.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file summary.h
 /// The summary of a tracking run: what cdpr-sim, cdpr-tracker and cdpr-rt --with-tracker
 /// compute (record.h fills the statistics), write to summary.json, read back and print.

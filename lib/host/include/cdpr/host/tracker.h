@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file tracker.h
 /// Tracking controller: desired cabin trajectory -> winch payout-rate commands.
 ///

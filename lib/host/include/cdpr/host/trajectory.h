@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file trajectory.h
 /// Desired cabin trajectories of the scenarios (docs/validation.md §8): the paper's circle and
 /// line, and a hold. Poses are (x, y, z [m], α, β, γ [rad]) with R = Rz(γ) Ry(β) Rx(α).

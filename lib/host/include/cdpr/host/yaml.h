@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file yaml.h
 /// The one libcyaml set-up of the host library: configuration, a log callback that collects
 /// libcyaml's error lines, load and free. Used by the scenario loader (scenario.h) and the

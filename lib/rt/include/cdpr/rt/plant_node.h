@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file plant_node.h
 /// The real-time plant node (apps/cdpr-rt): the scenario's plant (plant.h) stepped by a
 /// periodic thread, publishing over LCM through the bridge (lcm_bridge.h), taking winch

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file tracker_node.h
 /// The tracking controller as an LCM node (apps/cdpr-tracker; also run in-process over
 /// memq:// by cdpr-rt --with-tracker). It speaks only LCM: it subscribes to the plant's
