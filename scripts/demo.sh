@@ -51,10 +51,10 @@ if [[ $multicast -eq 1 ]]; then
 fi
 if [[ $multicast -eq 1 ]]; then
     echo "two processes over $url; lcm-logger records to $out/circle.lcmlog"
-    "$bin/cdpr-tracker" "$scenario" --rate 1000 --lcm-url "$url" --out "$out" &
+    "$bin/cdpr-tracker" "$scenario" --rate 1000 --max-trials 50 --lcm-url "$url" --out "$out" &
     tracker=$!
     status=0
-    "$bin/cdpr-rt" "$scenario" --rate 1000 --lcm-url "$url" --start-delay 0.5 --realtime \
+    "$bin/cdpr-rt" "$scenario" --rate 1000 --max-trials 50 --lcm-url "$url" --start-delay 0.5 --realtime \
         || status=$?
     wait "$tracker" || status=$?
     sleep 0.2
@@ -64,7 +64,7 @@ if [[ $multicast -eq 1 ]]; then
 else
     echo "NOTE: UDP multicast unavailable ($why):"
     echo "      running plant and tracker in one process over memq:// instead"
-    "$bin/cdpr-rt" "$scenario" --rate 1000 --lcm-url memq:// --realtime --with-tracker \
+    "$bin/cdpr-rt" "$scenario" --rate 1000 --max-trials 50 --lcm-url memq:// --realtime --with-tracker \
         --tracker-out "$out"
 fi
 echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png"

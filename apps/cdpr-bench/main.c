@@ -4,7 +4,7 @@
 ///
 /// Prints three tables and the machine:
 ///   (a) ns per segment per cdpr_robot_rhs evaluation, 1 and 6 cables x {8, 16, 32, 64}
-///       segments, on the 50 m model (PARAMETERS.md set A) with taut cables and small random
+///       segments, on the 50 m model (docs/robots.md set A) with taut cables and small random
 ///       node velocities (every branch of the segment model is taken);
 ///   (b) one fixed-h RKF45 step: cdpr_rkf45_trial vs gsl_odeiv2_step_apply (both 6 RHS calls);
 ///   (c) adaptive stepping as users call it: cdpr_rkf45_step vs gsl_odeiv2_evolve_apply, per
@@ -23,16 +23,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <gsl/gsl_odeiv2.h>
 #include <gsl/gsl_version.h>
 
+#include "app_status.h"
+#include "cdpr/config.h"
 #include "cdpr/gsl/ref.h"
+#include "cdpr/host/clock.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
 
-#define DEG_TO_RAD (3.14159265358979323846 / 180.0)
+#define DEG_TO_RAD (CDPR_PI / 180.0)
 
 typedef struct {
     double min_time_s; /* each run repeats the operation for at least this long [s] */
@@ -59,7 +61,7 @@ static double lcg_uniform(void) /* in [-1, 1) */
     return (double)(lcg_state >> 11) * (2.0 / 9007199254740992.0) - 1.0;
 }
 
-/* PARAMETERS.md set A: exit points (25 cos th, 25 sin th, 30) m, th_j = (j-1) 60 deg; cabin at
+/* docs/robots.md set A: exit points (25 cos th, 25 sin th, 30) m, th_j = (j-1) 60 deg; cabin at
  * (0, 0, 9.135) m, level; attachments radius 2 m, z = -0.5 m, azimuths 25, 35, 145, 155, 265,
  * 275 deg; default cable (6 mm, 0.14 kg/m, EA 2e6 N, c 170 N s). Unstretched length = straight
  * distance / 1.002: every segment is stretched 0.2 % (taut, the tension branch is taken).
@@ -117,13 +119,6 @@ static int make_robot(int n_cables, int n_segments)
 /* ------------------------------------------------------------------------------------------ */
 /* Timing                                                                                      */
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* One timed operation: `reps` repetitions; returns the units of work done (for per-unit
  * times, e.g. accepted steps), or `reps` when each repetition is one unit. */
 typedef double (*bench_fn)(void *ctx, long reps);
@@ -138,9 +133,9 @@ static timing_t measure(bench_fn fn, void *ctx, const options_t *o)
     /* Calibrate: grow reps until one run lasts min_time (the growth also warms caches). */
     long reps = 1;
     for (;;) {
-        const double t0 = now_s();
+        const double t0 = cdpr_clock_now_s();
         (void)fn(ctx, reps);
-        const double dt = now_s() - t0;
+        const double dt = cdpr_clock_now_s() - t0;
         if (dt >= o->min_time_s) {
             break;
         }
@@ -152,9 +147,9 @@ static timing_t measure(bench_fn fn, void *ctx, const options_t *o)
     r.reps = reps;
     r.ns_per_unit = (double)INFINITY;
     for (int k = 0; k < o->runs; ++k) {
-        const double t0 = now_s();
+        const double t0 = cdpr_clock_now_s();
         const double units = fn(ctx, reps);
-        const double ns = 1e9 * (now_s() - t0) / units;
+        const double ns = 1e9 * (cdpr_clock_now_s() - t0) / units;
         if (ns < r.ns_per_unit) {
             r.ns_per_unit = ns;
         }
@@ -500,24 +495,25 @@ int main(int argc, char **argv)
             break;
         case 'h':
             usage(stdout);
-            return 0;
+            return cdpr_app_exit_code(CDPR_OK);
         default:
             usage(stderr);
-            return 2;
+            return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
         }
     }
     if (optind < argc) {
         fprintf(stderr, "cdpr-bench: unexpected argument '%s'\n", argv[optind]);
         usage(stderr);
-        return 2;
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
 
     printf("cdpr-bench: the cdpr core's RHS and RKF45 step vs GSL rkf45 on the same RHS\n");
     print_machine(&o);
     if (table_rhs(&o) != 0 || table_step(&o) != 0 || table_adaptive(&o) != 0) {
-        return 1;
+        /* A benchmark robot or integrator the core refused (the message says which). */
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
     printf("Allocation: the timed loops of our side call only cdpr_core, which references no\n"
            "allocator (core_symbols test); GSL's objects are allocated before timing.\n");
-    return 0;
+    return cdpr_app_exit_code(CDPR_OK);
 }

@@ -3,39 +3,37 @@
 /// equilibrium, then steps it in a periodic thread, publishing cabin state, cable tensions,
 /// cable shape and diagnostics over LCM and taking winch commands back (docs/realtime.md).
 ///
-/// Exit codes: 0 run completed, 1 stopped early (SIGINT/SIGTERM), 2 bad command line or
-/// scenario, 3 LCM or thread start-up failure.
-#include <errno.h>
+/// The run settings are the scenario's (run.period_s, run.duration_s, integrator.max_trials,
+/// integrator.max_attempts); --rate, --duration, --max-trials and --max-attempts override
+/// them, each with a note on stderr when it changes the file's value.
+///
+/// Exit codes (the apps' one table, app_status.h): 0 run completed, 1 stopped early
+/// (SIGINT/SIGTERM), 2 bad command line or scenario, 3 LCM, thread or output failure (also:
+/// the scenario file cannot be read).
 #include <getopt.h>
-#include <signal.h>
+#include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "cdpr/rt/plant_node.h"
+#include "app_run.h"
+#include "app_status.h"
 #include "cdpr/host/cli.h"
-#include "cdpr/rt/tracker_node.h"
 #include "cdpr/host/scenario.h"
+#include "cdpr/rt/plant_node.h"
+#include "cdpr/rt/tracker_node.h"
 
 #ifndef CDPR_SOURCE_DIR
 #define CDPR_SOURCE_DIR "."
 #endif
-
-enum { EXIT_STOPPED = 1, EXIT_USAGE = 2, EXIT_START = 3 };
-
-static volatile int g_stop = 0;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    g_stop = 1;
-}
 
 typedef struct {
     const char *scenario;
     const char *tracker_out;
     int with_tracker;
     int quiet;
+    cdpr_scenario_overrides_t ov;
     cdpr_rt_opts_t rt;
 } options_t;
 
@@ -46,15 +44,20 @@ static void usage(FILE *f)
             "Real-time plant node: the scenario's robot (settled at its initial pose) stepped\n"
             "by a periodic thread; publishes <prefix>CABIN_STATE, CABLE_TENSIONS, CABLE_SHAPE,\n"
             "DIAGNOSTICS and takes <prefix>WINCH_COMMAND (docs/realtime.md).\n\n"
-            "  --rate HZ              control rate (default 1000)\n"
-            "  --duration S           plant time to run (default: the scenario's run.duration_s)\n"
+            "  --rate HZ              control rate (default: 1 / the scenario's run.period_s)\n"
+            "  --duration S           plant time to run, a whole number of periods (default:\n"
+            "                         the scenario's run.duration_s)\n"
             "  --lockstep             step only when the command answering the last state came\n"
             "                         (deterministic: bit-identical to the in-process loop)\n"
             "  --lockstep-timeout S   lockstep: hold after waiting S for an answer (default 2)\n"
             "  --realtime             SCHED_FIFO + mlockall when permitted (else says why and\n"
             "                         runs SCHED_OTHER)\n"
             "  --priority N           SCHED_FIFO priority 1..99 (default 80)\n"
-            "  --max-trials N         RKF45 trials per period, the work bound (default 50)\n"
+            "  --max-trials N         RKF45 trials per attempt (default: the scenario's\n"
+            "                         integrator.max_trials)\n"
+            "  --max-attempts N       attempts per period; the work bound of a period is\n"
+            "                         max-attempts x max-trials (default: the scenario's\n"
+            "                         integrator.max_attempts)\n"
             "  --watchdog S           no valid command for S -> winches hold (default 0.1)\n"
             "  --start-delay S        free-running: wait S before the first period (default 0)\n"
             "  --lcm-url URL          LCM provider (default: liblcm's, i.e. $LCM_DEFAULT_URL or\n"
@@ -67,18 +70,16 @@ static void usage(FILE *f)
             "  --quiet                no telemetry summary\n"
             "  --help                 this text\n\n"
             "exit codes: 0 completed, 1 stopped by a signal, 2 bad command line or scenario,\n"
-            "            3 LCM/thread start-up failure\n");
+            "            3 LCM/thread start-up or output failure, unreadable scenario\n");
 }
 
 static int parse(int argc, char **argv, options_t *o)
 {
-    static const struct option longopts[] = {{"rate", required_argument, NULL, 'r'},
-                                             {"duration", required_argument, NULL, 'd'},
+    static const struct option longopts[] = {CDPR_APP_OVERRIDE_OPTIONS,
                                              {"lockstep", no_argument, NULL, 'l'},
                                              {"lockstep-timeout", required_argument, NULL, 'L'},
                                              {"realtime", no_argument, NULL, 'R'},
                                              {"priority", required_argument, NULL, 'P'},
-                                             {"max-trials", required_argument, NULL, 'm'},
                                              {"watchdog", required_argument, NULL, 'w'},
                                              {"start-delay", required_argument, NULL, 's'},
                                              {"lcm-url", required_argument, NULL, 'u'},
@@ -91,39 +92,37 @@ static int parse(int argc, char **argv, options_t *o)
     int c;
     double v = 0.0;
     while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        const int ov = cdpr_app_override_opt("cdpr-rt", c, optarg, &o->ov);
+        if (ov != 0) {
+            if (ov < 0) {
+                return -1;
+            }
+            continue;
+        }
         int bad = 0;
         switch (c) {
-        case 'r':
-            bad = cdpr_cli_number("cdpr-rt", "rate", optarg, 1.0, 100000.0, &o->rt.rate_hz);
-            break;
-        case 'd':
-            bad = cdpr_cli_number("cdpr-rt", "duration", optarg, 1e-6, 1e7, &o->rt.duration_s);
-            break;
         case 'l':
             o->rt.lockstep = 1;
             break;
         case 'L':
-            bad = cdpr_cli_number("cdpr-rt", "lockstep-timeout", optarg, 1e-3, 3600.0,
-                                  &o->rt.lockstep_timeout_s);
+            bad = (int)cdpr_cli_real("cdpr-rt", "lockstep-timeout", optarg,
+                                     &o->rt.lockstep_timeout_s);
             break;
         case 'R':
             o->rt.realtime = 1;
             break;
         case 'P':
-            bad = cdpr_cli_number("cdpr-rt", "priority", optarg, 1.0, 99.0, &v);
+            /* Whole and within an int here; its range is cdpr_rt_init's. */
+            bad = (int)cdpr_cli_number("cdpr-rt", "priority", optarg, (double)INT_MIN,
+                                       (double)INT_MAX, &v);
+            bad = (bad == 0 && floor(v) < v) ? 1 : bad;
             o->rt.rt_priority = (int)v;
             break;
-        case 'm':
-            bad = cdpr_cli_number("cdpr-rt", "max-trials", optarg, 1.0, 1e6, &v);
-            o->rt.max_trials = (int)v;
-            break;
         case 'w':
-            bad = cdpr_cli_number("cdpr-rt", "watchdog", optarg, 1e-4, 3600.0,
-                                  &o->rt.lcm.watchdog_timeout_s);
+            bad = (int)cdpr_cli_real("cdpr-rt", "watchdog", optarg, &o->rt.lcm.watchdog_timeout_s);
             break;
         case 's':
-            bad = cdpr_cli_number("cdpr-rt", "start-delay", optarg, 0.0, 3600.0,
-                                  &o->rt.start_delay_s);
+            bad = (int)cdpr_cli_real("cdpr-rt", "start-delay", optarg, &o->rt.start_delay_s);
             break;
         case 'u':
             o->rt.lcm.url = optarg;
@@ -179,27 +178,74 @@ static int tracker_open(lcm_t *lcm, void *ctx)
     return cdpr_rt_tracker_attach(t, lcm);
 }
 
+/* The in-process tracker on the bridge thread, recording what it sees. */
+static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc)
+{
+    const cdpr_tracker_gains_t g = sc->gains;
+    const double period_s = g_rt.plant.pp.period_s;
+    cdpr_diag_t d;
+    const cdpr_status_t st =
+        cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch, &sc->traj, &g,
+                             period_s, o->rt.lcm.channel_prefix, &d);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-rt: tracker: field '%s': %s\n", d.field, cdpr_status_str(st));
+        return st;
+    }
+    g_tracker.answer_in_handler = 1;
+    g_record.traj = &sc->traj;
+    g_record.period_s = period_s;
+    cdpr_scenario_error_t err;
+    const cdpr_status_t rs = cdpr_sim_rec_open(&g_record.rec, sc, o->tracker_out,
+                                               g_rt.plant.robot.p.n_cables, &g_tracker_sum, &err);
+    if (rs != CDPR_OK) {
+        fprintf(stderr, "cdpr-rt: %s\n", err.msg);
+        return rs;
+    }
+    g_tracker.on_step = cdpr_rt_tracker_record_step;
+    g_tracker.on_step_ctx = &g_record;
+    return CDPR_OK;
+}
+
+/* The in-process tracker's summary and outputs. CDPR_OK or CDPR_E_IO. */
+static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *sc)
+{
+    cdpr_status_t st = cdpr_sim_rec_close(&g_record.rec);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-rt: %s/timeseries.csv: write error\n", o->tracker_out);
+    }
+    g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
+    g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
+    g_tracker_sum.node_insertions = g_rt.tel.node_insertions;
+    g_tracker_sum.node_removals = g_rt.tel.node_removals;
+    g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
+    g_tracker_sum.status = CDPR_SIM_OK;
+    snprintf(g_tracker_sum.message, sizeof g_tracker_sum.message, "%llu commands",
+             (unsigned long long)g_tracker.stats.answered);
+    if (o->quiet == 0) {
+        cdpr_sim_print_summary(stdout, "in-process tracker", &g_tracker_sum);
+    }
+    if (o->tracker_out != NULL && st == CDPR_OK) {
+        st = cdpr_app_write_outputs("cdpr-rt", sc, o->tracker_out, &g_tracker_sum,
+                                    CDPR_SOURCE_DIR "/scripts/plot_sim.gp");
+    }
+    return st;
+}
+
 int main(int argc, char **argv)
 {
     options_t o;
     memset(&o, 0, sizeof o);
     cdpr_rt_opts_default(&o.rt);
+    cdpr_scenario_overrides_none(&o.ov);
     if (parse(argc, argv, &o) != 0) {
-        return EXIT_USAGE;
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
     cdpr_scenario_t sc;
-    cdpr_scenario_error_t err;
-    if (cdpr_scenario_load(o.scenario, &sc, &err) != 0) {
-        fprintf(stderr, "cdpr-rt: %s\n", err.msg);
-        return EXIT_USAGE;
+    cdpr_status_t st = cdpr_app_scenario("cdpr-rt", o.scenario, &o.ov, &sc);
+    if (st != CDPR_OK) {
+        return cdpr_app_exit_code(st);
     }
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    (void)sigaction(SIGINT, &sa, NULL);
-    (void)sigaction(SIGTERM, &sa, NULL);
-    o.rt.stop = &g_stop;
+    o.rt.stop = cdpr_app_stop_on_signals();
     if (o.with_tracker != 0) {
         o.rt.lcm.on_open = tracker_open;
         o.rt.lcm.on_open_ctx = &g_tracker;
@@ -207,73 +253,32 @@ int main(int argc, char **argv)
     if (o.quiet == 0) {
         fprintf(stderr, "cdpr-rt: %s: settling the initial state...\n", o.scenario);
     }
-    int rc = cdpr_rt_init(&g_rt, &sc, &o.rt, &err);
-    if (rc != 0) {
+    cdpr_scenario_error_t err;
+    st = cdpr_rt_init(&g_rt, &sc, &o.rt, &err);
+    if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
-        return EXIT_USAGE;
+        return cdpr_app_exit_code(st);
     }
-    if (o.with_tracker != 0) {
-        const cdpr_tracker_gains_t g = sc.gains;
-        const double period_s = g_rt.plant.pp.period_s;
-        cdpr_diag_t d;
-        const cdpr_status_t st =
-            cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch, &sc.traj, &g,
-                                 period_s, o.rt.lcm.channel_prefix, &d);
-        if (st != CDPR_OK) {
-            fprintf(stderr, "cdpr-rt: tracker: field '%s': %s\n", d.field, cdpr_status_str(st));
-            return EXIT_USAGE;
-        }
-        g_tracker.answer_in_handler = 1;
-        g_record.traj = &sc.traj;
-        g_record.period_s = period_s;
-        if (cdpr_sim_rec_open(&g_record.rec, &sc, o.tracker_out, g_rt.plant.robot.p.n_cables,
-                              g_rt.o.duration_s, &g_tracker_sum, &err) != 0) {
-            fprintf(stderr, "cdpr-rt: %s\n", err.msg);
-            return EXIT_USAGE;
-        }
-        g_tracker.on_step = cdpr_rt_tracker_record_step;
-        g_tracker.on_step_ctx = &g_record;
+    if (o.with_tracker != 0 && (st = tracker_setup(&o, &sc)) != CDPR_OK) {
+        return cdpr_app_exit_code(st);
     }
     if (o.quiet == 0) {
-        fprintf(stderr, "cdpr-rt: running %.3g s at %.0f Hz (%s) on %s\n", g_rt.o.duration_s,
-                g_rt.o.rate_hz, (g_rt.o.lockstep != 0) ? "lockstep" : "free-running",
+        fprintf(stderr, "cdpr-rt: running %.3g s at %.0f Hz, %d x %d trials (%s) on %s\n",
+                sc.duration_s, 1.0 / sc.period_s, sc.integrator.max_attempts,
+                sc.integrator.max_trials, (g_rt.o.lockstep != 0) ? "lockstep" : "free-running",
                 (o.rt.lcm.url != NULL) ? o.rt.lcm.url : "liblcm's default URL");
     }
-    rc = cdpr_rt_run(&g_rt, &err);
-    if (rc == 3) {
+    st = cdpr_rt_run(&g_rt, &err);
+    if (st == CDPR_E_IO) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
-        return EXIT_START;
+        return cdpr_app_exit_code(st);
     }
     if (o.quiet == 0) {
         cdpr_rt_print_summary(&g_rt, stdout);
     }
     if (o.with_tracker != 0) {
-        (void)cdpr_sim_rec_close(&g_record.rec);
-        g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
-        g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
-        g_tracker_sum.node_insertions = g_rt.tel.node_insertions;
-        g_tracker_sum.node_removals = g_rt.tel.node_removals;
-        g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
-        g_tracker_sum.status = CDPR_SIM_OK;
-        if (o.quiet == 0) {
-            printf("in-process tracker: %llu commands; tracking error rms %.4g m, max %.4g m, "
-                   "final %.4g m; tensions %.4g .. %.4g N\n",
-                   (unsigned long long)g_tracker.stats.answered, g_tracker_sum.rms_error_m,
-                   g_tracker_sum.max_error_m, g_tracker_sum.final_error_m,
-                   g_tracker_sum.min_tension_N, g_tracker_sum.max_tension_N);
-        }
-        if (o.tracker_out != NULL) {
-            char path[1100];
-            snprintf(path, sizeof path, "%s/summary.json", o.tracker_out);
-            if (cdpr_sim_write_summary(path, &sc, &g_tracker_sum) != 0) {
-                fprintf(stderr, "cdpr-rt: %s: cannot write\n", path);
-            }
-            const char *kind = (sc.traj.type == CDPR_TRAJ_CIRCLE)
-                                   ? "circle"
-                                   : ((sc.traj.type == CDPR_TRAJ_LINE) ? "line" : "hold");
-            (void)cdpr_sim_plot("cdpr-rt", CDPR_SOURCE_DIR "/scripts/plot_sim.gp", o.tracker_out,
-                                kind, (sc.description[0] != '\0') ? sc.description : o.scenario);
-        }
+        const cdpr_status_t ts = tracker_finish(&o, &sc);
+        st = (st == CDPR_OK) ? ts : st;
     }
-    return (rc == 1) ? EXIT_STOPPED : 0;
+    return cdpr_app_exit_code(st);
 }

@@ -11,10 +11,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <time.h>
 
+#include "app_status.h"
 #include "cdpr/catenary.h"
+#include "cdpr/host/cli.h"
+#include "cdpr/host/clock.h"
+#include "cdpr/host/fs.h"
 #include "cdpr/robot.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/settle.h"
@@ -63,19 +65,6 @@ static void usage(FILE *f)
                "  --help            this text\n");
 }
 
-static int parse_double(const char *s, const char *name, double *out)
-{
-    char *end = NULL;
-    errno = 0;
-    const double v = strtod(s, &end);
-    if (errno != 0 || end == s || *end != '\0' || !isfinite(v)) {
-        fprintf(stderr, "cdpr-settle: --%s: not a finite number: '%s'\n", name, s);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
 static int parse_segments(const char *s, options_t *o)
 {
     char buf[128];
@@ -113,19 +102,19 @@ static int parse(int argc, char **argv, options_t *o)
             o->out_dir = optarg;
             break;
         case 'L':
-            rc = parse_double(optarg, "length", &o->length_m);
+            rc = (int)cdpr_cli_real("cdpr-settle", "length", optarg, &o->length_m);
             break;
         case 's':
-            rc = parse_double(optarg, "span", &o->span_m);
+            rc = (int)cdpr_cli_real("cdpr-settle", "span", optarg, &o->span_m);
             break;
         case 'H':
-            rc = parse_double(optarg, "height", &o->height_m);
+            rc = (int)cdpr_cli_real("cdpr-settle", "height", optarg, &o->height_m);
             break;
         case 'e':
-            rc = parse_double(optarg, "ea", &o->ea_N);
+            rc = (int)cdpr_cli_real("cdpr-settle", "ea", optarg, &o->ea_N);
             break;
         case 'r':
-            rc = parse_double(optarg, "rho", &o->rho_kg_per_m);
+            rc = (int)cdpr_cli_real("cdpr-settle", "rho", optarg, &o->rho_kg_per_m);
             break;
         case 'n':
             rc = parse_segments(optarg, o);
@@ -148,29 +137,6 @@ static int parse(int argc, char **argv, options_t *o)
     return 0;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int mkdir_p(const char *dir)
-{
-    char buf[512];
-    snprintf(buf, sizeof buf, "%s", dir);
-    for (char *p = buf + 1; *p != '\0'; ++p) {
-        if (*p == '/') {
-            *p = '\0';
-            if (mkdir(buf, 0775) != 0 && errno != EEXIST) {
-                return -1;
-            }
-            *p = '/';
-        }
-    }
-    return (mkdir(buf, 0775) != 0 && errno != EEXIST) ? -1 : 0;
-}
-
 /* Build the robot: one cable from the held "cabin" point A = origin to the fixed point B. */
 static int build(const options_t *o, int n, cdpr_diag_t *d)
 {
@@ -187,21 +153,22 @@ static int build(const options_t *o, int n, cdpr_diag_t *d)
     return cdpr_robot_init(&robot, &p, d);
 }
 
-static int run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, double H, double va,
-               result_t *res, FILE *csv)
+static cdpr_status_t run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, double H,
+                         double va, result_t *res, FILE *csv)
 {
     cdpr_diag_t d;
     if (build(o, n, &d) != CDPR_OK) {
         fprintf(stderr, "cdpr-settle: invalid parameter %s: %s\n", d.field,
                 cdpr_status_str(d.status));
-        return -1;
+        return d.status;
     }
     cdpr_cabin_motion_t m;
     memset(&m, 0, sizeof m);
     m.q.w = 1.0;
-    if (cdpr_robot_place_straight(&robot, &m, y) != CDPR_OK) {
+    const cdpr_status_t ps = cdpr_robot_place_straight(&robot, &m, y);
+    if (ps != CDPR_OK) {
         fprintf(stderr, "cdpr-settle: the two end points coincide\n");
-        return -1;
+        return ps;
     }
     const int dim = cdpr_robot_state_dim(&robot);
     cdpr_rkf45_params_t sp;
@@ -212,18 +179,18 @@ static int run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, doub
     if (cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),
                         CDPR_ROBOT_STATE_MAX, dim, &d) != CDPR_OK) {
         fprintf(stderr, "cdpr-settle: solver: %s (%s)\n", cdpr_status_str(d.status), d.field);
-        return -1;
+        return d.status;
     }
     cdpr_settle_t cfg;
     cdpr_settle_default(&cfg);
     cfg.acc_tol_m_per_s2 = 1e-6;
-    const double t0 = now_s();
+    const double t0 = cdpr_clock_now_s();
     const cdpr_status_t st = cdpr_settle_robot(&robot, &solver, y, scratch, &cfg);
-    res->wall_s = now_s() - t0;
+    res->wall_s = cdpr_clock_now_s() - t0;
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-settle: N=%d did not settle: %s (max acceleration %.3g m/s^2)\n", n,
                 cdpr_status_str(st), cfg.max_acc_m_per_s2);
-        return -1;
+        return st;
     }
     res->n = n;
     res->steps = cfg.steps;
@@ -301,18 +268,18 @@ static int run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, doub
         const double fz = -T * dz / len - wb;
         res->t_b_N = hypot(fx, fz);
     }
-    return 0;
+    return CDPR_OK;
 }
 
 int main(int argc, char **argv)
 {
     options_t o = {100.0, 80.0, 10.0, 2.0e4, 0.14, "out/settle", {8, 16, 32, 64}, 4};
     if (parse(argc, argv, &o) != 0) {
-        return 2;
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
-    if (mkdir_p(o.out_dir) != 0) {
+    if (cdpr_fs_mkdir_p(o.out_dir) != CDPR_OK) {
         fprintf(stderr, "cdpr-settle: cannot create '%s': %s\n", o.out_dir, strerror(errno));
-        return 1;
+        return cdpr_app_exit_code(CDPR_E_IO);
     }
     /* The closed form: Irvine's elastic catenary through the same two points. */
     const cdpr_catenary_cable_t cat = {o.rho_kg_per_m * 9.80665, o.ea_N};
@@ -320,10 +287,12 @@ int main(int argc, char **argv)
     cdpr_catenary_solver_default(&cs);
     cdpr_real_t H = 0.0;
     cdpr_real_t va = 0.0;
-    if (cdpr_catenary_solve(&cat, o.span_m, o.height_m, o.length_m, &cs, &H, &va) != CDPR_OK) {
+    const cdpr_status_t cst =
+        cdpr_catenary_solve(&cat, o.span_m, o.height_m, o.length_m, &cs, &H, &va);
+    if (cst != CDPR_OK) {
         fprintf(stderr, "cdpr-settle: catenary did not converge (residual %.3g m)\n",
                 cs.residual_m);
-        return 1;
+        return cdpr_app_exit_code(cst);
     }
     const double vb = va + cat.w_N_per_m * o.length_m;
     const double ta = hypot(H, va);
@@ -348,11 +317,12 @@ int main(int argc, char **argv)
     const double sag_cat = 0.5 * o.height_m - zm;
 
     char path[600];
-    snprintf(path, sizeof path, "%s/nodes.csv", o.out_dir);
-    FILE *csv = fopen(path, "w");
+    FILE *csv = (cdpr_fs_path(path, sizeof path, o.out_dir, "nodes.csv") == CDPR_OK)
+                    ? fopen(path, "w")
+                    : NULL;
     if (csv == NULL) {
         fprintf(stderr, "cdpr-settle: cannot write '%s': %s\n", path, strerror(errno));
-        return 1;
+        return cdpr_app_exit_code(CDPR_E_IO);
     }
     fprintf(csv, "segments,node,s_m,x_m,z_m,x_catenary_m,z_catenary_m\n");
 
@@ -362,13 +332,13 @@ int main(int argc, char **argv)
     printf("%8s %12s %12s %12s %12s %9s %9s %8s\n", "segments", "sag [m]", "T_A [N]", "T_B [N]",
            "max dev [m]", "steps", "sim [s]", "wall [s]");
     printf("%8s %12.6f %12.6f %12.6f %12s\n", "Irvine", sag_cat, ta, tb, "-");
-    int rc = 0;
+    cdpr_status_t rc = CDPR_OK;
     result_t prev;
     memset(&prev, 0, sizeof prev);
     for (int k = 0; k < o.n_runs; ++k) {
         result_t r;
-        if (run(&o, o.segments[k], &cat, H, va, &r, csv) != 0) {
-            rc = 1;
+        rc = run(&o, o.segments[k], &cat, H, va, &r, csv);
+        if (rc != CDPR_OK) {
             break;
         }
         printf("%8d %12.6f %12.6f %12.6f %12.3e %9ld %9.1f %8.2f\n", r.n, r.sag_m, r.t_a_N, r.t_b_N,
@@ -376,7 +346,7 @@ int main(int argc, char **argv)
         prev = r;
     }
     fclose(csv);
-    if (rc == 0 && prev.n > 0) {
+    if (rc == CDPR_OK && prev.n > 0) {
         printf("\nfinest run (N=%d) vs closed form: sag %+.2e m (%.4f %%), T_A %+.2e N "
                "(%.4f %%), T_B %+.2e N (%.4f %%)\n",
                prev.n, prev.sag_m - sag_cat, 100.0 * (prev.sag_m - sag_cat) / sag_cat,
@@ -384,5 +354,5 @@ int main(int argc, char **argv)
                100.0 * (prev.t_b_N - tb) / tb);
         printf("node positions: %s\n", path);
     }
-    return rc;
+    return cdpr_app_exit_code(rc);
 }

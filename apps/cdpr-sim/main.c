@@ -2,30 +2,31 @@
 /// cdpr-sim: run a scenario file (closed-loop tracking of a trajectory by the lumped-mass
 /// robot) and write DIR/timeseries.csv, DIR/summary.json and PNG figures (gnuplot).
 ///
-/// Exit codes: 0 run completed (also with warnings, see summary.json "status"), 1 the
-/// simulation stopped early, 2 bad command line or bad scenario, 3 output error.
-#include <errno.h>
+/// Exit codes (the apps' one table, app_status.h): 0 run completed (also with warnings, see
+/// summary.json "status"), 1 the simulation stopped early, 2 bad command line or bad
+/// scenario, 3 output error (also: the scenario file cannot be read).
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-#include "cdpr/host/cli.h"
+#include "app_run.h"
+#include "app_status.h"
+#include "cdpr/host/plot.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sim.h"
+#include "cdpr/host/trajectory.h"
 
 #ifndef CDPR_SOURCE_DIR
 #define CDPR_SOURCE_DIR "."
 #endif
 
-enum { EXIT_RUN_FAILED = 1, EXIT_USAGE = 2, EXIT_OUTPUT = 3 };
-
 typedef struct {
     const char *scenario;
     const char *out_dir;
     const char *plot_script;
-    double duration_s;
+    cdpr_scenario_overrides_t ov;
     int plot;
     int progress; /* -1 auto (a tty), 0 off, 1 forced */
     int quiet;
@@ -42,34 +43,40 @@ static void usage(FILE *f)
             "(error per coordinate otherwise), and tensions.png. See docs/scenarios.md.\n\n"
             "  --out DIR           output directory (created if missing; required)\n"
             "  --duration S        simulate S seconds instead of run.duration_s (tests and\n"
-            "                      quick looks; S must be a whole number of control periods)\n"
+            "                      quick looks; S must be a whole number of run.period_s)\n"
             "  --no-plot           do not run gnuplot\n"
             "  --plot-script FILE  gnuplot script (default %s/scripts/plot_sim.gp)\n"
             "  --progress          progress on stderr even when it is not a terminal\n"
             "  --quiet             no progress and no summary on stdout\n"
             "  --help              this text\n\n"
             "exit codes: 0 run completed (status ok or warnings), 1 simulation stopped early,\n"
-            "            2 bad command line or scenario, 3 output error\n",
+            "            2 bad command line or scenario, 3 output error or unreadable scenario\n",
             CDPR_SOURCE_DIR);
 }
 
 static int parse(int argc, char **argv, options_t *o)
 {
     static const struct option longopts[] = {
-        {"out", required_argument, NULL, 'o'}, {"duration", required_argument, NULL, 'd'},
-        {"no-plot", no_argument, NULL, 'n'},   {"plot-script", required_argument, NULL, 's'},
-        {"progress", no_argument, NULL, 'p'},  {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},      {NULL, 0, NULL, 0}};
+        {"out", required_argument, NULL, 'o'},
+        {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},
+        {"no-plot", no_argument, NULL, 'n'},
+        {"plot-script", required_argument, NULL, 's'},
+        {"progress", no_argument, NULL, 'p'},
+        {"quiet", no_argument, NULL, 'q'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0}};
     int c;
     while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        const int ov = cdpr_app_override_opt("cdpr-sim", c, optarg, &o->ov);
+        if (ov != 0) {
+            if (ov < 0) {
+                return -1;
+            }
+            continue;
+        }
         switch (c) {
         case 'o':
             o->out_dir = optarg;
-            break;
-        case 'd':
-            if (cdpr_cli_number("cdpr-sim", "duration", optarg, 1e-9, 1e6, &o->duration_s) != 0) {
-                return -1;
-            }
             break;
         case 'n':
             o->plot = 0;
@@ -108,41 +115,36 @@ static int parse(int argc, char **argv, options_t *o)
     return 0;
 }
 
-static void print_summary(const options_t *o, const cdpr_sim_summary_t *s)
+/* Where the figures are, by trajectory type (scripts/plot_sim.gp). */
+static void print_figures(const char *dir, cdpr_traj_type_t type)
 {
-    printf("%s: %s%s%s\n", o->scenario, cdpr_sim_status_name(s->status),
-           (s->message[0] != '\0') ? " - " : "", s->message);
-    printf("  tracking error  rms %.4g m, max %.4g m, final %.4g m (initial %.4g m); "
-           "attitude rms %.1f mrad, max %.1f mrad\n",
-           s->rms_error_m, s->max_error_m, s->final_error_m, s->initial_error_m,
-           1e3 * s->rms_error_rad, 1e3 * s->max_error_rad);
-    printf("  tensions        %.4g .. %.4g N;  payout |u| <= %.3g m/s\n", s->min_tension_N,
-           s->max_tension_N, s->max_payout_m_per_s);
-    printf("  node events     %lu insertions, %lu removals (segments %d..%d per cable)\n",
-           s->node_insertions, s->node_removals, s->nodes_min, s->nodes_max);
-    printf("  integrator      %lu steps, %lu rejected, %lu substep-limit periods, "
-           "%lu IK failures\n",
-           s->steps_accepted, s->steps_rejected, s->substep_limit_hits, s->ik_failures);
-    printf("  time            %.3g s simulated in %.3g s wall (settling %.3g s)\n", s->sim_time_s,
-           s->wall_time_s, s->settle_wall_time_s);
+    if (type == CDPR_TRAJ_CIRCLE) {
+        printf("  figures         %s/figure4.png, %s/errors.png, %s/tensions.png\n", dir, dir, dir);
+    } else {
+        printf("  figures         %s/%s, %s/tensions.png\n", dir,
+               (type == CDPR_TRAJ_LINE) ? "figure5.png" : "errors.png", dir);
+    }
 }
 
 int main(int argc, char **argv)
 {
-    options_t o = {NULL, NULL, CDPR_SOURCE_DIR "/scripts/plot_sim.gp", 0.0, 1, -1, 0};
+    options_t o;
+    memset(&o, 0, sizeof o);
+    o.plot_script = CDPR_SOURCE_DIR "/scripts/plot_sim.gp";
+    o.plot = 1;
+    o.progress = -1;
+    cdpr_scenario_overrides_none(&o.ov);
     if (parse(argc, argv, &o) != 0) {
-        return EXIT_USAGE;
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
     cdpr_scenario_t sc;
-    cdpr_scenario_error_t err;
-    if (cdpr_scenario_load(o.scenario, &sc, &err) != 0) {
-        fprintf(stderr, "cdpr-sim: %s\n", err.msg);
-        return EXIT_USAGE;
+    const cdpr_status_t ls = cdpr_app_scenario("cdpr-sim", o.scenario, &o.ov, &sc);
+    if (ls != CDPR_OK) {
+        return cdpr_app_exit_code(ls);
     }
     cdpr_sim_opts_t so;
     cdpr_sim_opts_default(&so);
     so.out_dir = o.out_dir;
-    so.duration_s = o.duration_s;
     so.progress_stream = stderr;
     if (o.quiet == 0) {
         const int tty = isatty(STDERR_FILENO);
@@ -150,34 +152,27 @@ int main(int argc, char **argv)
         so.progress = (tty != 0) ? 1 : ((o.progress > 0) ? 2 : 0);
     }
     cdpr_sim_summary_t sum;
-    const int rc = cdpr_sim_run(&sc, &so, &sum, &err);
-    if (rc == 2 || rc == 3) {
+    cdpr_scenario_error_t err;
+    err.msg[0] = '\0';
+    const cdpr_status_t st = cdpr_sim_run(&sc, &so, &sum, &err);
+    if (st != CDPR_OK && err.msg[0] != '\0') { /* could not start, or an output error */
         fprintf(stderr, "cdpr-sim: %s\n", err.msg);
-        return (rc == 2) ? EXIT_USAGE : EXIT_OUTPUT;
+        return cdpr_app_exit_code(st);
     }
-    if (rc == 1) {
+    if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-sim: %s: simulation stopped early: %s\n", o.scenario, sum.message);
     }
-    int plotted = -1;
-    const char *kind = (sc.traj.type == CDPR_TRAJ_CIRCLE)
-                           ? "circle"
-                           : ((sc.traj.type == CDPR_TRAJ_LINE) ? "line" : "hold");
+    cdpr_status_t plotted = CDPR_E_IO;
     if (o.plot != 0) {
-        plotted = cdpr_sim_plot("cdpr-sim", o.plot_script, o.out_dir, kind,
-                                (sc.description[0] != '\0') ? sc.description : o.scenario);
+        plotted = cdpr_sim_plot("cdpr-sim", o.plot_script, o.out_dir,
+                                cdpr_traj_type_name(sc.traj.type), cdpr_app_title(&sc));
     }
     if (o.quiet == 0) {
-        print_summary(&o, &sum);
+        cdpr_sim_print_summary(stdout, o.scenario, &sum);
         printf("  outputs         %s/timeseries.csv, %s/summary.json\n", o.out_dir, o.out_dir);
-        if (plotted == 0) {
-            if (sc.traj.type == CDPR_TRAJ_CIRCLE) {
-                printf("  figures         %s/figure4.png, %s/errors.png, %s/tensions.png\n",
-                       o.out_dir, o.out_dir, o.out_dir);
-            } else {
-                printf("  figures         %s/%s, %s/tensions.png\n", o.out_dir,
-                       (sc.traj.type == CDPR_TRAJ_LINE) ? "figure5.png" : "errors.png", o.out_dir);
-            }
+        if (plotted == CDPR_OK) {
+            print_figures(o.out_dir, sc.traj.type);
         }
     }
-    return (rc == 1) ? EXIT_RUN_FAILED : 0;
+    return cdpr_app_exit_code(st);
 }

@@ -5,50 +5,36 @@
 /// rate commands answering each state (docs/realtime.md). With --out it writes what it saw in
 /// cdpr-sim's format (timeseries.csv, summary.json, figures).
 ///
-/// Exit codes: 0 finished (answered the state at the end of the run), 1 stopped by a signal
-/// or by silence (no state for --idle-exit seconds), 2 bad command line or scenario, 3 LCM
-/// failure or output error.
+/// The control period and run length are the scenario's (run.period_s, run.duration_s);
+/// --rate and --duration override them (and --max-trials, --max-attempts, which only the
+/// plant uses: pass cdpr-rt's overrides so both read the same scenario), each with a note on
+/// stderr when it changes the file's value.
+///
+/// Exit codes (the apps' one table, app_status.h): 0 finished (answered the state at the end
+/// of the run), 1 stopped by a signal or by silence (no state for --idle-exit seconds), 2 bad
+/// command line or scenario, 3 LCM failure or output error (also: the scenario file or the
+/// --replay log cannot be read).
 #include <errno.h>
 #include <stdint.h>
 #include <getopt.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 
-#include "cdpr/host/plant.h"
+#include "app_run.h"
+#include "app_status.h"
 #include "cdpr/host/cli.h"
-#include "cdpr/rt/tracker_node.h"
+#include "cdpr/host/clock.h"
+#include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
+#include "cdpr/rt/tracker_node.h"
 
 #ifndef CDPR_SOURCE_DIR
 #define CDPR_SOURCE_DIR "."
 #endif
-
-enum { EXIT_STOPPED = 1, EXIT_USAGE = 2, EXIT_LCM = 3 };
-
-static volatile int g_stop = 0;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    g_stop = 1;
-}
-
-/* SIGINT/SIGTERM set g_stop; the loops check it. */
-static void install_stop_handler(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    (void)sigaction(SIGINT, &sa, NULL);
-    (void)sigaction(SIGTERM, &sa, NULL);
-}
 
 typedef struct {
     const char *scenario;
@@ -56,8 +42,7 @@ typedef struct {
     const char *prefix;
     const char *out_dir;
     const char *replay;
-    double rate_hz;
-    double duration_s;
+    cdpr_scenario_overrides_t ov;
     double idle_exit_s;
     int plot;
     int quiet;
@@ -70,9 +55,12 @@ static void usage(FILE *f)
            "Example tracking controller over LCM: answers every <prefix>CABIN_STATE (+ the\n"
            "CABLE_TENSIONS of the same period) with a <prefix>WINCH_COMMAND following the\n"
            "scenario's trajectory (sag-aware IK feed-forward + feedback; docs/realtime.md).\n\n"
-           "  --rate HZ        control rate; must equal cdpr-rt's --rate (default 1000)\n"
-           "  --duration S     run length; exits after answering the state at S (default: the\n"
-           "                   scenario's run.duration_s)\n"
+           "  --rate HZ        control rate; must equal cdpr-rt's (default: 1 / the scenario's\n"
+           "                   run.period_s)\n"
+           "  --duration S     run length, a whole number of periods; exits after answering\n"
+           "                   the state at S (default: the scenario's run.duration_s)\n"
+           "  --max-trials N   --max-attempts N: the plant's work bound (cdpr-rt's); only\n"
+           "                   checked here, so both processes can take the same overrides\n"
            "  --idle-exit S    exit when no state came for S seconds after the first (default 5)\n"
            "  --lcm-url URL    LCM provider (default: liblcm's)\n"
            "  --prefix P       channel prefix (default CDPR_)\n"
@@ -85,14 +73,14 @@ static void usage(FILE *f)
            "  --no-plot        no figures\n"
            "  --quiet          no summary on stdout\n"
            "  --help           this text\n\n"
-           "exit codes: 0 finished, 1 stopped (signal or silence), 2 bad command line or\n"
-           "            scenario, 3 LCM or output failure\n");
+           "exit codes: 0 finished, 1 stopped (signal or silence) or a replayed state differs,\n"
+           "            2 bad command line or scenario, 3 LCM or output failure, unreadable\n"
+           "            scenario or log\n");
 }
 
 static int parse(int argc, char **argv, options_t *o)
 {
-    static const struct option longopts[] = {{"rate", required_argument, NULL, 'r'},
-                                             {"duration", required_argument, NULL, 'd'},
+    static const struct option longopts[] = {CDPR_APP_OVERRIDE_OPTIONS,
                                              {"idle-exit", required_argument, NULL, 'i'},
                                              {"lcm-url", required_argument, NULL, 'u'},
                                              {"prefix", required_argument, NULL, 'p'},
@@ -104,16 +92,18 @@ static int parse(int argc, char **argv, options_t *o)
                                              {NULL, 0, NULL, 0}};
     int c;
     while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        const int ov = cdpr_app_override_opt("cdpr-tracker", c, optarg, &o->ov);
+        if (ov != 0) {
+            if (ov < 0) {
+                return -1;
+            }
+            continue;
+        }
         int bad = 0;
         switch (c) {
-        case 'r':
-            bad = cdpr_cli_number("cdpr-tracker", "rate", optarg, 1.0, 100000.0, &o->rate_hz);
-            break;
-        case 'd':
-            bad = cdpr_cli_number("cdpr-tracker", "duration", optarg, 1e-6, 1e7, &o->duration_s);
-            break;
         case 'i':
-            bad = cdpr_cli_number("cdpr-tracker", "idle-exit", optarg, 0.01, 1e6, &o->idle_exit_s);
+            bad = (int)cdpr_cli_number("cdpr-tracker", "idle-exit", optarg, 0.01, 1e6,
+                                       &o->idle_exit_s);
             break;
         case 'u':
             o->url = optarg;
@@ -156,13 +146,6 @@ static int parse(int argc, char **argv, options_t *o)
     return 0;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* ------------------------------------------------------------------------ replay */
 
 typedef struct {
@@ -179,9 +162,11 @@ typedef struct {
     int finished;
 } replay_t;
 static replay_t g_replay;
+static const volatile int *g_stop; /* set by SIGINT/SIGTERM (cdpr_app_stop_on_signals) */
 
-/* Read the recorded commands and states of a lockstep run. 0 or -1. */
-static int replay_load(replay_t *r, const char *path, const char *prefix)
+/* Read the recorded commands and states of a lockstep run. CDPR_OK, CDPR_E_IO (cannot open,
+ * out of memory) or CDPR_E_PARSE (no events of ours). */
+static cdpr_status_t replay_load(replay_t *r, const char *path, const char *prefix)
 {
     char ch_state[80];
     snprintf(ch_state, sizeof ch_state, "%sCABIN_STATE", prefix);
@@ -190,7 +175,7 @@ static int replay_load(replay_t *r, const char *path, const char *prefix)
         lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
         if (log == NULL) {
             fprintf(stderr, "cdpr-tracker: --replay %s: cannot open: %s\n", path, strerror(errno));
-            return -1;
+            return CDPR_E_IO;
         }
         lcm_eventlog_event_t *ev;
         while ((ev = lcm_eventlog_read_next_event(log)) != NULL) {
@@ -226,7 +211,7 @@ static int replay_load(replay_t *r, const char *path, const char *prefix)
             if (r->n == 0) {
                 fprintf(stderr, "cdpr-tracker: --replay %s: no %s / %s events\n", path, ch_state,
                         r->ch_command);
-                return -1;
+                return CDPR_E_PARSE;
             }
             r->cmd = calloc((size_t)r->n, sizeof *r->cmd);
             r->have_cmd = calloc((size_t)r->n, 1);
@@ -235,13 +220,13 @@ static int replay_load(replay_t *r, const char *path, const char *prefix)
             if (r->cmd == NULL || r->have_cmd == NULL || r->state == NULL ||
                 r->have_state == NULL) {
                 fprintf(stderr, "cdpr-tracker: out of memory\n");
-                return -1;
+                return CDPR_E_IO;
             }
             r->last_cmd = -1;
         }
     }
     r->done_seq = r->n - 1; /* the last recorded state */
-    return 0;
+    return CDPR_OK;
 }
 
 /* 1 when the n doubles have identical bit patterns (a value compare would let -0 == +0). */
@@ -303,17 +288,21 @@ static void replay_on_state(const lcm_recv_buf_t *rbuf, const char *channel, voi
     }
 }
 
-static int replay_run(const options_t *o)
+/* Replay: CDPR_OK when every recorded state was reproduced bit for bit, CDPR_E_INTERRUPTED
+ * after a signal, CDPR_E_MISMATCH when not (silence, a state that differs), or the error that
+ * kept it from running. */
+static cdpr_status_t replay_run(const options_t *o)
 {
     replay_t *r = &g_replay;
     const char *prefix = (o->prefix != NULL) ? o->prefix : "CDPR_";
-    if (replay_load(r, o->replay, prefix) != 0) {
-        return EXIT_USAGE;
+    const cdpr_status_t ls = replay_load(r, o->replay, prefix);
+    if (ls != CDPR_OK) {
+        return ls;
     }
     r->lcm = lcm_create(o->url);
     if (r->lcm == NULL) {
         fprintf(stderr, "cdpr-tracker: lcm_create failed\n");
-        return EXIT_LCM;
+        return CDPR_E_IO;
     }
     char ch_state[80];
     snprintf(ch_state, sizeof ch_state, "%sCABIN_STATE", prefix);
@@ -322,16 +311,16 @@ static int replay_run(const options_t *o)
         fprintf(stderr, "cdpr-tracker: replaying %ld recorded commands from %s\n", r->last_cmd + 1,
                 o->replay);
     }
-    double last_rx = now_s();
+    double last_rx = cdpr_clock_now_s();
     long seen = 0;
-    while (g_stop == 0 && r->finished == 0) {
+    while (*g_stop == 0 && r->finished == 0) {
         if (lcm_handle_timeout(r->lcm, 50) < 0) {
             break;
         }
         if (r->compared != seen) {
             seen = r->compared;
-            last_rx = now_s();
-        } else if (seen > 0 && now_s() - last_rx > o->idle_exit_s) {
+            last_rx = cdpr_clock_now_s();
+        } else if (seen > 0 && cdpr_clock_now_s() - last_rx > o->idle_exit_s) {
             fprintf(stderr, "cdpr-tracker: replay: no state for %g s\n", o->idle_exit_s);
             break;
         }
@@ -340,7 +329,10 @@ static int replay_run(const options_t *o)
     printf("cdpr-tracker: replay of %s: %ld commands sent, %ld states compared, %ld differ\n",
            o->replay, r->answered, r->compared, r->mismatched);
     const int ok = r->finished != 0 && r->mismatched == 0 && r->compared == r->n;
-    return ok ? 0 : EXIT_STOPPED;
+    if (ok) {
+        return CDPR_OK;
+    }
+    return (*g_stop != 0) ? CDPR_E_INTERRUPTED : CDPR_E_MISMATCH;
 }
 
 static cdpr_plant_t g_model; /* the controller's own model: IK of the initial pose only */
@@ -348,137 +340,162 @@ static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_record_t g_record;
 static cdpr_sim_summary_t g_sum;
 
-int main(int argc, char **argv)
+/* The scenario (with the overrides), the controller's model, the node and its recorder. */
+static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
 {
-    options_t o = {NULL, NULL, NULL, NULL, NULL, 1000.0, 0.0, 5.0, 1, 0};
-    if (parse(argc, argv, &o) != 0) {
-        return EXIT_USAGE;
+    cdpr_status_t st = cdpr_app_scenario("cdpr-tracker", o->scenario, &o->ov, sc);
+    if (st != CDPR_OK) {
+        return st;
     }
-    if (o.replay != NULL) {
-        install_stop_handler();
-        return replay_run(&o);
-    }
-    cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
-    if (cdpr_scenario_load(o.scenario, &sc, &err) != 0 ||
-        cdpr_host_plant_model(&g_model, &sc, &err) != CDPR_OK) {
+    st = cdpr_host_plant_model(&g_model, sc, &err);
+    if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
-        return EXIT_USAGE;
+        return st;
     }
-    const double duration = (o.duration_s > 0.0) ? o.duration_s : sc.duration_s;
-    const cdpr_tracker_gains_t g = sc.gains;
-    const double period_s = 1.0 / o.rate_hz;
+    const cdpr_tracker_gains_t g = sc->gains;
     cdpr_diag_t d;
-    const cdpr_status_t st = cdpr_rt_tracker_init(&g_tracker, &g_model.params, &g_model.pp.winch,
-                                                  &sc.traj, &g, period_s, o.prefix, &d);
+    st = cdpr_rt_tracker_init(&g_tracker, &g_model.params, &g_model.pp.winch, &sc->traj, &g,
+                              sc->period_s, o->prefix, &d);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: controller: field '%s': %s\n", d.field, cdpr_status_str(st));
-        return EXIT_USAGE;
+        return st;
     }
-    g_record.traj = &sc.traj;
-    g_record.period_s = period_s;
-    if (cdpr_sim_rec_open(&g_record.rec, &sc, o.out_dir, g_model.robot.p.n_cables, duration, &g_sum,
-                          &err) != 0) {
+    g_record.traj = &sc->traj;
+    g_record.period_s = sc->period_s;
+    st = cdpr_sim_rec_open(&g_record.rec, sc, o->out_dir, g_model.robot.p.n_cables, &g_sum, &err);
+    if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
-        return EXIT_LCM;
+        return st;
     }
     g_tracker.on_step = cdpr_rt_tracker_record_step;
     g_tracker.on_step_ctx = &g_record;
+    return CDPR_OK;
+}
 
-    lcm_t *lcm = lcm_create(o.url);
+/* The LCM instance with the node subscribed. CDPR_OK or CDPR_E_IO. */
+static cdpr_status_t open_lcm(const options_t *o, lcm_t **out)
+{
+    lcm_t *lcm = lcm_create(o->url);
     if (lcm == NULL) {
         fprintf(stderr,
                 "cdpr-tracker: lcm_create(%s) failed (udpm on loopback needs a multicast "
                 "route: ip route add 224.0.0.0/4 dev lo)\n",
-                (o.url != NULL) ? o.url : "default URL");
-        return EXIT_LCM;
+                (o->url != NULL) ? o->url : "default URL");
+        return CDPR_E_IO;
     }
-    if (cdpr_rt_tracker_attach(&g_tracker, lcm) != 0) {
+    if (cdpr_rt_tracker_attach(&g_tracker, lcm) != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: cannot subscribe\n");
         lcm_destroy(lcm);
-        return EXIT_LCM;
+        return CDPR_E_IO;
     }
-    install_stop_handler();
-    if (o.quiet == 0) {
-        fprintf(stderr, "cdpr-tracker: %s: waiting for %sCABIN_STATE on %s\n", o.scenario,
-                (o.prefix != NULL) ? o.prefix : "CDPR_", (o.url != NULL) ? o.url : "default URL");
-    }
-    int rc = EXIT_STOPPED;
-    double last_rx = now_s();
+    *out = lcm;
+    return CDPR_OK;
+}
+
+/* Answer states until the one at the end of the run (CDPR_OK), a signal or silence
+ * (CDPR_E_INTERRUPTED) or an LCM failure (CDPR_E_IO). */
+static cdpr_status_t serve(const options_t *o, const cdpr_scenario_t *sc, lcm_t *lcm)
+{
+    const double duration = sc->duration_s;
+    const double period_s = sc->period_s;
+    double last_rx = cdpr_clock_now_s();
     uint64_t states_seen = 0;
-    const double wall0 = now_s();
-    while (g_stop == 0) {
+    while (*g_stop == 0) {
         const int h = lcm_handle_timeout(lcm, 50);
         if (h < 0) {
             fprintf(stderr, "cdpr-tracker: lcm_handle failed\n");
-            rc = EXIT_LCM;
-            break;
+            return CDPR_E_IO;
         }
         /* Drain what else is queued, then answer only the newest state. */
         while (h > 0 && lcm_handle_timeout(lcm, 0) > 0) {
         }
         (void)cdpr_rt_tracker_service(&g_tracker);
-        const double now = now_s();
+        const double now = cdpr_clock_now_s();
         if (g_tracker.stats.states != states_seen) {
             states_seen = g_tracker.stats.states;
             last_rx = now;
         }
         if (g_record.periods > 0 && g_record.last_t_s >= duration - 0.5 * period_s) {
-            rc = 0;
-            break;
+            return CDPR_OK;
         }
-        if (states_seen > 0 && now - last_rx > o.idle_exit_s) {
-            fprintf(stderr, "cdpr-tracker: no state for %g s: stopping\n", o.idle_exit_s);
-            break;
+        if (states_seen > 0 && now - last_rx > o->idle_exit_s) {
+            fprintf(stderr, "cdpr-tracker: no state for %g s: stopping\n", o->idle_exit_s);
+            return CDPR_E_INTERRUPTED;
         }
     }
-    cdpr_rt_tracker_detach(&g_tracker);
-    lcm_destroy(lcm);
-    if (cdpr_sim_rec_close(&g_record.rec) != 0) {
-        fprintf(stderr, "cdpr-tracker: %s/timeseries.csv: write error\n", o.out_dir);
-        rc = EXIT_LCM;
+    return CDPR_E_INTERRUPTED;
+}
+
+/* The summary of what the controller saw (status `rc` of the run), its files and the block on
+ * stdout. Returns rc, or CDPR_E_IO when an output failed. */
+static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_status_t rc,
+                            double wall0)
+{
+    if (cdpr_sim_rec_close(&g_record.rec) != CDPR_OK) {
+        fprintf(stderr, "cdpr-tracker: %s/timeseries.csv: write error\n", o->out_dir);
+        rc = CDPR_E_IO;
     }
     g_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_sum.ik_failures = g_tracker.tracker.ik_failures;
-    g_sum.wall_time_s = now_s() - wall0;
-    g_sum.status =
-        (rc == 0) ? ((g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK) : CDPR_SIM_FAILED;
+    g_sum.wall_time_s = cdpr_clock_now_s() - wall0;
+    g_sum.status = (rc == CDPR_OK) ? ((g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK)
+                                   : CDPR_SIM_FAILED;
     const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
     snprintf(g_sum.message, sizeof g_sum.message,
              "over LCM: %llu states, %llu commands, %llu superseded, %llu clamped",
              (unsigned long long)s->states, (unsigned long long)s->answered,
              (unsigned long long)s->superseded, (unsigned long long)g_tracker.clamped);
-    if (o.out_dir != NULL) {
-        char path[1100];
-        snprintf(path, sizeof path, "%s/summary.json", o.out_dir);
-        if (cdpr_sim_write_summary(path, &sc, &g_sum) != 0) {
-            fprintf(stderr, "cdpr-tracker: %s: cannot write\n", path);
-            rc = EXIT_LCM;
-        }
-        if (o.plot != 0) {
-            const char *kind = (sc.traj.type == CDPR_TRAJ_CIRCLE)
-                                   ? "circle"
-                                   : ((sc.traj.type == CDPR_TRAJ_LINE) ? "line" : "hold");
-            (void)cdpr_sim_plot("cdpr-tracker", CDPR_SOURCE_DIR "/scripts/plot_sim.gp", o.out_dir,
-                                kind, (sc.description[0] != '\0') ? sc.description : o.scenario);
-        }
+    if (o->out_dir != NULL &&
+        cdpr_app_write_outputs("cdpr-tracker", sc, o->out_dir, &g_sum,
+                               (o->plot != 0) ? CDPR_SOURCE_DIR "/scripts/plot_sim.gp" : NULL) !=
+            CDPR_OK) {
+        rc = CDPR_E_IO;
     }
-    if (o.quiet == 0) {
-        printf("cdpr-tracker: %s\n", g_sum.message);
-        printf("  tracking error  rms %.4g m, max %.4g m, final %.4g m (initial %.4g m); "
-               "attitude rms %.1f mrad, max %.1f mrad\n",
-               g_sum.rms_error_m, g_sum.max_error_m, g_sum.final_error_m, g_sum.initial_error_m,
-               1e3 * g_sum.rms_error_rad, 1e3 * g_sum.max_error_rad);
-        printf("  tensions        %.4g .. %.4g N;  payout |u| <= %.3g m/s; IK failures %lu\n",
-               g_sum.min_tension_N, g_sum.max_tension_N, g_sum.max_payout_m_per_s,
-               g_sum.ik_failures);
-        printf("  segments        %d..%d per cable; decode errors %llu, refused pairs %llu\n",
-               g_sum.nodes_min, g_sum.nodes_max, (unsigned long long)s->decode_errors,
-               (unsigned long long)s->bad_measurement);
-        if (o.out_dir != NULL) {
-            printf("  outputs         %s/timeseries.csv, %s/summary.json, figures\n", o.out_dir,
-                   o.out_dir);
+    if (o->quiet == 0) {
+        cdpr_sim_print_summary(stdout, "cdpr-tracker", &g_sum);
+        printf("  LCM             decode errors %llu, refused pairs %llu\n",
+               (unsigned long long)s->decode_errors, (unsigned long long)s->bad_measurement);
+        if (o->out_dir != NULL) {
+            printf("  outputs         %s/timeseries.csv, %s/summary.json, figures\n", o->out_dir,
+                   o->out_dir);
         }
     }
     return rc;
+}
+
+int main(int argc, char **argv)
+{
+    options_t o;
+    memset(&o, 0, sizeof o);
+    cdpr_scenario_overrides_none(&o.ov);
+    o.idle_exit_s = 5.0;
+    o.plot = 1;
+    if (parse(argc, argv, &o) != 0) {
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
+    }
+    if (o.replay != NULL) {
+        g_stop = cdpr_app_stop_on_signals();
+        return cdpr_app_exit_code(replay_run(&o));
+    }
+    cdpr_scenario_t sc;
+    cdpr_status_t st = setup(&o, &sc);
+    lcm_t *lcm = NULL;
+    if (st == CDPR_OK) {
+        st = open_lcm(&o, &lcm);
+    }
+    if (st != CDPR_OK) {
+        return cdpr_app_exit_code(st);
+    }
+    g_stop = cdpr_app_stop_on_signals();
+    if (o.quiet == 0) {
+        fprintf(stderr, "cdpr-tracker: %s: waiting for %sCABIN_STATE on %s (%g Hz)\n", o.scenario,
+                (o.prefix != NULL) ? o.prefix : "CDPR_", (o.url != NULL) ? o.url : "default URL",
+                1.0 / sc.period_s);
+    }
+    const double wall0 = cdpr_clock_now_s();
+    st = serve(&o, &sc, lcm);
+    cdpr_rt_tracker_detach(&g_tracker);
+    lcm_destroy(lcm);
+    return cdpr_app_exit_code(finish(&o, &sc, st, wall0));
 }

@@ -11,6 +11,7 @@ int cdpr_app_exit_code(cdpr_status_t st)
     case CDPR_WARN_MIN_LENGTH:
         return CDPR_EXIT_OK;
     case CDPR_E_INTERRUPTED:
+    case CDPR_E_MISMATCH:
     case CDPR_E_STATE_NOT_FINITE:
     case CDPR_E_STEP_TOO_SMALL:
     case CDPR_E_RHS:

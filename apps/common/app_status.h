@@ -3,7 +3,8 @@
 /// return statuses, never exit codes; every app ends with `return cdpr_app_exit_code(st);`.
 ///
 ///   exit 0  CDPR_OK and every warning (CDPR_WARN_*): the run completed
-///   exit 1  the run stopped early: CDPR_E_INTERRUPTED (a signal), and the integrator's
+///   exit 1  the run stopped early or did not reproduce its reference: CDPR_E_INTERRUPTED (a
+///           signal), CDPR_E_MISMATCH (a replay check failed), and the integrator's
 ///           CDPR_E_STATE_NOT_FINITE, CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS, CDPR_E_SUBSTEP_LIMIT
 ///   exit 2  bad input (command line, scenario or robot values): CDPR_E_INVALID_ARG,
 ///           CDPR_E_NOT_FINITE, CDPR_E_NOT_POSITIVE, CDPR_E_OUT_OF_RANGE, CDPR_E_CAPACITY,

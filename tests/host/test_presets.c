@@ -1,5 +1,5 @@
 /// @file test_presets.c
-/// Robot presets against the facts PARAMETERS.md derived independently (its own statics):
+/// Robot presets against the facts docs/robots.md derived independently (its own statics):
 /// set A along the paper's circle and line (lengths, tensions, length rates), set B at the
 /// zenith and at 40° zenith angle (tensions, payout range), and the builder's validation.
 #include <math.h>
@@ -94,7 +94,7 @@ static void test_set_a_along_the_circle_matches_parameters_md(void)
             lrel_max = fmax(lrel_max, L / l0[j]);
         }
     }
-    /* PARAMETERS.md [D]: L0 ~ 31.6 m at the start; cabin-end tensions ~29-208 N; lengths
+    /* docs/robots.md [D]: L0 ~ 31.6 m at the start; cabin-end tensions ~29-208 N; lengths
      * -8 %/+11 %; up to 2.7 m/s of length rate. Its figures are rounded to the digits given,
      * so the tolerances are half a unit of the last digit plus the 1° sampling here (a chord
      * of the 1 Hz-ish tension curve, < 1 %). */
@@ -139,7 +139,7 @@ static void test_set_a_along_the_line_matches_parameters_md(void)
             lmax = fmax(lmax, L);
         }
     }
-    /* PARAMETERS.md [D]: 73-214 N, 24.9-29.9 m, <= 0.08 m/s (rounded as given). */
+    /* docs/robots.md [D]: 73-214 N, 24.9-29.9 m, <= 0.08 m/s (rounded as given). */
     TEST_ASSERT_DOUBLE_WITHIN(1.0, 73.0, tmin);
     TEST_ASSERT_DOUBLE_WITHIN(1.0, 214.0, tmax);
     TEST_ASSERT_DOUBLE_WITHIN(0.05, 24.9, lmin);
@@ -162,8 +162,8 @@ static void test_set_b_full_scale(void)
         TEST_ASSERT_DOUBLE_WITHIN(1.0, 321.7, res.cable[j].length_m); /* symmetric */
     }
     /* 40° zenith angle toward tower 1, tilted (14/40) x 40° = 14° toward the sphere centre
-     * (PARAMETERS.md orientation law; β < 0 turns the cabin axis toward -x): the extreme of
-     * the workspace where PARAMETERS.md [D] gives payout 211-410 m and tensions 80-300 kN. */
+     * (docs/robots.md orientation law; β < 0 turns the cabin axis toward -x): the extreme of
+     * the workspace where docs/robots.md [D] gives payout 211-410 m and tensions 80-300 kN. */
     const double z40 = 40.0 * PI / 180.0;
     const double edge[6] = {160.0 * sin(z40),   0.0, 300.0 - 160.0 * cos(z40), 0.0,
                             -14.0 * PI / 180.0, 0.0};
@@ -178,7 +178,7 @@ static void test_set_b_full_scale(void)
         lmin = fmin(lmin, res.cable[j].length_m);
         lmax = fmax(lmax, res.cable[j].length_m);
     }
-    /* Rounded to the metre in PARAMETERS.md: +-1 m. Tensions inside the stated range. */
+    /* Rounded to the metre in docs/robots.md: +-1 m. Tensions inside the stated range. */
     TEST_ASSERT_DOUBLE_WITHIN(1.0, 211.0, lmin);
     TEST_ASSERT_DOUBLE_WITHIN(1.0, 410.0, lmax);
     TEST_ASSERT_TRUE(tmin >= 80e3);

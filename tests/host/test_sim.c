@@ -26,12 +26,16 @@ static void run(const char *scenario, double duration, const char *out, cdpr_sim
     mkdir(CDPR_TEST_TMP, 0775);
     cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_scenario_load(scenario, &sc, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(scenario, &sc, &err), err.msg);
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    ov.duration_s = duration; /* cdpr-sim --duration */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_override(&sc, &ov, "test", NULL, &err),
+                                  err.msg);
     cdpr_sim_opts_t o;
     cdpr_sim_opts_default(&o);
     o.out_dir = out;
-    o.duration_s = duration;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_sim_run(&sc, &o, sum, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_run(&sc, &o, sum, &err), err.msg);
 }
 
 static long file_bytes(const char *path, char **buf)
@@ -126,12 +130,12 @@ static void regression(const case_t *c)
     snprintf(sum_a, sizeof sum_a, "%s/summary.json", out_a);
     cdpr_sim_summary_t back;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_sim_read_summary(sum_a, &back, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(sum_a, &back, &err), err.msg);
     TEST_ASSERT_EQUAL_DOUBLE(a.max_tension_N, back.max_tension_N);
     TEST_ASSERT_EQUAL_UINT32((unsigned)a.node_removals, (unsigned)back.node_removals);
 
     cdpr_sim_summary_t ref;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_sim_read_summary(ref_path, &ref, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(ref_path, &ref, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(ref.status, a.status);
     TEST_ASSERT_EQUAL_DOUBLE(ref.sim_time_s, a.sim_time_s);
     close_rel("rms_error_m", ref.rms_error_m, a.rms_error_m, c->rel, 1e-9);
@@ -174,7 +178,7 @@ static void test_deploy_retrieve_node_events(void)
     snprintf(out, sizeof out, "%s/deploy", CDPR_TEST_TMP);
     cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_scenario_load(scenario, &sc, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(scenario, &sc, &err), err.msg);
     sc.robot.segments = 10;
     cdpr_robot_params_t p;
     static cdpr_robot_t model;
@@ -199,7 +203,7 @@ static void test_deploy_retrieve_node_events(void)
     cdpr_sim_opts_default(&opt);
     opt.out_dir = out;
     cdpr_sim_summary_t s;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_sim_run(&sc, &opt, &s, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_run(&sc, &opt, &s, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(CDPR_SIM_OK, s.status);
     TEST_ASSERT_EQUAL_UINT32((unsigned)(6 * k), (unsigned)s.node_removals);
     TEST_ASSERT_EQUAL_UINT32((unsigned)(6 * k), (unsigned)s.node_insertions);

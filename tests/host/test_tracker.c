@@ -249,10 +249,10 @@ static void run_hold(double kp, double duration, cdpr_sim_summary_t *sum)
     sc.integrator.max_trials = 1000;
     sc.duration_s = duration;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_scenario_check(&sc, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_check(&sc, &err), err.msg);
     cdpr_sim_opts_t o;
     cdpr_sim_opts_default(&o);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_sim_run(&sc, &o, sum, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_run(&sc, &o, sum, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(CDPR_SIM_OK, sum->status);
 }
 

@@ -39,7 +39,20 @@ static void load(const char *name)
     char path[1024];
     cdpr_scenario_error_t err;
     snprintf(path, sizeof path, "%s/scenarios/%s.yaml", CDPR_SOURCE_DIR, name);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_scenario_load(path, &g_sc, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &g_sc, &err), err.msg);
+}
+
+/* The run settings of g_sc as the apps' --rate, --duration, --max-trials set them. */
+static void run_settings(double rate_hz, double duration_s, double max_trials)
+{
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    ov.rate_hz = rate_hz;
+    ov.duration_s = duration_s;
+    ov.max_trials = max_trials;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        CDPR_OK, cdpr_scenario_override(&g_sc, &ov, "test_rt_loop", NULL, &err), err.msg);
 }
 
 /* ------------------------------------------------------------ lockstep == in-process */
@@ -87,14 +100,12 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     /* Over LCM: cdpr_rt in lockstep, the tracker node on the bridge thread (memq). */
     cdpr_rt_opts_t o;
     cdpr_rt_opts_default(&o);
-    o.rate_hz = rate;
-    o.duration_s = (double)periods / rate;
+    run_settings(rate, (double)periods / rate, (double)NAN);
     o.lockstep = 1;
-    o.max_trials = g_sc.integrator.max_trials;
     o.lcm.url = "memq://";
     o.lcm.on_open = tracker_open;
     o.lcm.on_open_ctx = &g_tracker;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
     const cdpr_tracker_gains_t g = g_sc.gains;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch,
@@ -102,7 +113,7 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     g_tracker.answer_in_handler = 1;
     g_tracker.on_step = record_lcm;
     g_tracker.on_step_ctx = &g_lcm_rec;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_run(&g_rt, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_run(&g_rt, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(periods, g_rt.tel.periods);
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.lockstep_timeouts);
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.hold_periods);
@@ -177,10 +188,8 @@ static void test_rt_thread_makes_no_allocation_and_no_lcm_call(void)
     cdpr_scenario_error_t err;
     cdpr_rt_opts_t o;
     cdpr_rt_opts_default(&o);
-    o.rate_hz = 1000.0;
-    o.duration_s = 0.3;
+    run_settings(1000.0, 0.3, 200.0);
     o.lockstep = 1;
-    o.max_trials = 200;
     o.shape_rate_hz = 100.0; /* shapes and diagnostics are on the RT path too */
     o.diag_rate_hz = 50.0;
     o.lcm.url = "memq://";
@@ -188,14 +197,14 @@ static void test_rt_thread_makes_no_allocation_and_no_lcm_call(void)
     o.lcm.on_open_ctx = &g_tracker;
     o.on_rt_thread = count_hook;
     o.on_rt_thread_ctx = &g_counts;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
     const cdpr_tracker_gains_t g = g_sc.gains;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch,
                                                &g_sc.traj, &g, 1e-3, NULL, NULL));
     g_tracker.answer_in_handler = 1;
     cdpr_alloc_reset();
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_run(&g_rt, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_run(&g_rt, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(1, g_counts.done);
     TEST_ASSERT_EQUAL_INT(300, g_rt.tel.periods);
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.lockstep_timeouts);
@@ -310,15 +319,13 @@ static void run_scripted(double duration_s)
     cdpr_scenario_error_t err;
     cdpr_rt_opts_t o;
     cdpr_rt_opts_default(&o);
-    o.rate_hz = 1000.0;
-    o.duration_s = duration_s;
-    o.max_trials = 200;
+    run_settings(1000.0, duration_s, 200.0);
     o.lcm.url = "memq://";
     o.lcm.watchdog_timeout_s = 0.1;
     o.lcm.on_open = script_open;
     o.lcm.on_open_ctx = &g_script;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, cdpr_rt_run(&g_rt, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_run(&g_rt, &err), err.msg);
 }
 
 static void test_silence_holds_then_resumes_and_bad_commands_are_ignored(void)

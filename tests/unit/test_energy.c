@@ -51,7 +51,7 @@ static void node_pos(int j, int i, const cdpr_real_t *s, double r[3])
     r[2] = p[2];
 }
 
-/* Total mechanical energy, written from the physics (MODEL §2, §4), not from the RHS:
+/* Total mechanical energy, written from the physics (docs/model.md §2, §3), not from the RHS:
  * free nodes: 1/2 m v^2 + m g z; segments: 1/2 EA lu eps^2 when eps > 0 (the slack law
  * T = EA eps for eps > 0 has this potential); cabin (with node-0 masses, dynamic mode):
  * 1/2 M |v_c|^2 + 1/2 w.I w + M g z_c. */

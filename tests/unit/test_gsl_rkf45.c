@@ -317,7 +317,7 @@ static void assert_difference_grows(const problem_t *pr)
 /* A. slack soft cable, 2 s                                                                    */
 
 /* Only cdpr_rkf45_step here, not cdpr_rkf45_advance: when a segment turns taut while
- * stretching, T jumps from 0 to c eps_dot (MODEL §2), so the RHS is discontinuous; adaptive
+ * stretching, T jumps from 0 to c eps_dot (docs/model.md §2), so the RHS is discontinuous; adaptive
  * steps shrink to ~1e-10 s at rtol 1e-8 to pass the jump and then grow back. advance()'s budget
  * rule (go to equal forced steps once remaining > h * trials_left) trips on that transient h
  * for any practical budget (1e6 trials per 10 ms still did), so advance cannot meet the

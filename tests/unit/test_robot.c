@@ -614,7 +614,7 @@ static void test_outputs_equal_rhs_parts(void)
         cdpr_cable_bc_t bc;
         cdpr_robot_attachment(&robot, j, &mm, &bc.r0_m, &bc.v0_m_per_s);
         {
-            /* MODEL §2: r_0 = p + R b, v_0 = v + (R w) x (R b), with the test's own R.
+            /* docs/model.md §2: r_0 = p + R b, v_0 = v + (R w) x (R b), with the test's own R.
              * Positions ~6 m and velocities ~0.3 m/s from ~10 roundings: 1e-14 absolute. */
             const cdpr_vec3_t bj = p.cables[j].attach_body_m;
             const double rb[3] = {R[0][0] * bj.x + R[0][1] * bj.y + R[0][2] * bj.z,

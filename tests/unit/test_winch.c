@@ -75,7 +75,7 @@ static double total_length(void)
     return cdpr_cable_total_length(&robot.cable[0], y + robot.offset[0]);
 }
 
-/* Linear momentum of the free nodes (lumped masses as in MODEL §2). */
+/* Linear momentum of the free nodes (lumped masses as in docs/model.md §2). */
 static void momentum(double p[3], double *vmax)
 {
     const cdpr_cable_t *c = &robot.cable[0];

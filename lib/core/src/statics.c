@@ -594,6 +594,102 @@ static cdpr_status_t wrench_at_lengths(const cdpr_robot_t *r, const cdpr_real_t 
     return CDPR_OK;
 }
 
+/* Forward statics state: the pose iterate, its wrench residual and catenary forces. */
+typedef struct {
+    cdpr_cabin_motion_t pose;
+    cdpr_real_t rv[NC];
+    cdpr_real_t H[NC];
+    cdpr_real_t V[NC];
+    cdpr_real_t rn;
+} fwd_iter_t;
+
+/* Jacobian d(wrench)/d(pose) of the forward statics by central differences of size delta. */
+static cdpr_status_t fwd_jacobian(const cdpr_robot_t *r, const cdpr_real_t *length_m,
+                                  const cdpr_statics_opts_t *o, const cdpr_cabin_motion_t *pose,
+                                  cdpr_real_t delta, cdpr_real_t J[NC][NC])
+{
+    for (int k = 0; k < NC; ++k) {
+        cdpr_real_t d[NC] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0),
+                             CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+        cdpr_real_t rp[NC];
+        cdpr_real_t rm[NC];
+        cdpr_real_t Ht[NC];
+        cdpr_real_t Vt[NC];
+        cdpr_cabin_motion_t pp;
+        d[k] = delta;
+        displace(pose, d, &pp);
+        CDPR_TRY(wrench_at_lengths(r, length_m, &pp, o, rp, Ht, Vt));
+        d[k] = -delta;
+        displace(pose, d, &pp);
+        CDPR_TRY(wrench_at_lengths(r, length_m, &pp, o, rm, Ht, Vt));
+        for (int i = 0; i < NC; ++i) {
+            J[i][k] = (rp[i] - rm[i]) / (CDPR_R(2.0) * delta);
+        }
+    }
+    return CDPR_OK;
+}
+
+/* Backtracking along the Newton step dx (halving, at most 40 times): the first step that
+ * lowers the residual norm is taken. Returns 1 when a step was taken, else 0. */
+static int fwd_line_search(const cdpr_robot_t *r, const cdpr_real_t *length_m,
+                           const cdpr_statics_opts_t *o, const cdpr_real_t dx[NC], fwd_iter_t *s)
+{
+    cdpr_real_t a = CDPR_R(1.0);
+    for (int k = 0; k < 40; ++k) {
+        cdpr_real_t ds[NC];
+        for (int i = 0; i < NC; ++i) {
+            ds[i] = a * dx[i];
+        }
+        cdpr_cabin_motion_t pn;
+        displace(&s->pose, ds, &pn);
+        cdpr_real_t rnew[NC];
+        cdpr_real_t Hn[NC];
+        cdpr_real_t Vn[NC];
+        if (wrench_at_lengths(r, length_m, &pn, o, rnew, Hn, Vn) == CDPR_OK &&
+            norm6(rnew) < s->rn) {
+            s->pose = pn;
+            for (int i = 0; i < NC; ++i) {
+                s->rv[i] = rnew[i];
+                s->H[i] = Hn[i];
+                s->V[i] = Vn[i];
+            }
+            s->rn = norm6(s->rv);
+            return 1;
+        }
+        a *= CDPR_R(0.5);
+    }
+    return 0;
+}
+
+/* Newton iterations on the pose until the wrench residual is below tol. */
+static cdpr_status_t fwd_newton(const cdpr_robot_t *r, const cdpr_real_t *length_m,
+                                const cdpr_statics_opts_t *o, cdpr_real_t tol, cdpr_real_t delta,
+                                fwd_iter_t *s, int *iterations)
+{
+    int it = 0;
+    while (s->rn > tol) {
+        if (it >= o->max_iter) {
+            return CDPR_E_NO_CONVERGENCE;
+        }
+        ++it;
+        cdpr_real_t J[NC][NC];
+        CDPR_TRY(fwd_jacobian(r, length_m, o, &s->pose, delta, J));
+        cdpr_real_t b[NC];
+        for (int i = 0; i < NC; ++i) {
+            b[i] = -s->rv[i];
+        }
+        cdpr_real_t dx[NC];
+        if (solve_linear(NC, J, b, dx) != 0) {
+            return CDPR_E_INFEASIBLE; /* no static stiffness in some direction */
+        }
+        if (fwd_line_search(r, length_m, o, dx, s) == 0) {
+            return CDPR_E_NO_CONVERGENCE;
+        }
+    }
+    *iterations = it;
+    return CDPR_OK;
+}
+
 cdpr_status_t cdpr_statics_forward(const cdpr_robot_t *r, const cdpr_real_t *length_m,
                                    const cdpr_cabin_motion_t *guess, const cdpr_statics_opts_t *o,
                                    cdpr_statics_result_t *res)
@@ -613,88 +709,24 @@ cdpr_status_t cdpr_statics_forward(const cdpr_robot_t *r, const cdpr_real_t *len
 #else
     const cdpr_real_t delta = CDPR_R(1e-6);
 #endif
-    cdpr_cabin_motion_t pose = *guess;
-    pose.q = cdpr_quat_normalize(guess->q);
-    cdpr_real_t rv[NC];
-    cdpr_real_t H[NC];
-    cdpr_real_t V[NC];
-    CDPR_TRY(wrench_at_lengths(r, length_m, &pose, o, rv, H, V));
-    cdpr_real_t rn = norm6(rv);
+    fwd_iter_t s;
+    s.pose = *guess;
+    s.pose.q = cdpr_quat_normalize(guess->q);
+    CDPR_TRY(wrench_at_lengths(r, length_m, &s.pose, o, s.rv, s.H, s.V));
+    s.rn = norm6(s.rv);
     int it = 0;
-    while (rn > tol) {
-        if (it >= o->max_iter) {
-            return CDPR_E_NO_CONVERGENCE;
-        }
-        ++it;
-        /* Jacobian d(wrench)/d(pose) by central differences. */
-        cdpr_real_t J[NC][NC];
-        for (int k = 0; k < NC; ++k) {
-            cdpr_real_t d[NC] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0),
-                                 CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
-            cdpr_real_t rp[NC];
-            cdpr_real_t rm[NC];
-            cdpr_real_t Ht[NC];
-            cdpr_real_t Vt[NC];
-            cdpr_cabin_motion_t pp;
-            d[k] = delta;
-            displace(&pose, d, &pp);
-            CDPR_TRY(wrench_at_lengths(r, length_m, &pp, o, rp, Ht, Vt));
-            d[k] = -delta;
-            displace(&pose, d, &pp);
-            CDPR_TRY(wrench_at_lengths(r, length_m, &pp, o, rm, Ht, Vt));
-            for (int i = 0; i < NC; ++i) {
-                J[i][k] = (rp[i] - rm[i]) / (CDPR_R(2.0) * delta);
-            }
-        }
-        cdpr_real_t b[NC];
-        for (int i = 0; i < NC; ++i) {
-            b[i] = -rv[i];
-        }
-        cdpr_real_t dx[NC];
-        if (solve_linear(NC, J, b, dx) != 0) {
-            return CDPR_E_INFEASIBLE; /* no static stiffness in some direction */
-        }
-        cdpr_real_t a = CDPR_R(1.0);
-        int ok = 0;
-        for (int k = 0; k < 40; ++k) {
-            cdpr_real_t ds[NC];
-            for (int i = 0; i < NC; ++i) {
-                ds[i] = a * dx[i];
-            }
-            cdpr_cabin_motion_t pn;
-            displace(&pose, ds, &pn);
-            cdpr_real_t rnew[NC];
-            cdpr_real_t Hn[NC];
-            cdpr_real_t Vn[NC];
-            if (wrench_at_lengths(r, length_m, &pn, o, rnew, Hn, Vn) == CDPR_OK &&
-                norm6(rnew) < rn) {
-                pose = pn;
-                for (int i = 0; i < NC; ++i) {
-                    rv[i] = rnew[i];
-                    H[i] = Hn[i];
-                    V[i] = Vn[i];
-                }
-                rn = norm6(rv);
-                ok = 1;
-                break;
-            }
-            a *= CDPR_R(0.5);
-        }
-        if (ok == 0) {
-            return CDPR_E_NO_CONVERGENCE;
-        }
-    }
+    CDPR_TRY(fwd_newton(r, length_m, o, tol, delta, &s, &it));
     geom_t g[NC];
-    CDPR_TRY(geometry(r, &pose, g));
+    CDPR_TRY(geometry(r, &s.pose, g));
     res->n_cables = NC;
     for (int j = 0; j < NC; ++j) {
-        fill_cable(r, j, &g[j], H[j], V[j], length_m[j], &res->cable[j]);
+        fill_cable(r, j, &g[j], s.H[j], s.V[j], length_m[j], &res->cable[j]);
     }
-    res->pose = pose;
+    res->pose = s.pose;
     res->pose.v_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     res->pose.w_rad_per_s = res->pose.v_m_per_s;
     res->iterations = it;
-    res->residual = rn;
+    res->residual = s.rn;
     return CDPR_OK;
 }
 

@@ -45,6 +45,8 @@ const char *cdpr_status_str(cdpr_status_t st)
         return "CDPR_E_PARSE";
     case CDPR_E_INTERRUPTED:
         return "CDPR_E_INTERRUPTED";
+    case CDPR_E_MISMATCH:
+        return "CDPR_E_MISMATCH";
     default:
         return "CDPR_UNKNOWN";
     }

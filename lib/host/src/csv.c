@@ -1,13 +1,14 @@
 /// @file csv.c
+/// CSV writer (csv.h).
 #include "cdpr/host/csv.h"
 
 #include <string.h>
 
-int cdpr_csv_open(cdpr_csv_t *c, const char *path)
+cdpr_status_t cdpr_csv_open(cdpr_csv_t *c, const char *path)
 {
     memset(c, 0, sizeof *c);
     c->f = fopen(path, "w");
-    return (c->f != NULL) ? 0 : -1;
+    return (c->f != NULL) ? CDPR_OK : CDPR_E_IO;
 }
 
 static void sep(cdpr_csv_t *c)
@@ -42,12 +43,12 @@ void cdpr_csv_end_row(cdpr_csv_t *c)
     c->col = 0;
 }
 
-int cdpr_csv_close(cdpr_csv_t *c)
+cdpr_status_t cdpr_csv_close(cdpr_csv_t *c)
 {
     if (c->f == NULL) {
-        return -1;
+        return CDPR_E_INVALID_ARG;
     }
     const int rc = fclose(c->f);
     c->f = NULL;
-    return (rc != 0 || c->failed != 0) ? -1 : 0;
+    return (rc != 0 || c->failed != 0) ? CDPR_E_IO : CDPR_OK;
 }

@@ -90,7 +90,8 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
                  "residual %g m/s^2)",
                  cdpr_status_str(d->status), p->settle.steps, p->settle.max_acc_m_per_s2);
         cdpr_scenario_error(sc, initial_key(sc), what, err);
-        return d->status;
+        /* The scenario cannot start, whatever stopped the settling (the message says which). */
+        return CDPR_E_NO_CONVERGENCE;
     }
     if (strcmp(f, "period_s") == 0) {
         return fail(sc, "run.period_s", "period must be in (0, 10] s", d, err);

@@ -1,11 +1,11 @@
 /// @file presets.c
-/// PARAMETERS.md sets A and B; docs/robots.md gives every value's tag and source.
+/// The parameter sets A and B of docs/robots.md, which gives every value's tag and source.
 #include "cdpr/host/presets.h"
+
+#include "cdpr/config.h"
 
 #include <math.h>
 #include <string.h>
-
-static const double PI = 3.14159265358979323846;
 
 const char *cdpr_preset_name(cdpr_preset_t preset)
 {
@@ -20,7 +20,7 @@ const char *cdpr_preset_name(cdpr_preset_t preset)
 }
 
 /* Six towers at (j-1) 60 deg; attachments in twisted pairs at +-5 deg about 30, 150, 270 deg
- * (PARAMETERS.md "Pitfalls": radial attachments leave yaw without static stiffness). */
+ * (docs/robots.md: radial attachments leave yaw without static stiffness). */
 static void hexagon(cdpr_preset_config_t *c)
 {
     static const double attach_deg[CDPR_ROBOT_CABLES] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
@@ -92,8 +92,8 @@ cdpr_status_t cdpr_preset_get(cdpr_preset_t preset, cdpr_preset_config_t *cfg)
 void cdpr_preset_geometry(const cdpr_preset_config_t *cfg, int j, cdpr_vec3_t *exit_m,
                           cdpr_vec3_t *attach_body_m)
 {
-    const double th = cfg->exit_azimuth_deg[j] * PI / 180.0;
-    const double ph = cfg->attach_azimuth_deg[j] * PI / 180.0;
+    const double th = cfg->exit_azimuth_deg[j] * CDPR_PI / 180.0;
+    const double ph = cfg->attach_azimuth_deg[j] * CDPR_PI / 180.0;
     *exit_m =
         cdpr_v3(cfg->exit_radius_m * cos(th), cfg->exit_radius_m * sin(th), cfg->exit_height_m);
     *attach_body_m =

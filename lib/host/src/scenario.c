@@ -4,16 +4,16 @@
 #include "cdpr/host/scenario.h"
 
 #include <cyaml/cyaml.h>
-#include <errno.h>
+#include <limits.h>
 #include <math.h>
-#include <stdarg.h> /* collect_log (libcyaml hands a va_list) */
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <yaml.h>
 
-static const double PI = 3.14159265358979323846;
+#include "cdpr/config.h"
+#include "cdpr/host/yaml.h"
 
 /* ---------------------------------------------------------------- raw (file) structs */
 
@@ -425,26 +425,7 @@ int cdpr_yaml_key_line(const char *path, const char *key)
     return found;
 }
 
-/* libcyaml's log: collected, then turned into "FILE:LINE: KEY: message". */
-typedef struct {
-    char text[4096];
-    size_t len;
-} cyaml_log_buf_t;
-
-static void collect_log(cyaml_log_t level, void *ctx, const char *fmt, va_list args)
-{
-    cyaml_log_buf_t *b = ctx;
-    if (level < CYAML_LOG_ERROR || b->len + 1 >= sizeof b->text) {
-        return;
-    }
-    const int n = vsnprintf(b->text + b->len, sizeof b->text - b->len, fmt, args);
-    if (n > 0) {
-        b->len += (size_t)n;
-        if (b->len >= sizeof b->text) {
-            b->len = sizeof b->text - 1;
-        }
-    }
-}
+/* libcyaml's log (yaml.h), turned into "FILE:LINE: KEY: message". */
 
 /* One backtrace entry: "in mapping field 'k' (line: L, ...)", "in sequence entry 'i' (...)",
  * "in mapping (...)". */
@@ -485,7 +466,7 @@ static int parse_trace_line(const char *s, trace_t *t)
     return 1;
 }
 
-static void cyaml_error_message(const char *path, const cyaml_log_buf_t *lb, cyaml_err_t e,
+static void cyaml_error_message(const char *path, const cdpr_yaml_log_t *lb,
                                 cdpr_scenario_error_t *err)
 {
     char message[512] = "";
@@ -558,7 +539,7 @@ static void cyaml_error_message(const char *path, const cyaml_log_buf_t *lb, cya
     } else if (message[0] != '\0') {
         snprintf(what, sizeof what, "%s", message);
     } else {
-        snprintf(what, sizeof what, "%s", cyaml_strerror(e));
+        snprintf(what, sizeof what, "%s", cyaml_strerror(lb->err));
     }
     if (key[0] == '\0') {
         snprintf(key, sizeof key, "(document)");
@@ -605,10 +586,9 @@ static void take(double *dst, const double *src, int n)
     }
 }
 
-static void resolve(const raw_t *r, cdpr_scenario_t *sc)
+/* robot: the preset, then every override the file gives. */
+static void resolve_robot(const raw_robot_t *rr, cdpr_preset_config_t *c)
 {
-    const raw_robot_t *rr = &r->robot;
-    cdpr_preset_config_t *c = &sc->robot;
     (void)cdpr_preset_get(rr->preset, c);
     if (rr->segments != NULL) {
         c->segments = (int)*rr->segments; /* whole and in range: check_whole_numbers */
@@ -646,6 +626,11 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
         take(&c->winch.kp_per_s, rr->winch->kp_per_s, 1);
         take(&c->winch.min_length_m, rr->winch->min_length_m, 1);
     }
+}
+
+/* initial and trajectory sections. */
+static void resolve_motion(const raw_t *r, cdpr_scenario_t *sc)
+{
     if (r->initial != NULL) {
         sc->has_initial_pose = (r->initial->pose != NULL) ? 1 : 0;
         take(sc->initial_pose, r->initial->pose, 6);
@@ -659,7 +644,7 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
         take(t->centre_m, ci->centre_m, 3);
         t->radius_m = ci->radius_m;
         t->speed_m_per_s = ci->speed_m_per_s;
-        t->start_angle_rad = ci->start_angle_deg * PI / 180.0;
+        t->start_angle_rad = ci->start_angle_deg * CDPR_PI / 180.0;
         if (ci->direction != NULL && *ci->direction == DIR_CW) {
             t->direction = -1.0;
         }
@@ -677,6 +662,11 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
     if (r->trajectory.hold != NULL) {
         take(t->hold_pose, r->trajectory.hold->pose, 6);
     }
+}
+
+/* controller, integrator and run sections, and the description. */
+static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
+{
     sc->gains.kp = r->controller.kp;
     take(&sc->gains.kd_s, r->controller.kd_s, 1);
     sc->gains.k_length_per_s = r->controller.k_length_per_s;
@@ -707,8 +697,16 @@ static void resolve(const raw_t *r, cdpr_scenario_t *sc)
     }
 }
 
+static void resolve(const raw_t *r, cdpr_scenario_t *sc)
+{
+    resolve_robot(&r->robot, &sc->robot);
+    resolve_motion(r, sc);
+    resolve_run(r, sc);
+}
+
 /* Which trajectory blocks a file gave: exactly the one matching `type`. */
-static int check_traj_blocks(const raw_t *r, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+static cdpr_status_t check_traj_blocks(const raw_t *r, cdpr_scenario_t *sc,
+                                       cdpr_scenario_error_t *err)
 {
     const void *blocks[3] = {r->trajectory.hold, r->trajectory.circle, r->trajectory.line};
     const cdpr_traj_type_t types[3] = {CDPR_TRAJ_HOLD, CDPR_TRAJ_CIRCLE, CDPR_TRAJ_LINE};
@@ -720,98 +718,92 @@ static int check_traj_blocks(const raw_t *r, cdpr_scenario_t *sc, cdpr_scenario_
             snprintf(what, sizeof what, "type %s needs a '%s:' block in trajectory",
                      cdpr_traj_type_name(types[i]), cdpr_traj_type_name(types[i]));
             cdpr_scenario_error(sc, "trajectory.type", what, err);
-            return -1;
+            return CDPR_E_PARSE;
         }
         if (types[i] != r->trajectory.type && blocks[i] != NULL) {
             char what[512];
             snprintf(what, sizeof what, "given, but trajectory.type is %s",
                      cdpr_traj_type_name(r->trajectory.type));
             cdpr_scenario_error(sc, key, what, err);
-            return -1;
+            return CDPR_E_PARSE;
         }
     }
-    return 0;
+    return CDPR_OK;
 }
 
 /* Counts given in the file: finite whole numbers in range (before they become ints). */
-static int whole(const cdpr_scenario_t *sc, const char *key, const double *v, double lo, double hi,
-                 cdpr_scenario_error_t *err)
+static cdpr_status_t whole(const cdpr_scenario_t *sc, const char *key, const double *v, double lo,
+                           double hi, cdpr_scenario_error_t *err)
 {
     if (v == NULL) {
-        return 0;
+        return CDPR_OK;
     }
     if (!isfinite(*v) || floor(*v) < *v || *v < lo || *v > hi) {
         char what[512];
         snprintf(what, sizeof what, "%g is not a whole number in [%g, %g]", *v, lo, hi);
         cdpr_scenario_error(sc, key, what, err);
-        return -1;
+        return isfinite(*v) ? CDPR_E_OUT_OF_RANGE : CDPR_E_NOT_FINITE;
     }
-    return 0;
+    return CDPR_OK;
 }
 
-static int check_whole_numbers(const raw_t *r, const cdpr_scenario_t *sc,
-                               cdpr_scenario_error_t *err)
+static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *sc,
+                                         cdpr_scenario_error_t *err)
 {
-    if (whole(sc, "robot.segments", r->robot.segments, 1.0, (double)CDPR_MAX_SEGMENTS, err) != 0) {
-        return -1;
+    cdpr_status_t st =
+        whole(sc, "robot.segments", r->robot.segments, 1.0, (double)CDPR_MAX_SEGMENTS, err);
+    if (st == CDPR_OK && r->integrator != NULL) {
+        st = whole(sc, "integrator.max_trials", r->integrator->max_trials, 1.0,
+                   (double)CDPR_SCENARIO_MAX_TRIALS, err);
+        if (st == CDPR_OK) {
+            st = whole(sc, "integrator.max_attempts", r->integrator->max_attempts, 1.0,
+                       (double)CDPR_PLANT_MAX_ATTEMPTS, err);
+        }
     }
-    if (r->integrator != NULL &&
-        (whole(sc, "integrator.max_trials", r->integrator->max_trials, 1.0, 1e6, err) != 0 ||
-         whole(sc, "integrator.max_attempts", r->integrator->max_attempts, 1.0,
-               (double)CDPR_PLANT_MAX_ATTEMPTS, err) != 0)) {
-        return -1;
+    if (st != CDPR_OK) {
+        return st;
     }
     if (r->controller.period_s != NULL) {
         cdpr_scenario_error(sc, "controller.period_s",
                             "the control period is run.period_s (one period for the plant, the "
                             "controller and the outputs): move it there",
                             err);
-        return -1;
+        return CDPR_E_PARSE;
     }
-    return 0;
+    return CDPR_OK;
 }
 
-int cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
     memset(sc, 0, sizeof *sc);
     snprintf(sc->path, sizeof sc->path, "%s", path);
-    FILE *probe = fopen(path, "rb");
-    if (probe == NULL) {
-        snprintf(err->msg, sizeof err->msg, "%s: cannot open: %s", path, strerror(errno));
-        return -1;
+    cdpr_yaml_log_t lg;
+    void *data = NULL;
+    cdpr_status_t st = cdpr_yaml_load(path, &top_schema, CYAML_CFG_DEFAULT, &data, &lg);
+    if (st == CDPR_E_IO) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot open: %.512s", path, lg.text);
+        return st;
     }
-    fclose(probe);
-    cyaml_log_buf_t cy_log;
-    cy_log.len = 0;
-    cy_log.text[0] = '\0';
-    const cyaml_config_t cfg = {
-        .log_fn = collect_log,
-        .log_ctx = &cy_log,
-        .mem_fn = cyaml_mem,
-        .log_level = CYAML_LOG_ERROR,
-        .flags = CYAML_CFG_DEFAULT,
-    };
-    raw_t *raw = NULL;
-    const cyaml_err_t e = cyaml_load_file(path, &cfg, &top_schema, (cyaml_data_t **)&raw, NULL);
-    if (e != CYAML_OK) {
-        cyaml_error_message(path, &cy_log, e, err);
-        return -1;
+    if (st != CDPR_OK) {
+        if (lg.empty != 0) {
+            snprintf(err->msg, sizeof err->msg, "%s: empty scenario file", path);
+        } else {
+            cyaml_error_message(path, &lg, err);
+        }
+        return st;
     }
-    if (raw == NULL) {
-        snprintf(err->msg, sizeof err->msg, "%s: empty scenario file", path);
-        return -1;
+    const raw_t *raw = data;
+    st = check_traj_blocks(raw, sc, err);
+    if (st == CDPR_OK) {
+        st = check_whole_numbers(raw, sc, err);
     }
-    int rc = check_traj_blocks(raw, sc, err);
-    if (rc == 0) {
-        rc = check_whole_numbers(raw, sc, err);
-    }
-    if (rc == 0) {
+    if (st == CDPR_OK) {
         defaults_common(sc);
         resolve(raw, sc);
-        rc = cdpr_scenario_check(sc, err);
+        st = cdpr_scenario_check(sc, err);
     }
-    (void)cyaml_free(&cfg, &top_schema, raw, 0);
-    return rc;
+    cdpr_yaml_free(&top_schema, data);
+    return st;
 }
 
 /* ---------------------------------------------------------------- checks */
@@ -819,14 +811,14 @@ int cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_erro
 typedef struct {
     const cdpr_scenario_t *sc;
     cdpr_scenario_error_t *err;
-    int failed;
+    cdpr_status_t failed; /* CDPR_OK until the first failure */
 } vctx_t;
 
 /* Every x[i] finite and in [lo, hi] (or (lo, hi] when lo_open). */
 static void range(vctx_t *v, const char *key, const double *x, int n, double lo, double hi,
                   int lo_open)
 {
-    for (int i = 0; i < n && v->failed == 0; ++i) {
+    for (int i = 0; i < n && v->failed == CDPR_OK; ++i) {
         char k[128];
         if (n > 1) {
             snprintf(k, sizeof k, "%s[%d]", key, i);
@@ -837,24 +829,24 @@ static void range(vctx_t *v, const char *key, const double *x, int n, double lo,
             char what[512];
             snprintf(what, sizeof what, "not a finite number (%g)", x[i]);
             cdpr_scenario_error(v->sc, k, what, v->err);
-            v->failed = 1;
+            v->failed = CDPR_E_NOT_FINITE;
         } else if (x[i] > hi || x[i] < lo || (lo_open != 0 && !(x[i] > lo))) {
             char what[512];
             snprintf(what, sizeof what, "%g is outside %s%g, %g]", x[i], (lo_open != 0) ? "(" : "[",
                      lo, hi);
             cdpr_scenario_error(v->sc, k, what, v->err);
-            v->failed = 1;
+            v->failed = CDPR_E_OUT_OF_RANGE;
         }
     }
 }
 
 static void irange(vctx_t *v, const char *key, long x, long lo, long hi)
 {
-    if (v->failed == 0 && (x < lo || x > hi)) {
+    if (v->failed == CDPR_OK && (x < lo || x > hi)) {
         char what[512];
         snprintf(what, sizeof what, "%ld is outside [%ld, %ld]", x, lo, hi);
         cdpr_scenario_error(v->sc, key, what, v->err);
-        v->failed = 1;
+        v->failed = CDPR_E_OUT_OF_RANGE;
     }
 }
 
@@ -863,19 +855,19 @@ static void pose_range(vctx_t *v, const char *key, const double *pose)
 {
     char k[128];
     snprintf(k, sizeof k, "%s", key);
-    for (int i = 0; i < 6 && v->failed == 0; ++i) {
-        const double lim = (i < 3) ? 1e4 : 2.0 * PI;
+    for (int i = 0; i < 6 && v->failed == CDPR_OK; ++i) {
+        const double lim = (i < 3) ? 1e4 : 2.0 * CDPR_PI;
         if (!isfinite(pose[i])) {
             char what[512];
             snprintf(what, sizeof what, "element %d is not a finite number (%g)", i, pose[i]);
             cdpr_scenario_error(v->sc, k, what, v->err);
-            v->failed = 1;
+            v->failed = CDPR_E_NOT_FINITE;
         } else if (fabs(pose[i]) > lim) {
             char what[512];
             snprintf(what, sizeof what, "element %d = %g is outside [-%g, %g]", i, pose[i], lim,
                      lim);
             cdpr_scenario_error(v->sc, k, what, v->err);
-            v->failed = 1;
+            v->failed = CDPR_E_OUT_OF_RANGE;
         }
     }
 }
@@ -883,7 +875,7 @@ static void pose_range(vctx_t *v, const char *key, const double *pose)
 /* The core's own validation of the robot, with its field named. */
 static void core_check(vctx_t *v)
 {
-    if (v->failed != 0) {
+    if (v->failed != CDPR_OK) {
         return;
     }
     cdpr_robot_params_t p;
@@ -895,14 +887,15 @@ static void core_check(vctx_t *v)
         snprintf(what, sizeof what, "rejected by the model: field '%s' (cable %d): %s", d.field,
                  d.index + 1, cdpr_status_str(st));
         cdpr_scenario_error(v->sc, "robot", what, v->err);
-        v->failed = 1;
+        v->failed = st;
     }
 }
 
-int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+/* robot section: ranges, then the core's own validation of the built parameters. */
+static void check_robot(vctx_t *vp)
 {
-    vctx_t v = {sc, err, 0};
-    const cdpr_preset_config_t *c = &sc->robot;
+    vctx_t v = *vp;
+    const cdpr_preset_config_t *c = &v.sc->robot;
     irange(&v, "robot.segments", c->segments, 1, CDPR_MAX_SEGMENTS);
     range(&v, "robot.gravity_m_per_s2", &c->gravity_m_per_s2, 1, 0.0, 100.0, 1);
     range(&v, "robot.wind_m_per_s", c->wind_m_per_s, 3, -100.0, 100.0, 0);
@@ -928,6 +921,14 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
     range(&v, "robot.winch.kp_per_s", &c->winch.kp_per_s, 1, 0.0, 1e4, 1);
     range(&v, "robot.winch.min_length_m", &c->winch.min_length_m, 1, 0.0, 1e5, 1);
     core_check(&v);
+    *vp = v;
+}
+
+/* initial and trajectory sections. */
+static void check_motion(vctx_t *vp)
+{
+    vctx_t v = *vp;
+    const cdpr_scenario_t *sc = v.sc;
     if (sc->has_initial_pose != 0) {
         pose_range(&v, "initial.pose", sc->initial_pose);
     }
@@ -939,11 +940,12 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
         range(&v, "trajectory.circle.radius_m", &t->radius_m, 1, 0.0, 1e4, 1);
         range(&v, "trajectory.circle.speed_m_per_s", &t->speed_m_per_s, 1, 0.0, 1e3, 0);
         {
-            const double deg = t->start_angle_rad * 180.0 / PI;
+            const double deg = t->start_angle_rad * 180.0 / CDPR_PI;
             range(&v, "trajectory.circle.start_angle_deg", &deg, 1, -360.0, 360.0, 0);
         }
         range(&v, "trajectory.circle.ramp_s", &t->ramp_s, 1, 0.0, 1e6, 0);
-        range(&v, "trajectory.circle.attitude_rad", t->attitude_rad, 3, -2.0 * PI, 2.0 * PI, 0);
+        range(&v, "trajectory.circle.attitude_rad", t->attitude_rad, 3, -2.0 * CDPR_PI,
+              2.0 * CDPR_PI, 0);
         break;
     case CDPR_TRAJ_LINE:
         pose_range(&v, "trajectory.line.from", t->from);
@@ -955,6 +957,14 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
         pose_range(&v, "trajectory.hold.pose", t->hold_pose);
         break;
     }
+    *vp = v;
+}
+
+/* controller, integrator and run sections (ranges). */
+static void check_run(vctx_t *vp)
+{
+    vctx_t v = *vp;
+    const cdpr_scenario_t *sc = v.sc;
     range(&v, "controller.kp", &sc->gains.kp, 1, 0.0, 1e3, 0);
     range(&v, "controller.kd_s", &sc->gains.kd_s, 1, 0.0, 1e3, 0);
     range(&v, "controller.k_length_per_s", &sc->gains.k_length_per_s, 1, 0.0, 1e4, 0);
@@ -969,12 +979,21 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
     range(&v, "integrator.atol_quaternion", &in->atol_quaternion, 1, 0.0, 1.0, 1);
     range(&v, "integrator.atol_rate_rad_per_s", &in->atol_rate_rad_per_s, 1, 0.0, 1.0, 1);
     range(&v, "integrator.h_max_s", &in->h_max_s, 1, 0.0, 10.0, 1);
-    irange(&v, "integrator.max_trials", in->max_trials, 1, 1000000);
+    irange(&v, "integrator.max_trials", in->max_trials, 1, CDPR_SCENARIO_MAX_TRIALS);
     irange(&v, "integrator.max_attempts", in->max_attempts, 1, CDPR_PLANT_MAX_ATTEMPTS);
     range(&v, "run.duration_s", &sc->duration_s, 1, 0.0, 1e6, 1);
     range(&v, "run.period_s", &sc->period_s, 1, 0.0, 10.0, 1);
     range(&v, "run.output_rate_hz", &sc->output_rate_hz, 1, 0.0, 1e6, 0);
-    if (v.failed == 0) {
+    *vp = v;
+}
+
+cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+{
+    vctx_t v = {sc, err, CDPR_OK};
+    check_robot(&v);
+    check_motion(&v);
+    check_run(&v);
+    if (v.failed == CDPR_OK) {
         /* Whole control periods, and whole periods per output row. */
         const double periods = sc->duration_s / sc->period_s;
         if (fabs(periods - floor(periods + 0.5)) > 1e-6 * periods || periods < 0.5) {
@@ -982,7 +1001,7 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
             snprintf(what, sizeof what, "%g s is not a whole number of control periods (%g s)",
                      sc->duration_s, sc->period_s);
             cdpr_scenario_error(sc, "run.duration_s", what, err);
-            v.failed = 1;
+            v.failed = CDPR_E_OUT_OF_RANGE;
         } else if (sc->output_rate_hz > 0.0) {
             const double every = 1.0 / (sc->output_rate_hz * sc->period_s);
             if (every < 0.5 || fabs(every - floor(every + 0.5)) > 1e-6 * every) {
@@ -992,11 +1011,11 @@ int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
                          "number",
                          sc->output_rate_hz, 1.0 / sc->period_s);
                 cdpr_scenario_error(sc, "run.output_rate_hz", what, err);
-                v.failed = 1;
+                v.failed = CDPR_E_OUT_OF_RANGE;
             }
         }
     }
-    return (v.failed != 0) ? -1 : 0;
+    return v.failed;
 }
 
 void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6])
@@ -1025,4 +1044,107 @@ long cdpr_scenario_output_every(const cdpr_scenario_t *sc)
     }
     const long every = (long)floor(1.0 / (sc->output_rate_hz * sc->period_s) + 0.5);
     return (every >= 1) ? every : 1;
+}
+
+/* ---------------------------------------------------------------- command-line overrides */
+
+void cdpr_scenario_overrides_none(cdpr_scenario_overrides_t *ov)
+{
+    ov->rate_hz = (double)NAN;
+    ov->duration_s = (double)NAN;
+    ov->max_trials = (double)NAN;
+    ov->max_attempts = (double)NAN;
+}
+
+static int given(double v)
+{
+    return isnan(v) ? 0 : 1;
+}
+
+static int differs(double a, double b)
+{
+    return (a < b || a > b) ? 1 : 0;
+}
+
+/* A count option: a whole number that fits an int (its range is the scenario check's). */
+static cdpr_status_t whole_option(const char *opt, double v, int *out, cdpr_scenario_error_t *err)
+{
+    if (!isfinite(v) || floor(v) < v || fabs(v) > (double)INT_MAX) {
+        snprintf(err->msg, sizeof err->msg, "%s %g: not a whole number", opt, v);
+        return isfinite(v) ? CDPR_E_OUT_OF_RANGE : CDPR_E_NOT_FINITE;
+    }
+    *out = (int)v;
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_overrides_t *ov,
+                                     const char *prog, FILE *notes, cdpr_scenario_error_t *err)
+{
+    const char *of = (sc->path[0] != '\0') ? sc->path : "the scenario";
+    char opts[256] = "";
+    int trials = sc->integrator.max_trials;
+    int attempts = sc->integrator.max_attempts;
+    cdpr_status_t ws = (given(ov->max_trials) != 0)
+                           ? whole_option("--max-trials", ov->max_trials, &trials, err)
+                           : CDPR_OK;
+    if (ws == CDPR_OK && given(ov->max_attempts) != 0) {
+        ws = whole_option("--max-attempts", ov->max_attempts, &attempts, err);
+    }
+    if (ws != CDPR_OK) {
+        return ws;
+    }
+    if (given(ov->rate_hz) != 0) {
+        const double period = 1.0 / ov->rate_hz;
+        if (notes != NULL && differs(period, sc->period_s) != 0) {
+            fprintf(notes, "%s: --rate %g Hz overrides run.period_s = %g s (%g Hz) of %s\n", prog,
+                    ov->rate_hz, sc->period_s, 1.0 / sc->period_s, of);
+        }
+        sc->period_s = period;
+        snprintf(opts, sizeof opts, "--rate %g Hz", ov->rate_hz);
+    }
+    if (given(ov->duration_s) != 0) {
+        if (notes != NULL && differs(ov->duration_s, sc->duration_s) != 0) {
+            fprintf(notes, "%s: --duration %g s overrides run.duration_s = %g s of %s\n", prog,
+                    ov->duration_s, sc->duration_s, of);
+        }
+        sc->duration_s = ov->duration_s;
+        const size_t n = strlen(opts);
+        snprintf(opts + n, sizeof opts - n, "%s--duration %g s", (n > 0) ? ", " : "",
+                 ov->duration_s);
+    }
+    const struct {
+        const char *opt;
+        const char *key;
+        int *field;
+        int value;
+        int is_given;
+    } counts[2] = {
+        {"--max-trials", "integrator.max_trials", &sc->integrator.max_trials, trials,
+         given(ov->max_trials)},
+        {"--max-attempts", "integrator.max_attempts", &sc->integrator.max_attempts, attempts,
+         given(ov->max_attempts)},
+    };
+    for (int i = 0; i < 2; ++i) {
+        if (counts[i].is_given == 0) {
+            continue;
+        }
+        if (notes != NULL && counts[i].value != *counts[i].field) {
+            fprintf(notes, "%s: %s %d overrides %s = %d of %s\n", prog, counts[i].opt,
+                    counts[i].value, counts[i].key, *counts[i].field, of);
+        }
+        *counts[i].field = counts[i].value;
+        const size_t n = strlen(opts);
+        snprintf(opts + n, sizeof opts - n, "%s%s %d", (n > 0) ? ", " : "", counts[i].opt,
+                 counts[i].value);
+    }
+    cdpr_scenario_error_t ce;
+    const cdpr_status_t st = cdpr_scenario_check(sc, &ce);
+    if (st != CDPR_OK) {
+        if (opts[0] != '\0') {
+            snprintf(err->msg, sizeof err->msg, "%.255s: %.1780s", opts, ce.msg);
+        } else {
+            *err = ce;
+        }
+    }
+    return st;
 }

@@ -164,27 +164,24 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
-cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m,
-                                cdpr_tracker_cmd_t *cmd)
+/* Every measured value finite. */
+static int meas_finite(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
 {
-    if (tr == NULL || m == NULL || cmd == NULL) {
-        return CDPR_E_INVALID_ARG;
-    }
-    const int nc = tr->model.p.n_cables;
     int finite = isfinite(m->t_s) && cdpr_v3_isfinite(m->cabin.p_m) &&
                  cdpr_v3_isfinite(m->cabin.v_m_per_s) && cdpr_v3_isfinite(m->cabin.w_rad_per_s) &&
                  isfinite(m->cabin.q.w) && isfinite(m->cabin.q.x) && isfinite(m->cabin.q.y) &&
                  isfinite(m->cabin.q.z);
-    for (int j = 0; j < nc; ++j) {
+    for (int j = 0; j < tr->model.p.n_cables; ++j) {
         finite = finite && isfinite(m->length_m[j]);
     }
-    if (!finite) {
-        return CDPR_E_NOT_FINITE;
-    }
-    memset(cmd, 0, sizeof *cmd);
-    const double dt = tr->period_s;
-    const double t = m->t_s;
-    /* L_ff(t): prepared by the previous period, unless the caller's clock jumped. */
+    return finite;
+}
+
+/* Step 1: L_ff(t) (prepared by the previous period, unless the caller's clock jumped) and
+ * L_ff(t + dt) into l_next (the last good value when the IK fails). */
+static void feedforward_step(cdpr_tracker_t *tr, double t, double dt, double *l_next,
+                             cdpr_tracker_cmd_t *cmd)
+{
     if (fabs(t - tr->t_next_s) > 1e-9 * (1.0 + fabs(t))) {
         if (feedforward(tr, t, tr->l_ff_m) != CDPR_OK) {
             tr->ik_failures++;
@@ -193,15 +190,18 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
             tr->l_ff_exact = 1;
         }
     }
-    double l_next[CDPR_MAX_CABLES];
-    memcpy(l_next, tr->l_ff_m, sizeof l_next);
+    memcpy(l_next, tr->l_ff_m, sizeof(double) * CDPR_MAX_CABLES);
     cmd->ik_status = feedforward(tr, t + dt, l_next);
     if (cmd->ik_status != CDPR_OK) {
         tr->ik_failures++; /* l_next still holds the last good feed-forward */
     }
-    cmd->fb_status = CDPR_OK;
+}
 
-    /* Pose error (desired - measured) and its rate, world axes. */
+/* Step 2a: pose error (desired - measured) and its rate, world axes, into raw[12] (e_p, e_θ,
+ * ė_p, ė_θ) and cmd (desired state, e_p, e_θ). */
+static void pose_error(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double t,
+                       cdpr_tracker_cmd_t *cmd, double raw[12])
+{
     cdpr_traj_eval(&tr->traj, t, &cmd->desired);
     const cdpr_cabin_motion_t *d = &cmd->desired.motion;
     const cdpr_quat_t qm = cdpr_quat_normalize(m->cabin.q);
@@ -221,11 +221,15 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     cmd->err_rot_rad[0] = e_th.x;
     cmd->err_rot_rad[1] = e_th.y;
     cmd->err_rot_rad[2] = e_th.z;
+    const double v[12] = {e_p.x, e_p.y, e_p.z, e_th.x, e_th.y, e_th.z,
+                          e_v.x, e_v.y, e_v.z, e_w.x,  e_w.y,  e_w.z};
+    memcpy(raw, v, sizeof v);
+}
 
-    /* Second-order low-pass (two first-order stages, critically damped) of the 12 error
-     * components; the first sample primes both stages. */
-    const double raw[12] = {e_p.x, e_p.y, e_p.z, e_th.x, e_th.y, e_th.z,
-                            e_v.x, e_v.y, e_v.z, e_w.x,  e_w.y,  e_w.z};
+/* Step 2b: second-order low-pass (two first-order stages, critically damped) of the 12 error
+ * components into tr->err_f; the first sample primes both stages. */
+static void filter_errors(cdpr_tracker_t *tr, const double raw[12], double dt)
+{
     const double a = (tr->g.filter_s > 0.0) ? 1.0 - exp(-dt / tr->g.filter_s) : 1.0;
     for (int i = 0; i < 12; ++i) {
         if (tr->filter_primed == 0) {
@@ -237,32 +241,43 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
         }
     }
     tr->filter_primed = 1;
+}
+
+/* Step 3: wrench-space damping: the lengths that make the cables add c ė_p and c_r ė_θ at the
+ * desired pose of t, relative to L_ff(t) (same pose and feed-forward load), into dl_w (zero
+ * when off or when its IK fails). */
+static void damping_step(cdpr_tracker_t *tr, double t, cdpr_tracker_cmd_t *cmd, double *dl_w)
+{
     const double *f = tr->err_f;
-
-    /* Wrench-space damping: the lengths that make the cables add c ė_p and c_r ė_θ at the
-     * desired pose of t, relative to L_ff(t) (same pose and feed-forward load). */
-    double dl_w[CDPR_MAX_CABLES] = {0.0};
-    if (tr->g.damping_N_s_per_m > 0.0 || tr->g.damping_rot_N_m_s > 0.0) {
-        const cdpr_vec3_t f_add = cdpr_v3_scale(cdpr_v3(f[6], f[7], f[8]), tr->g.damping_N_s_per_m);
-        const cdpr_vec3_t tau_add =
-            cdpr_v3_scale(cdpr_v3(f[9], f[10], f[11]), tr->g.damping_rot_N_m_s);
-        double l_ref[CDPR_MAX_CABLES];
-        double l_w[CDPR_MAX_CABLES];
-        memcpy(l_ref, tr->l_ff_m, sizeof l_ref);
-        cmd->fb_status = (tr->l_ff_exact != 0) ? CDPR_OK : feedforward(tr, t, l_ref);
-        if (cmd->fb_status == CDPR_OK) {
-            cmd->fb_status = ik_at(tr, t, f_add, tau_add, l_w);
-        }
-        if (cmd->fb_status == CDPR_OK) {
-            for (int j = 0; j < nc; ++j) {
-                dl_w[j] = l_w[j] - l_ref[j];
-            }
-        } else {
-            tr->fb_failures++;
-        }
+    cmd->fb_status = CDPR_OK;
+    if (!(tr->g.damping_N_s_per_m > 0.0 || tr->g.damping_rot_N_m_s > 0.0)) {
+        return;
     }
+    const cdpr_vec3_t f_add = cdpr_v3_scale(cdpr_v3(f[6], f[7], f[8]), tr->g.damping_N_s_per_m);
+    const cdpr_vec3_t tau_add = cdpr_v3_scale(cdpr_v3(f[9], f[10], f[11]), tr->g.damping_rot_N_m_s);
+    double l_ref[CDPR_MAX_CABLES];
+    double l_w[CDPR_MAX_CABLES];
+    memcpy(l_ref, tr->l_ff_m, sizeof l_ref);
+    cmd->fb_status = (tr->l_ff_exact != 0) ? CDPR_OK : feedforward(tr, t, l_ref);
+    if (cmd->fb_status == CDPR_OK) {
+        cmd->fb_status = ik_at(tr, t, f_add, tau_add, l_w);
+    }
+    if (cmd->fb_status == CDPR_OK) {
+        for (int j = 0; j < tr->model.p.n_cables; ++j) {
+            dl_w[j] = l_w[j] - l_ref[j];
+        }
+    } else {
+        tr->fb_failures++;
+    }
+}
 
-    for (int j = 0; j < nc; ++j) {
+/* Steps 2c and 4: length corrections through the straight-cable Jacobian at the measured pose
+ * and the payout-rate commands. */
+static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double dt,
+                          const double *l_next, const double *dl_w, cdpr_tracker_cmd_t *cmd)
+{
+    const double *f = tr->err_f;
+    for (int j = 0; j < tr->model.p.n_cables; ++j) {
         cdpr_vec3_t u;
         cdpr_vec3_t gj;
         cdpr_tracker_jacobian(&tr->model, j, &m->cabin, &u, &gj);
@@ -277,6 +292,28 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
         cmd->dl_m[j] = dl;
         cmd->rate_m_per_s[j] = u_ff + tr->g.k_length_per_s * (tr->l_ff_m[j] + dl - m->length_m[j]);
     }
+}
+
+cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m,
+                                cdpr_tracker_cmd_t *cmd)
+{
+    if (tr == NULL || m == NULL || cmd == NULL) {
+        return CDPR_E_INVALID_ARG;
+    }
+    if (!meas_finite(tr, m)) {
+        return CDPR_E_NOT_FINITE;
+    }
+    memset(cmd, 0, sizeof *cmd);
+    const double dt = tr->period_s;
+    const double t = m->t_s;
+    double l_next[CDPR_MAX_CABLES];
+    feedforward_step(tr, t, dt, l_next, cmd);
+    double raw[12];
+    pose_error(tr, m, t, cmd, raw);
+    filter_errors(tr, raw, dt);
+    double dl_w[CDPR_MAX_CABLES] = {0.0};
+    damping_step(tr, t, cmd, dl_w);
+    rate_commands(tr, m, dt, l_next, dl_w, cmd);
     memcpy(tr->l_ff_m, l_next, sizeof l_next);
     tr->l_ff_exact = (cmd->ik_status == CDPR_OK) ? 1 : 0;
     tr->t_next_s = t + dt;

@@ -1,5 +1,5 @@
 /// @file trajectory.c
-/// Circle, line and hold trajectories (MODEL.md §7, PARAMETERS.md scenario geometry).
+/// Circle, line and hold trajectories (docs/validation.md §8; scenario geometry in docs/robots.md).
 #include "cdpr/host/trajectory.h"
 
 #include <math.h>

@@ -23,76 +23,50 @@ static const int64_t LOCKSTEP_RESEND_NS = 100000000;
 void cdpr_rt_opts_default(cdpr_rt_opts_t *o)
 {
     memset(o, 0, sizeof *o);
-    o->rate_hz = 1000.0;
-    o->duration_s = 0.0;
     o->lockstep = 0;
     o->lockstep_timeout_s = 2.0;
     o->realtime = 0;
     o->rt_priority = 80;
-    o->max_trials = 50;
     o->shape_rate_hz = 10.0;
     o->diag_rate_hz = 1.0;
     o->start_delay_s = 0.0;
     cdpr_lcm_bridge_params_default(&o->lcm);
 }
 
-static int opt_error(const char *opt, const char *what, cdpr_scenario_error_t *err)
+/* A bad option: "option --NAME: what", NOT_FINITE or OUT_OF_RANGE. */
+static cdpr_status_t opt_error(const char *opt, double v, const char *what,
+                               cdpr_scenario_error_t *err)
 {
-    snprintf(err->msg, sizeof err->msg, "option %s: %s", opt, what);
-    return 2;
+    snprintf(err->msg, sizeof err->msg, "option --%s: %g: %s", opt, v, what);
+    return isfinite(v) ? CDPR_E_OUT_OF_RANGE : CDPR_E_NOT_FINITE;
 }
 
-int cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
-                 cdpr_scenario_error_t *err)
+/* The node's own options (the run settings are the scenario's: cdpr_scenario_check). */
+static cdpr_status_t check_opts(const cdpr_rt_opts_t *op, double rate_hz,
+                                cdpr_scenario_error_t *err)
 {
-    memset(rt, 0, sizeof *rt);
-    rt->o = *o;
-    cdpr_rt_opts_t *op = &rt->o;
-    if (!(op->rate_hz >= 1.0 && op->rate_hz <= 100000.0)) {
-        return opt_error("rate", "must be in [1, 100000] Hz", err);
-    }
-    if (!(op->duration_s >= 0.0) || !isfinite(op->duration_s)) {
-        return opt_error("duration", "must be a finite number >= 0 s", err);
-    }
-    if (op->duration_s <= 0.0) {
-        op->duration_s = sc->duration_s;
-    }
     if (!(op->lockstep_timeout_s > 0.0 && op->lockstep_timeout_s <= 3600.0)) {
-        return opt_error("lockstep-timeout", "must be in (0, 3600] s", err);
+        return opt_error("lockstep-timeout", op->lockstep_timeout_s, "must be in (0, 3600] s", err);
     }
     if (op->rt_priority < 1 || op->rt_priority > 99) {
-        return opt_error("priority", "must be in 1..99", err);
+        return opt_error("priority", (double)op->rt_priority, "must be in 1..99", err);
     }
-    if (op->max_trials < 1 || op->max_trials > 1000000) {
-        return opt_error("max-trials", "must be in 1..1000000", err);
+    if (!(op->shape_rate_hz >= 0.0 && op->shape_rate_hz <= rate_hz)) {
+        return opt_error("shape-rate", op->shape_rate_hz, "must be in [0, control rate]", err);
     }
-    if (!(op->shape_rate_hz >= 0.0 && op->shape_rate_hz <= op->rate_hz) ||
-        !(op->diag_rate_hz >= 0.0 && op->diag_rate_hz <= op->rate_hz)) {
-        return opt_error("shape-rate/diag-rate", "must be in [0, rate]", err);
+    if (!(op->diag_rate_hz >= 0.0 && op->diag_rate_hz <= rate_hz)) {
+        return opt_error("diag-rate", op->diag_rate_hz, "must be in [0, control rate]", err);
     }
     if (!(op->start_delay_s >= 0.0 && op->start_delay_s <= 3600.0)) {
-        return opt_error("start-delay", "must be in [0, 3600] s", err);
+        return opt_error("start-delay", op->start_delay_s, "must be in [0, 3600] s", err);
     }
-    const double period = 1.0 / op->rate_hz;
-    rt->period_ns = (int64_t)llround(period * 1e9);
-    rt->n_periods = (long)llround(op->duration_s * op->rate_hz);
-    if (rt->n_periods < 1) {
-        return opt_error("duration", "shorter than one period", err);
-    }
-    rt->shape_every =
-        (op->shape_rate_hz > 0.0) ? (long)llround(op->rate_hz / op->shape_rate_hz) : 0;
-    rt->diag_every = (op->diag_rate_hz > 0.0) ? (long)llround(op->rate_hz / op->diag_rate_hz) : 0;
-    /* TODO(issue 13): period and trial budget from the scenario (run.period_s,
-     * integrator.max_trials), options as overrides. */
-    static cdpr_scenario_t scx;
-    scx = *sc;
-    scx.period_s = period;
-    scx.integrator.max_trials = op->max_trials;
-    scx.integrator.max_attempts = 1;
-    if (cdpr_host_plant_init(&rt->plant, &scx, NULL, err) != CDPR_OK) {
-        return 2;
-    }
-    cdpr_lcm_bridge_params_t bp = op->lcm;
+    return CDPR_OK;
+}
+
+/* The bridge for the plant's cables and winch limits. */
+static cdpr_status_t init_bridge(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
+{
+    cdpr_lcm_bridge_params_t bp = rt->o.lcm;
     bp.n_cables = rt->plant.robot.p.n_cables;
     double longest = 0.0;
     for (int j = 0; j < bp.n_cables; ++j) {
@@ -102,14 +76,53 @@ int cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t 
     bp.max_length_m = fmax(bp.max_length_m, 4.0 * longest);
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    if (cdpr_lcm_bridge_init(&rt->bridge, &bp, &d) != CDPR_OK) {
-        char what[256];
-        snprintf(what, sizeof what, "field '%s': %s", d.field, cdpr_status_str(d.status));
-        return opt_error("lcm", what, err);
+    const cdpr_status_t st = cdpr_lcm_bridge_init(&rt->bridge, &bp, &d);
+    if (st != CDPR_OK) {
+        if (strcmp(d.field, "watchdog_timeout_s") == 0) {
+            snprintf(err->msg, sizeof err->msg, "option --watchdog: %g: must be in (0, 3600] s",
+                     bp.watchdog_timeout_s);
+        } else {
+            snprintf(err->msg, sizeof err->msg, "LCM bridge: field '%s': %s", d.field,
+                     cdpr_status_str(d.status));
+        }
+    }
+    return st;
+}
+
+cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
+                           cdpr_scenario_error_t *err)
+{
+    memset(rt, 0, sizeof *rt);
+    rt->o = *o;
+    cdpr_status_t st = cdpr_scenario_check(sc, err);
+    if (st != CDPR_OK) {
+        return st;
+    }
+    const double rate_hz = 1.0 / sc->period_s;
+    st = check_opts(&rt->o, rate_hz, err);
+    if (st != CDPR_OK) {
+        return st;
+    }
+    rt->period_ns = (int64_t)llround(sc->period_s * 1e9);
+    if (rt->period_ns < 1) {
+        cdpr_scenario_error(sc, "run.period_s", "shorter than the clock's 1 ns", err);
+        return CDPR_E_OUT_OF_RANGE;
+    }
+    rt->n_periods = cdpr_scenario_periods(sc);
+    rt->shape_every =
+        (rt->o.shape_rate_hz > 0.0) ? (long)llround(rate_hz / rt->o.shape_rate_hz) : 0;
+    rt->diag_every = (rt->o.diag_rate_hz > 0.0) ? (long)llround(rate_hz / rt->o.diag_rate_hz) : 0;
+    st = cdpr_host_plant_init(&rt->plant, sc, NULL, err);
+    if (st != CDPR_OK) {
+        return st;
+    }
+    st = init_bridge(rt, err);
+    if (st != CDPR_OK) {
+        return st;
     }
     rt->seq = 0;
     rt->command_seq = -1;
-    return 0;
+    return CDPR_OK;
 }
 
 /* ------------------------------------------------------------------ periodic thread */
@@ -344,7 +357,7 @@ static void *periodic(void *arg)
     return NULL;
 }
 
-int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
 {
     cdpr_rt_telemetry_t *t = &rt->tel;
     cdpr_diag_t d;
@@ -354,7 +367,7 @@ int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     if (cdpr_lcm_bridge_start(&rt->bridge, &d) != CDPR_OK) {
         snprintf(err->msg, sizeof err->msg, "LCM: cannot start the bridge (%s): %s", d.field,
                  cdpr_status_str(d.status));
-        return 3;
+        return CDPR_E_IO;
     }
     t->rt_note[0] = '\0';
     pthread_attr_t attr;
@@ -391,7 +404,7 @@ int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     if (rc != 0) {
         cdpr_lcm_bridge_stop(&rt->bridge);
         snprintf(err->msg, sizeof err->msg, "cannot create the periodic thread: %s", strerror(rc));
-        return 3;
+        return CDPR_E_IO;
     }
     t->sched_fifo = fifo;
     pthread_join(th, NULL);
@@ -401,7 +414,9 @@ int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     }
     fill_stats(rt);
     cdpr_lcm_bridge_stats(&rt->bridge, &t->lcm);
-    return (rt->o.stop != NULL && *rt->o.stop != 0 && t->periods < rt->n_periods) ? 1 : 0;
+    return (rt->o.stop != NULL && *rt->o.stop != 0 && t->periods < rt->n_periods)
+               ? CDPR_E_INTERRUPTED
+               : CDPR_OK;
 }
 
 static double to_us(int64_t ns)
@@ -416,7 +431,7 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
     const double period_us = 1e-3 * (double)rt->period_ns;
     fprintf(f, "cdpr-rt telemetry\n");
     fprintf(f, "  mode               %s, %.0f Hz, %s%s\n",
-            (rt->o.lockstep != 0) ? "lockstep" : "free-running", rt->o.rate_hz,
+            (rt->o.lockstep != 0) ? "lockstep" : "free-running", 1.0 / rt->plant.pp.period_s,
             (t->sched_fifo != 0) ? "SCHED_FIFO" : "SCHED_OTHER",
             (t->mlocked != 0) ? " + mlockall" : "");
     if (t->rt_note[0] != '\0') {

@@ -16,15 +16,17 @@ static int all_finite(const double *v, int n)
     return 1;
 }
 
-int cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
-                           double period_s, int n_cables, cdpr_tracker_meas_t *m)
+cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
+                                     double period_s, int n_cables, cdpr_tracker_meas_t *m)
 {
-    if (st->seq != ten->seq || ten->n_cables != n_cables || !(period_s > 0.0) ||
-        all_finite(st->position_m, 3) == 0 || all_finite(st->orientation, 4) == 0 ||
+    if (st->seq != ten->seq || ten->n_cables != n_cables || !(period_s > 0.0) || st->utime_us < 0) {
+        return CDPR_E_INVALID_ARG;
+    }
+    if (all_finite(st->position_m, 3) == 0 || all_finite(st->orientation, 4) == 0 ||
         all_finite(st->velocity_m_per_s, 3) == 0 ||
         all_finite(st->angular_velocity_rad_per_s, 3) == 0 ||
-        all_finite(ten->length_m, n_cables) == 0 || st->utime_us < 0) {
-        return -1;
+        all_finite(ten->length_m, n_cables) == 0) {
+        return CDPR_E_NOT_FINITE;
     }
     /* n = round(utime 1e-6 / dt); t = n dt is the plant's own k dt. */
     const double n = (double)llround((double)st->utime_us * 1e-6 / period_s);
@@ -42,7 +44,7 @@ int cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensio
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
         m->length_m[j] = (j < n_cables) ? ten->length_m[j] : 0.0;
     }
-    return 0;
+    return CDPR_OK;
 }
 
 cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params_t *model,
@@ -123,16 +125,16 @@ static void on_tensions(const lcm_recv_buf_t *rbuf, const char *channel, void *u
     }
 }
 
-int cdpr_rt_tracker_attach(cdpr_rt_tracker_t *t, lcm_t *lcm)
+cdpr_status_t cdpr_rt_tracker_attach(cdpr_rt_tracker_t *t, lcm_t *lcm)
 {
     t->lcm = lcm;
     t->sub_state = lcm_subscribe(lcm, t->ch_state, on_state, t);
     t->sub_tensions = lcm_subscribe(lcm, t->ch_tensions, on_tensions, t);
     if (t->sub_state == NULL || t->sub_tensions == NULL) {
         cdpr_rt_tracker_detach(t);
-        return -1;
+        return CDPR_E_IO;
     }
-    return 0;
+    return CDPR_OK;
 }
 
 void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t)
@@ -159,7 +161,7 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
     t->answered_state_seq = t->state.seq;
     cdpr_tracker_meas_t m;
     cdpr_tracker_cmd_t c;
-    if (cdpr_rt_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m) != 0 ||
+    if (cdpr_rt_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m) != CDPR_OK ||
         cdpr_tracker_step(&t->tracker, &m, &c) != CDPR_OK) {
         t->stats.bad_measurement++;
         return -1;

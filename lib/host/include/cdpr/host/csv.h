@@ -7,14 +7,16 @@
 
 #include <stdio.h>
 
+#include "cdpr/status.h"
+
 typedef struct {
     FILE *f;    ///< open file (internal)
     int col;    ///< fields written in the current row (internal)
     int failed; ///< a write failed (output)
 } cdpr_csv_t;
 
-/// Open `path` for writing. Returns 0, or -1 (errno set by fopen).
-int cdpr_csv_open(cdpr_csv_t *c, const char *path);
+/// Open `path` for writing. Returns CDPR_OK, or CDPR_E_IO (errno set by fopen).
+cdpr_status_t cdpr_csv_open(cdpr_csv_t *c, const char *path);
 
 /// One header field (a column name).
 void cdpr_csv_name(cdpr_csv_t *c, const char *name);
@@ -25,7 +27,8 @@ void cdpr_csv_num(cdpr_csv_t *c, double v);
 /// End the current row.
 void cdpr_csv_end_row(cdpr_csv_t *c);
 
-/// Close. Returns 0, or -1 if any write (or the close) failed.
-int cdpr_csv_close(cdpr_csv_t *c);
+/// Close. Returns CDPR_OK, CDPR_E_IO if any write (or the close) failed, CDPR_E_INVALID_ARG
+/// if it was not open.
+cdpr_status_t cdpr_csv_close(cdpr_csv_t *c);
 
 #endif /* CDPR_HOST_CSV_H */

@@ -1,5 +1,5 @@
 /// @file presets.h
-/// Robot configurations of the project's parameter sets (PARAMETERS.md): the paper's
+/// Robot configurations of the project's parameter sets (docs/robots.md): the paper's
 /// reconstructed "50 m model" (set A) and a FAST-like full-scale robot (set B).
 ///
 /// A configuration is a flat record of every physical value a scenario file may override
@@ -7,7 +7,7 @@
 /// cdpr_robot_params_t and cdpr_winch_params_t. Each value's source is in docs/robots.md
 /// with its tag: [P] published, [A] assumed, [D] derived.
 ///
-/// Geometry (MODEL.md §1): exit point A_j = (a cos θ_j, a sin θ_j, H); attachment
+/// Geometry (docs/model.md §1): exit point A_j = (a cos θ_j, a sin θ_j, H); attachment
 /// b_j = (r_b cos φ_j, r_b sin φ_j, z_b) in body axes, relative to the body origin (the
 /// cabin's centre of mass unless com_m is set).
 ///
@@ -21,7 +21,7 @@
 #include "cdpr/status.h"
 #include "cdpr/winch.h"
 
-/// The six-cable robots of PARAMETERS.md.
+/// The six-cable robots of docs/robots.md.
 #define CDPR_ROBOT_CABLES 6
 
 /// Preset parameter sets.
@@ -54,7 +54,7 @@ typedef struct {
 /// Name of a preset as written in scenario files ("paper-50m", "fast"); never NULL.
 const char *cdpr_preset_name(cdpr_preset_t preset);
 
-/// Fill `cfg` with a preset's values (PARAMETERS.md). Returns CDPR_E_INVALID_ARG for an
+/// Fill `cfg` with a preset's values (docs/robots.md). Returns CDPR_E_INVALID_ARG for an
 /// unknown preset (cfg untouched).
 cdpr_status_t cdpr_preset_get(cdpr_preset_t preset, cdpr_preset_config_t *cfg);
 

@@ -3,9 +3,9 @@
 ///
 /// A file has the sections `robot` (preset name plus optional overrides of every value of
 /// presets.h), `initial` (optional pose and offset), `trajectory` (type circle | line | hold
-/// and the matching block), `controller` (period and gains), `integrator` (optional
-/// tolerances and substep bound) and `run` (duration, output rate). docs/scenarios.md lists
-/// every key with its unit and range; scenarios/ holds examples.
+/// and the matching block), `controller` (gains), `integrator` (optional
+/// tolerances and substep bound) and `run` (duration, control period, output rate).
+/// docs/scenarios.md lists every key with its unit and range; scenarios/ holds examples.
 ///
 /// Errors name the file, the line (when known) and the key path, e.g.
 ///   scenarios/x.yaml:12: robot.cable.ea_N: not a finite number (nan)
@@ -18,10 +18,16 @@
 #ifndef CDPR_HOST_SCENARIO_H
 #define CDPR_HOST_SCENARIO_H
 
+#include <stdio.h>
+
 #include "cdpr/plant.h"
+#include "cdpr/status.h"
 #include "cdpr/host/presets.h"
 #include "cdpr/host/tracker.h"
 #include "cdpr/host/trajectory.h"
+
+/// Largest integrator.max_trials a scenario accepts.
+#define CDPR_SCENARIO_MAX_TRIALS 1000000
 
 /// Integrator settings of a scenario (inputs).
 typedef struct {
@@ -63,14 +69,43 @@ typedef struct {
 /// omitted optional keys).
 void cdpr_scenario_default(cdpr_scenario_t *sc, cdpr_preset_t preset);
 
-/// Load, resolve and check a scenario file. Returns 0, or -1 with `err` filled (`sc` then
-/// holds no meaningful data).
-int cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err);
+/// Load, resolve and check a scenario file. Returns CDPR_OK, or with `err` filled (`sc` then
+/// holds no meaningful data): CDPR_E_IO (cannot open), CDPR_E_PARSE (malformed YAML, unknown
+/// or missing key, wrong type, empty file, a trajectory block that does not match its type,
+/// a key that moved), or the error of a value (as cdpr_scenario_check; CDPR_E_OUT_OF_RANGE
+/// also for a count that is not a whole number).
+cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err);
 
 /// Check every value of a resolved scenario (finite, in range, consistent, accepted by the
-/// core's validation). Returns 0 or -1 with `err` naming the key. Called by the loader;
-/// call it for scenarios built in code.
-int cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err);
+/// core's validation). Returns CDPR_OK, or with `err` naming the first bad key:
+/// CDPR_E_NOT_FINITE, CDPR_E_OUT_OF_RANGE (outside its range; a duration that is not a whole
+/// number of periods, an output rate that does not divide the control rate), or the core's
+/// status for robot values it rejects. Called by the loader and by cdpr_scenario_override;
+/// call it for scenarios built in code. The one place where run settings are range-checked.
+cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err);
+
+/// Command-line overrides of a scenario's run settings (inputs). NaN: not given
+/// (cdpr_scenario_overrides_none).
+typedef struct {
+    double rate_hz;      ///< --rate HZ: run.period_s = 1 / HZ
+    double duration_s;   ///< --duration S: run.duration_s = S (plant time)
+    double max_trials;   ///< --max-trials N (a whole number): integrator.max_trials
+    double max_attempts; ///< --max-attempts N (a whole number): integrator.max_attempts
+} cdpr_scenario_overrides_t;
+
+/// Nothing overridden (every field NaN).
+void cdpr_scenario_overrides_none(cdpr_scenario_overrides_t *ov);
+
+/// Apply the given overrides to `sc` (loaded or built in code), then check it again with
+/// cdpr_scenario_check, so options obey the scenario's own ranges. For each value that differs
+/// from the scenario's, one line goes to `notes` (may be NULL), e.g.
+///   cdpr-rt: --rate 1000 Hz overrides run.period_s = 0.01 s (100 Hz) of scenarios/x.yaml
+/// Returns CDPR_OK, or with `err` naming the option(s) given ("--rate 0.05 Hz: FILE:LINE:
+/// run.period_s: 20 is outside (0, 10]"): CDPR_E_NOT_FINITE / CDPR_E_OUT_OF_RANGE (a count
+/// that is not a whole number, or any error of cdpr_scenario_check: e.g. a duration that is
+/// not a whole number of periods). `sc` then holds the overridden, unchecked values.
+cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_overrides_t *ov,
+                                     const char *prog, FILE *notes, cdpr_scenario_error_t *err);
 
 /// Initial pose: initial.pose (or the trajectory at t = 0) plus initial.offset.
 void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6]);

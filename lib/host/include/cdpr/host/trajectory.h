@@ -1,5 +1,5 @@
 /// @file trajectory.h
-/// Desired cabin trajectories of the scenarios (MODEL.md §7): the paper's circle and line,
+/// Desired cabin trajectories of the scenarios (docs/validation.md §8): the paper's circle and line,
 /// and a hold. Poses are (x, y, z [m], α, β, γ [rad]) with R = Rz(γ) Ry(β) Rx(α).
 ///
 /// - hold:   a fixed pose.

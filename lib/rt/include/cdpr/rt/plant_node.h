@@ -41,15 +41,14 @@
 /// Compute-time histogram: 1 us bins up to this many us, plus an overflow bin.
 #define CDPR_RT_HIST_US 20000
 
-/// Options (inputs). cdpr_rt_opts_default fills the defaults.
+/// Options of the node (inputs). cdpr_rt_opts_default fills the defaults. The run settings
+/// are the scenario's: control period run.period_s, plant time run.duration_s, work bound
+/// integrator.max_trials x max_attempts (command-line overrides: cdpr_scenario_override).
 typedef struct {
-    double rate_hz;               ///< control rate [Hz]; default 1000
-    double duration_s;            ///< plant time to run [s] (> 0); default: the scenario's
     int lockstep;                 ///< 1: lockstep mode; default 0
     double lockstep_timeout_s;    ///< lockstep: wait this long for the answer [s]; default 2
     int realtime;                 ///< 1: try SCHED_FIFO + mlockall; default 0
     int rt_priority;              ///< SCHED_FIFO priority 1..99; default 80
-    int max_trials;               ///< RKF45 trials per period (bounded work); default 50
     double shape_rate_hz;         ///< cable shape messages [Hz] (0: none); default 10
     double diag_rate_hz;          ///< diagnostics messages [Hz] (0: only at the end); default 1
     double start_delay_s;         ///< free-running: wait this long before the first period [s],
@@ -115,15 +114,18 @@ typedef struct {
 /// Defaults (see the field comments).
 void cdpr_rt_opts_default(cdpr_rt_opts_t *o);
 
-/// Validate the options, build and settle the plant of `sc` at period 1/rate_hz, initialise
-/// the bridge. Returns 0, or 2 with `err` naming the option or scenario key.
-int cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
-                 cdpr_scenario_error_t *err);
+/// Check the scenario and the options, build and settle the plant of `sc` (period
+/// run.period_s, work bound integrator.max_trials x max_attempts), initialise the bridge.
+/// Returns CDPR_OK, or with `err` naming the option or scenario key: the scenario's check or
+/// plant errors (cdpr_scenario_check, cdpr_host_plant_init), CDPR_E_OUT_OF_RANGE /
+/// CDPR_E_NOT_FINITE for an option, the bridge's (cdpr_lcm_bridge_init).
+cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
+                           cdpr_scenario_error_t *err);
 
-/// Run: bridge thread, periodic thread, until duration_s of plant time or *stop. Returns 0
-/// when the run completed, 1 when it was stopped early by *stop, 3 when the bridge or the
-/// thread could not start (`err` says why). Telemetry in rt->tel.
-int cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
+/// Run: bridge thread, periodic thread, until run.duration_s of plant time or *stop. Returns
+/// CDPR_OK when the run completed, CDPR_E_INTERRUPTED when *stop ended it early, CDPR_E_IO
+/// when the bridge or the thread could not start (`err` says why). Telemetry in rt->tel.
+cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
 
 /// Print the telemetry summary (human-readable) to `f`.
 void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f);

@@ -28,7 +28,7 @@
 
 #include <lcm/lcm.h>
 
-#include "cdpr/host/sim.h"
+#include "cdpr/host/record.h"
 #include "cdpr/host/tracker.h"
 #include "cdpr/winch.h"
 #include "lcmtypes/cdpr_cable_tensions_t.h"
@@ -91,8 +91,9 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
                                    const cdpr_tracker_gains_t *g, double period_s,
                                    const char *prefix, cdpr_diag_t *diag);
 
-/// Subscribe on `lcm` (owned by the caller, same thread). 0 or -1.
-int cdpr_rt_tracker_attach(cdpr_rt_tracker_t *t, lcm_t *lcm);
+/// Subscribe on `lcm` (owned by the caller, same thread). CDPR_OK, or CDPR_E_IO (liblcm
+/// refused a subscription; none is kept).
+cdpr_status_t cdpr_rt_tracker_attach(cdpr_rt_tracker_t *t, lcm_t *lcm);
 
 /// Unsubscribe. Safe to call twice.
 void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t);
@@ -103,10 +104,11 @@ void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t);
 int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t);
 
 /// The controller's measurement from the messages of one period (same seq): t from utime_us
-/// as described above, pose/velocities from the state, lengths from the tensions. Returns 0,
-/// or -1 when the pair does not fit (seq differs, cable count not `n_cables`, non-finite).
-int cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
-                           double period_s, int n_cables, cdpr_tracker_meas_t *m);
+/// as described above, pose/velocities from the state, lengths from the tensions. Returns
+/// CDPR_OK, CDPR_E_INVALID_ARG when the pair does not fit (seq differs, cable count not
+/// `n_cables`, negative time, period not > 0) or CDPR_E_NOT_FINITE (a non-finite value).
+cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
+                                     double period_s, int n_cables, cdpr_tracker_meas_t *m);
 
 /// Recording what the controller sees (the tracker's timeseries.csv and summary, in
 /// cdpr-sim's format): use cdpr_rt_tracker_record_step as on_step with a cdpr_rt_record_t.

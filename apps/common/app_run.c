@@ -1,0 +1,95 @@
+/// @file app_run.c
+/// Scenario, overrides and outputs of the scenario-running apps (app_run.h).
+#include "app_run.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cdpr/host/cli.h"
+#include "cdpr/host/fs.h"
+#include "cdpr/host/plot.h"
+#include "cdpr/host/trajectory.h"
+
+int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov)
+{
+    double *field = NULL;
+    const char *name = NULL;
+    switch (c) {
+    case CDPR_APP_OPT_RATE:
+        field = &ov->rate_hz;
+        name = "rate";
+        break;
+    case CDPR_APP_OPT_DURATION:
+        field = &ov->duration_s;
+        name = "duration";
+        break;
+    case CDPR_APP_OPT_MAX_TRIALS:
+        field = &ov->max_trials;
+        name = "max-trials";
+        break;
+    case CDPR_APP_OPT_MAX_ATTEMPTS:
+        field = &ov->max_attempts;
+        name = "max-attempts";
+        break;
+    default:
+        return 0;
+    }
+    return (cdpr_cli_real(prog, name, arg, field) == CDPR_OK) ? 1 : -1;
+}
+
+cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
+                                const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc)
+{
+    cdpr_scenario_error_t err;
+    cdpr_status_t st = cdpr_scenario_load(path, sc, &err);
+    if (st == CDPR_OK) {
+        st = cdpr_scenario_override(sc, ov, prog, stderr, &err);
+    }
+    if (st != CDPR_OK) {
+        fprintf(stderr, "%s: %s\n", prog, err.msg);
+    }
+    return st;
+}
+
+static volatile int g_stop = 0;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+const volatile int *cdpr_app_stop_on_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    (void)sigaction(SIGINT, &sa, NULL);
+    (void)sigaction(SIGTERM, &sa, NULL);
+    return &g_stop;
+}
+
+const char *cdpr_app_title(const cdpr_scenario_t *sc)
+{
+    return (sc->description[0] != '\0') ? sc->description : sc->path;
+}
+
+cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc,
+                                     const char *out_dir, const cdpr_sim_summary_t *sum,
+                                     const char *plot_script)
+{
+    char path[1100];
+    if (cdpr_fs_path(path, sizeof path, out_dir, "summary.json") != CDPR_OK ||
+        cdpr_sim_write_summary(path, sc, sum) != CDPR_OK) {
+        fprintf(stderr, "%s: %s: cannot write: %s\n", prog, path, strerror(errno));
+        return CDPR_E_IO;
+    }
+    if (plot_script != NULL) {
+        (void)cdpr_sim_plot(prog, plot_script, out_dir, cdpr_traj_type_name(sc->traj.type),
+                            cdpr_app_title(sc));
+    }
+    return CDPR_OK;
+}

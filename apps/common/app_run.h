@@ -1,0 +1,54 @@
+/// @file app_run.h
+/// What the scenario-running apps (cdpr-sim, cdpr-rt, cdpr-tracker) share: the override
+/// options (--rate, --duration, --max-trials, --max-attempts) applied to the scenario file by
+/// cdpr_scenario_override, and the outputs of a tracking run (summary.json, figures).
+#ifndef CDPR_APP_RUN_H
+#define CDPR_APP_RUN_H
+
+#include "cdpr/status.h"
+#include "cdpr/host/scenario.h"
+#include "cdpr/host/summary.h"
+
+/// getopt_long codes of the override options (use them in the apps' option tables).
+enum {
+    CDPR_APP_OPT_RATE = 'r',        ///< --rate HZ         run.period_s = 1 / HZ
+    CDPR_APP_OPT_DURATION = 'd',    ///< --duration S      run.duration_s (plant time)
+    CDPR_APP_OPT_MAX_TRIALS = 'm',  ///< --max-trials N    integrator.max_trials
+    CDPR_APP_OPT_MAX_ATTEMPTS = 'M' ///< --max-attempts N  integrator.max_attempts
+};
+
+/// The four override options, for the apps' getopt_long tables.
+// clang-format off
+#define CDPR_APP_OVERRIDE_OPTIONS                                                                  \
+    {"rate", required_argument, NULL, CDPR_APP_OPT_RATE},                                          \
+    {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},                                  \
+    {"max-trials", required_argument, NULL, CDPR_APP_OPT_MAX_TRIALS},                              \
+    {"max-attempts", required_argument, NULL, CDPR_APP_OPT_MAX_ATTEMPTS}
+// clang-format on
+
+/// If getopt code `c` is an override option, parse its argument into `ov` (any finite number:
+/// the ranges are the scenario's, checked by cdpr_app_scenario). Returns 1 when it was one
+/// and parsed, 0 when `c` is not an override option, -1 after printing why the argument is not
+/// a number.
+int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov);
+
+/// Load scenario file `path` and apply the overrides `ov` (a note on stderr for each value
+/// that differs from the file). Returns CDPR_OK or the status after printing "PROG: error".
+cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
+                                const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc);
+
+/// Install SIGINT/SIGTERM handlers that set the returned flag (0 until a signal came; the
+/// apps' loops and the plant node's periodic thread check it). Same flag on every call.
+const volatile int *cdpr_app_stop_on_signals(void);
+
+/// Title of a run's figures: the scenario's description, else its file.
+const char *cdpr_app_title(const cdpr_scenario_t *sc);
+
+/// Write out_dir/summary.json and, when `plot_script` is not NULL, the figures (gnuplot on
+/// that script; a failure there is only a warning). Returns CDPR_OK, or CDPR_E_IO after
+/// printing "PROG: FILE: cannot write: why".
+cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc,
+                                     const char *out_dir, const cdpr_sim_summary_t *sum,
+                                     const char *plot_script);
+
+#endif /* CDPR_APP_RUN_H */

@@ -1,0 +1,57 @@
+/// @file record.h
+/// Recorder of a tracking run: timeseries.csv (header and one row per output period, columns
+/// in docs/scenarios.md, %.17g) and the error, tension and node statistics of the summary
+/// (summary.h). Used by the batch runner (sim.h) and by the controller node (tracker_node.h),
+/// so a run over LCM writes the same files.
+///
+/// Host library; no allocation (the CSV goes through stdio).
+#ifndef CDPR_HOST_RECORD_H
+#define CDPR_HOST_RECORD_H
+
+#include "cdpr/status.h"
+#include "cdpr/host/csv.h"
+#include "cdpr/host/scenario.h"
+#include "cdpr/host/summary.h"
+#include "cdpr/host/tracker.h"
+#include "cdpr/host/trajectory.h"
+
+/// One period's values for the recorder (inputs; arrays of the robot's cable count).
+typedef struct {
+    double t_s;                      ///< time t_k [s]
+    const cdpr_traj_sample_t *des;   ///< desired state at t_k
+    const cdpr_tracker_meas_t *meas; ///< measured cabin motion and lengths at t_k
+    const double *tension_cabin_N;   ///< cabin-end tensions [N]
+    const double *tension_winch_N;   ///< winch-end tensions [N]
+    const double *l_ff_m;            ///< feed-forward lengths [m]
+    const double *payout_m_per_s;    ///< payout rates [m/s]
+    const int *segments;             ///< active segments per cable
+} cdpr_sim_row_t;
+
+/// Recorder: timeseries.csv (every output period and the last) and the summary's statistics.
+/// Fields are internal.
+typedef struct {
+    cdpr_csv_t csv;
+    int csv_open;
+    int n_cables;
+    long every;
+    double duration_s;
+    double sum2_pos, sum2_rot, sum2_pos_late;
+    long n, n_late;
+    cdpr_sim_summary_t *sum;
+} cdpr_sim_rec_t;
+
+/// Start recording into `sum` (zeroed by the caller) over the scenario's run.duration_s
+/// (rows every run.output_rate_hz) and, when out_dir is not NULL, into out_dir/timeseries.csv
+/// (the directory is created). Returns CDPR_OK, or CDPR_E_IO with `err` naming the directory
+/// or file.
+cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc, const char *out_dir,
+                                int n_cables, cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err);
+
+/// Record period k (t_k = row->t_s); `last` forces a CSV row.
+void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row);
+
+/// Finish the statistics (RMS values) and close the CSV. Returns CDPR_OK, or CDPR_E_IO when
+/// a write or the close failed. Safe to call twice.
+cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec);
+
+#endif /* CDPR_HOST_RECORD_H */

@@ -1,0 +1,76 @@
+/// @file summary.h
+/// The summary of a tracking run: what cdpr-sim, cdpr-tracker and cdpr-rt --with-tracker
+/// compute (record.h fills the statistics), write to summary.json, read back and print.
+///
+/// summary.json: one JSON object, keys in docs/scenarios.md; numbers printed with %.17g
+/// (round-trip exact). Host library; the reader allocates through libcyaml and frees it.
+#ifndef CDPR_HOST_SUMMARY_H
+#define CDPR_HOST_SUMMARY_H
+
+#include <stdio.h>
+
+#include "cdpr/status.h"
+#include "cdpr/host/scenario.h"
+
+/// Run status.
+typedef enum {
+    CDPR_SIM_OK = 0,       ///< ran to the end, no warning
+    CDPR_SIM_WARNINGS = 1, ///< ran to the end; substep limit, IK failure, capacity or min length
+    CDPR_SIM_FAILED = 2    ///< stopped early (integrator error); outputs hold what was done
+} cdpr_sim_status_t;
+
+/// Summary of a run (outputs). Errors are |p - p_d| and the angle of q_d q^-1 over every
+/// control period t_k, k = 0..N (t_0 after settling).
+typedef struct {
+    double rms_error_m;               ///< RMS position error [m]
+    double max_error_m;               ///< largest position error [m]
+    double final_error_m;             ///< position error at the end [m]
+    double initial_error_m;           ///< position error at t = 0 (after settling) [m]
+    double rms_error_second_half_m;   ///< RMS position error over t >= duration/2 [m]
+    double rms_error_rad;             ///< RMS attitude error [rad]
+    double max_error_rad;             ///< largest attitude error [rad]
+    double final_error_rad;           ///< attitude error at the end [rad]
+    double max_tension_N;             ///< largest end tension, any cable, either end [N]
+    double min_tension_N;             ///< smallest end tension [N]
+    double max_payout_m_per_s;        ///< largest |payout rate| applied [m/s]
+    unsigned long node_insertions;    ///< all cables
+    unsigned long node_removals;      ///< all cables
+    unsigned long capacity_hits;      ///< node-event calls that wanted a node at capacity
+    unsigned long substep_limit_hits; ///< periods with CDPR_WARN_SUBSTEP_LIMIT
+    unsigned long ik_failures;        ///< periods whose feed-forward IK failed (held)
+    unsigned long min_length_periods; ///< winch-periods held at the minimum length
+    unsigned long steps_accepted;     ///< RKF45 accepted steps (run only)
+    unsigned long steps_rejected;     ///< RKF45 rejected trials
+    unsigned long rhs_evals;          ///< RHS calls (run only; 0: the plant ran elsewhere)
+    long settle_steps;                ///< accepted steps of the initial settling
+    int nodes_min;                    ///< fewest segments of any cable during the run
+    int nodes_max;                    ///< most segments of any cable during the run
+    long periods;                     ///< control periods run
+    double sim_time_s;                ///< simulated time reached [s]
+    double wall_time_s;               ///< wall-clock time of the run incl. settling [s]
+    double settle_wall_time_s;        ///< of which settling [s]
+    cdpr_sim_status_t status;         ///< see cdpr_sim_status_t
+    char message[256];                ///< what failed or warned, "" if nothing
+} cdpr_sim_summary_t;
+
+/// Name of a status as written in summary.json ("ok", "warnings", "failed").
+const char *cdpr_sim_status_name(cdpr_sim_status_t st);
+
+/// Write summary.json for `sum` of scenario `sc` to `path`. Returns CDPR_OK, or CDPR_E_IO
+/// (cannot create, or a write or the close failed; errno set).
+cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
+                                     const cdpr_sim_summary_t *sum);
+
+/// Read a summary.json written by cdpr_sim_write_summary (JSON is YAML, so libcyaml reads it;
+/// keys it does not know are ignored). Fills the numeric fields and the status; returns
+/// CDPR_OK, or with `err` naming the file (and libcyaml's reason): CDPR_E_IO (cannot open),
+/// CDPR_E_PARSE (malformed, a key missing or of the wrong type, empty).
+cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
+                                    cdpr_scenario_error_t *err);
+
+/// Print the end-of-run block of `s` to `f` (cdpr-sim's): "TITLE: status - message", then
+/// tracking error, tensions, node events, integrator (when the plant ran elsewhere,
+/// s->rhs_evals == 0: the controller's IK failures instead) and time.
+void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s);
+
+#endif /* CDPR_HOST_SUMMARY_H */

@@ -1,0 +1,39 @@
+/// @file yaml.h
+/// The one libcyaml set-up of the host library: configuration, a log callback that collects
+/// libcyaml's error lines, load and free. Used by the scenario loader (scenario.h) and the
+/// summary.json reader (summary.h). Internal to lib/host (its users include libcyaml anyway).
+///
+/// Host library; loading allocates (libcyaml); cdpr_yaml_free releases it.
+#ifndef CDPR_HOST_YAML_H
+#define CDPR_HOST_YAML_H
+
+#include <stddef.h>
+
+#include <cyaml/cyaml.h>
+
+#include "cdpr/status.h"
+
+/// What a load said (outputs).
+typedef struct {
+    char text[4096]; ///< libcyaml's error lines in order ("" if none); on CDPR_E_IO the reason
+    size_t len;      ///< length of text
+    cyaml_err_t err; ///< libcyaml's result (CYAML_OK for an unreadable or empty file)
+    int empty;       ///< 1: the file holds no document
+} cdpr_yaml_log_t;
+
+/// Load `path` against `schema` (a CYAML_FLAG_POINTER mapping) into *data. `flags`: libcyaml
+/// configuration flags (CYAML_CFG_DEFAULT, CYAML_CFG_IGNORE_UNKNOWN_KEYS, ...). Returns
+/// CDPR_OK (*data set: free it with cdpr_yaml_free), CDPR_E_IO (the file cannot be opened;
+/// log->text holds strerror) or CDPR_E_PARSE (libcyaml refused it, log->err and log->text say
+/// why; or the file is empty, log->empty = 1); *data is NULL on error.
+cdpr_status_t cdpr_yaml_load(const char *path, const cyaml_schema_value_t *schema,
+                             cyaml_cfg_flags_t flags, void **data, cdpr_yaml_log_t *log);
+
+/// First line of the collected error text, else libcyaml's message for log->err, into `buf`.
+/// Returns buf.
+const char *cdpr_yaml_first_error(const cdpr_yaml_log_t *log, char *buf, size_t cap);
+
+/// Free what cdpr_yaml_load returned (NULL is fine).
+void cdpr_yaml_free(const cyaml_schema_value_t *schema, void *data);
+
+#endif /* CDPR_HOST_YAML_H */

@@ -1,0 +1,188 @@
+/// @file record.c
+/// Recorder of a tracking run: CSV rows and summary statistics (record.h).
+#include "cdpr/host/record.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cdpr/config.h"
+#include "cdpr/host/fs.h"
+
+static double wrap_pi(double a)
+{
+    while (a > CDPR_PI) {
+        a -= 2.0 * CDPR_PI;
+    }
+    while (a <= -CDPR_PI) {
+        a += 2.0 * CDPR_PI;
+    }
+    return a;
+}
+
+static void csv_header(cdpr_csv_t *c, int nc)
+{
+    static const char *const head[] = {
+        "t_s",  "x_m",  "y_m",        "z_m",        "alpha_rad",  "beta_rad",   "gamma_rad",
+        "xd_m", "yd_m", "zd_m",       "alphad_rad", "betad_rad",  "gammad_rad", "ex_m",
+        "ey_m", "ez_m", "ealpha_rad", "ebeta_rad",  "egamma_rad", "epos_m",     "erot_rad"};
+    for (size_t i = 0; i < sizeof head / sizeof head[0]; ++i) {
+        cdpr_csv_name(c, head[i]);
+    }
+    static const char *const per[] = {"T_cabin%d_N", "T_winch%d_N", "L%d_m",
+                                      "Lff%d_m",     "u%d_m_per_s", "n%d"};
+    for (size_t k = 0; k < sizeof per / sizeof per[0]; ++k) {
+        for (int j = 0; j < nc; ++j) {
+            char name[32];
+            snprintf(name, sizeof name, per[k], j + 1);
+            cdpr_csv_name(c, name);
+        }
+    }
+    cdpr_csv_end_row(c);
+}
+
+/* Per-sample quantities shared by the CSV row and the summary. */
+typedef struct {
+    double pose[6];
+    double err[6]; /* actual - desired; angles wrapped */
+    double epos_m;
+    double erot_rad;
+} sample_t;
+
+static void errors(const cdpr_tracker_meas_t *meas, const cdpr_traj_sample_t *des, sample_t *smp)
+{
+    const cdpr_cabin_motion_t m = meas->cabin;
+    smp->pose[0] = m.p_m.x;
+    smp->pose[1] = m.p_m.y;
+    smp->pose[2] = m.p_m.z;
+    cdpr_quat_to_euler(m.q, &smp->pose[3], &smp->pose[4], &smp->pose[5]);
+    for (int i = 0; i < 6; ++i) {
+        const double e = smp->pose[i] - des->pose[i];
+        smp->err[i] = (i < 3) ? e : wrap_pi(e);
+    }
+    smp->epos_m =
+        sqrt(smp->err[0] * smp->err[0] + smp->err[1] * smp->err[1] + smp->err[2] * smp->err[2]);
+    const cdpr_quat_t qi = {m.q.w, -m.q.x, -m.q.y, -m.q.z};
+    smp->erot_rad = cdpr_v3_norm(cdpr_quat_to_rotvec(cdpr_quat_mul(des->motion.q, qi)));
+}
+
+static void csv_row(cdpr_sim_rec_t *rec, const cdpr_sim_row_t *row, const sample_t *smp)
+{
+    cdpr_csv_t *c = &rec->csv;
+    const int nc = rec->n_cables;
+    cdpr_csv_num(c, row->t_s);
+    for (int i = 0; i < 6; ++i) {
+        cdpr_csv_num(c, smp->pose[i]);
+    }
+    for (int i = 0; i < 6; ++i) {
+        cdpr_csv_num(c, row->des->pose[i]);
+    }
+    for (int i = 0; i < 6; ++i) {
+        cdpr_csv_num(c, smp->err[i]);
+    }
+    cdpr_csv_num(c, smp->epos_m);
+    cdpr_csv_num(c, smp->erot_rad);
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, row->tension_cabin_N[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, row->tension_winch_N[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, row->meas->length_m[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, row->l_ff_m[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, row->payout_m_per_s[j]);
+    }
+    for (int j = 0; j < nc; ++j) {
+        cdpr_csv_num(c, (double)row->segments[j]);
+    }
+    cdpr_csv_end_row(c);
+}
+
+cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc, const char *out_dir,
+                                int n_cables, cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+{
+    memset(rec, 0, sizeof *rec);
+    rec->n_cables = n_cables;
+    rec->every = cdpr_scenario_output_every(sc);
+    rec->duration_s = sc->duration_s;
+    rec->sum = sum;
+    sum->min_tension_N = (double)INFINITY;
+    sum->nodes_min = CDPR_MAX_SEGMENTS;
+    sum->nodes_max = 0;
+    if (out_dir == NULL) {
+        return CDPR_OK;
+    }
+    if (cdpr_fs_mkdir_p(out_dir) != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot create directory: %s", out_dir,
+                 strerror(errno));
+        return CDPR_E_IO;
+    }
+    char path[1100];
+    if (cdpr_fs_path(path, sizeof path, out_dir, "timeseries.csv") != CDPR_OK ||
+        cdpr_csv_open(&rec->csv, path) != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot write: %s", path, strerror(errno));
+        return CDPR_E_IO;
+    }
+    rec->csv_open = 1;
+    csv_header(&rec->csv, n_cables);
+    return CDPR_OK;
+}
+
+void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row)
+{
+    cdpr_sim_summary_t *sum = rec->sum;
+    const int nc = rec->n_cables;
+    sample_t smp;
+    errors(row->meas, row->des, &smp);
+    if (k == 0) {
+        sum->initial_error_m = smp.epos_m;
+    }
+    rec->sum2_pos += smp.epos_m * smp.epos_m;
+    rec->sum2_rot += smp.erot_rad * smp.erot_rad;
+    rec->n++;
+    if (row->t_s >= 0.5 * rec->duration_s) {
+        rec->sum2_pos_late += smp.epos_m * smp.epos_m;
+        rec->n_late++;
+    }
+    sum->max_error_m = fmax(sum->max_error_m, smp.epos_m);
+    sum->max_error_rad = fmax(sum->max_error_rad, smp.erot_rad);
+    sum->final_error_m = smp.epos_m;
+    sum->final_error_rad = smp.erot_rad;
+    for (int j = 0; j < nc; ++j) {
+        const double a = row->tension_cabin_N[j];
+        const double b = row->tension_winch_N[j];
+        sum->max_tension_N = fmax(sum->max_tension_N, fmax(a, b));
+        sum->min_tension_N = fmin(sum->min_tension_N, fmin(a, b));
+        sum->nodes_min = (row->segments[j] < sum->nodes_min) ? row->segments[j] : sum->nodes_min;
+        sum->nodes_max = (row->segments[j] > sum->nodes_max) ? row->segments[j] : sum->nodes_max;
+    }
+    sum->periods = k;
+    sum->sim_time_s = row->t_s;
+    if (rec->csv_open != 0 && (k % rec->every == 0 || last != 0)) {
+        csv_row(rec, row, &smp);
+    }
+}
+
+cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec)
+{
+    cdpr_sim_summary_t *sum = rec->sum;
+    sum->rms_error_m = (rec->n > 0) ? sqrt(rec->sum2_pos / (double)rec->n) : 0.0;
+    sum->rms_error_rad = (rec->n > 0) ? sqrt(rec->sum2_rot / (double)rec->n) : 0.0;
+    sum->rms_error_second_half_m =
+        (rec->n_late > 0) ? sqrt(rec->sum2_pos_late / (double)rec->n_late) : 0.0;
+    if (!isfinite(sum->min_tension_N)) {
+        sum->min_tension_N = 0.0;
+    }
+    cdpr_status_t st = CDPR_OK;
+    if (rec->csv_open != 0) {
+        st = cdpr_csv_close(&rec->csv);
+        rec->csv_open = 0;
+    }
+    return st;
+}

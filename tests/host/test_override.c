@@ -1,0 +1,125 @@
+/// @file test_override.c
+/// Command-line overrides of a scenario's run settings (cdpr_scenario_override): a value that
+/// differs from the file prints one note, an equal one prints nothing, a value the scenario's
+/// own check refuses is refused naming the option.
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cdpr/host/scenario.h"
+#include "unity.h"
+
+#ifndef CDPR_SOURCE_DIR
+#define CDPR_SOURCE_DIR "."
+#endif
+
+#define CIRCLE CDPR_SOURCE_DIR "/scenarios/paper-circle.yaml"
+
+void setUp(void) {}
+void tearDown(void) {}
+
+static cdpr_scenario_t g_sc;
+static char g_notes[4096];
+
+/* Load paper-circle (run.period_s 0.01, run.duration_s 12.6, integrator.max_trials 2000,
+ * max_attempts 1), apply `ov`; the notes into g_notes. */
+static cdpr_status_t apply(const cdpr_scenario_overrides_t *ov, cdpr_scenario_error_t *err)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(CIRCLE, &g_sc, err), err->msg);
+    FILE *f = tmpfile();
+    TEST_ASSERT_NOT_NULL(f);
+    err->msg[0] = '\0';
+    const cdpr_status_t st = cdpr_scenario_override(&g_sc, ov, "prog", f, err);
+    rewind(f);
+    const size_t n = fread(g_notes, 1, sizeof g_notes - 1, f);
+    g_notes[n] = '\0';
+    fclose(f);
+    return st;
+}
+
+static void test_differing_values_print_one_note_each(void)
+{
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    ov.rate_hz = 1000.0;
+    ov.max_trials = 50.0;
+    ov.duration_s = 2.5;
+    ov.max_attempts = 3.0;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, apply(&ov, &err), err.msg);
+    TEST_ASSERT_EQUAL_STRING(
+        "prog: --rate 1000 Hz overrides run.period_s = 0.01 s (100 Hz) of " CIRCLE "\n"
+        "prog: --duration 2.5 s overrides run.duration_s = 12.6 s of " CIRCLE "\n"
+        "prog: --max-trials 50 overrides integrator.max_trials = 2000 of " CIRCLE "\n"
+        "prog: --max-attempts 3 overrides integrator.max_attempts = 1 of " CIRCLE "\n",
+        g_notes);
+    TEST_ASSERT_EQUAL_DOUBLE(0.001, g_sc.period_s);
+    TEST_ASSERT_EQUAL_DOUBLE(2.5, g_sc.duration_s);
+    TEST_ASSERT_EQUAL_INT(50, g_sc.integrator.max_trials);
+    TEST_ASSERT_EQUAL_INT(3, g_sc.integrator.max_attempts);
+    TEST_ASSERT_EQUAL_INT(2500, cdpr_scenario_periods(&g_sc));
+}
+
+static void test_equal_values_print_nothing(void)
+{
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, apply(&ov, &err)); /* nothing given */
+    TEST_ASSERT_EQUAL_STRING("", g_notes);
+    ov.rate_hz = 100.0;
+    ov.duration_s = 12.6;
+    ov.max_trials = 2000.0;
+    ov.max_attempts = 1.0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, apply(&ov, &err), err.msg);
+    TEST_ASSERT_EQUAL_STRING("", g_notes);
+    TEST_ASSERT_EQUAL_DOUBLE(0.01, g_sc.period_s);
+}
+
+/* Refused with `st`, the message naming `opt` and `key`. */
+static void refused(const cdpr_scenario_overrides_t *ov, cdpr_status_t st, const char *opt,
+                    const char *key)
+{
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(st, apply(ov, &err), err.msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, opt), err.msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, key), err.msg);
+}
+
+static void test_out_of_range_overrides_are_refused_naming_the_option(void)
+{
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    ov.rate_hz = 0.05; /* period 20 s: outside (0, 10] */
+    refused(&ov, CDPR_E_OUT_OF_RANGE, "--rate 0.05 Hz", "run.period_s");
+    cdpr_scenario_overrides_none(&ov);
+    ov.rate_hz = 0.0; /* period +inf */
+    refused(&ov, CDPR_E_NOT_FINITE, "--rate 0 Hz", "run.period_s");
+    cdpr_scenario_overrides_none(&ov);
+    ov.duration_s = 1.005; /* not a whole number of 0.01 s periods */
+    refused(&ov, CDPR_E_OUT_OF_RANGE, "--duration 1.005 s", "run.duration_s");
+    cdpr_scenario_overrides_none(&ov);
+    ov.duration_s = -1.0;
+    refused(&ov, CDPR_E_OUT_OF_RANGE, "--duration -1 s", "run.duration_s");
+    cdpr_scenario_overrides_none(&ov);
+    ov.max_trials = 0.0;
+    refused(&ov, CDPR_E_OUT_OF_RANGE, "--max-trials 0", "integrator.max_trials");
+    cdpr_scenario_overrides_none(&ov);
+    ov.max_trials = 3.5;
+    refused(&ov, CDPR_E_OUT_OF_RANGE, "--max-trials 3.5", "whole");
+    cdpr_scenario_overrides_none(&ov);
+    ov.max_attempts = 17.0; /* CDPR_PLANT_MAX_ATTEMPTS is 16 */
+    refused(&ov, CDPR_E_OUT_OF_RANGE, "--max-attempts 17", "integrator.max_attempts");
+    cdpr_scenario_overrides_none(&ov);
+    ov.rate_hz = 30.0; /* run.output_rate_hz 100 does not divide 30 Hz */
+    refused(&ov, CDPR_E_OUT_OF_RANGE, "--rate 30 Hz", "run.output_rate_hz");
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_differing_values_print_one_note_each);
+    RUN_TEST(test_equal_values_print_nothing);
+    RUN_TEST(test_out_of_range_overrides_are_refused_naming_the_option);
+    return UNITY_END() ? 1 : 0;
+}

@@ -1,0 +1,252 @@
+/// @file test_results.c
+/// The result writers: timeseries.csv (header and row format, record.h) from a hand-made
+/// period, the statistics of the summary, summary.json written and read back, and write or
+/// read errors reported as statuses (CDPR_E_IO, CDPR_E_PARSE). Expectations are written out
+/// here, never regenerated from the code.
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "cdpr/host/record.h"
+#include "cdpr/host/summary.h"
+#include "unity.h"
+
+#ifndef CDPR_TEST_TMP
+#define CDPR_TEST_TMP "/tmp/test_results"
+#endif
+
+void setUp(void) {}
+void tearDown(void) {}
+
+static char g_text[8192];
+
+static const char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    TEST_ASSERT_NOT_NULL_MESSAGE(f, path);
+    const size_t n = fread(g_text, 1, sizeof g_text - 1, f);
+    g_text[n] = '\0';
+    fclose(f);
+    return g_text;
+}
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL_MESSAGE(f, path);
+    fputs(text, f);
+    TEST_ASSERT_EQUAL_INT(0, fclose(f));
+}
+
+static void scenario(cdpr_scenario_t *sc)
+{
+    cdpr_scenario_default(sc, CDPR_PRESET_PAPER_50M);
+    snprintf(sc->path, sizeof sc->path, "scenarios/made-up.yaml");
+    sc->duration_s = 1.0;
+    sc->period_s = 0.01;
+    sc->output_rate_hz = 0.0; /* a row every period */
+}
+
+static void test_csv_header_and_row(void)
+{
+    mkdir(CDPR_TEST_TMP, 0775);
+    const char *dir = CDPR_TEST_TMP "/csv";
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    cdpr_sim_summary_t sum;
+    memset(&sum, 0, sizeof sum);
+    cdpr_sim_rec_t rec;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, dir, 2, &sum, &err),
+                                  err.msg);
+    /* Measured at (1, 2, 3) m, level; desired 0.5 m further along x, level. */
+    cdpr_traj_sample_t des;
+    memset(&des, 0, sizeof des);
+    des.pose[0] = 1.5;
+    des.pose[1] = 2.0;
+    des.pose[2] = 3.0;
+    des.motion.q.w = 1.0;
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.t_s = 0.5;
+    meas.cabin.p_m = cdpr_v3(1.0, 2.0, 3.0);
+    meas.cabin.q.w = 1.0;
+    meas.length_m[0] = 10.25;
+    meas.length_m[1] = 20.5;
+    const double t_cabin[2] = {100.0, 200.0};
+    const double t_winch[2] = {110.0, 210.0};
+    const double l_ff[2] = {10.0, 20.0};
+    const double payout[2] = {0.125, -0.25};
+    const int segments[2] = {20, 21};
+    const cdpr_sim_row_t row = {0.5, &des, &meas, t_cabin, t_winch, l_ff, payout, segments};
+    cdpr_sim_rec_period(&rec, 0, 1, &row);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_STRING(
+        "t_s,x_m,y_m,z_m,alpha_rad,beta_rad,gamma_rad,xd_m,yd_m,zd_m,alphad_rad,betad_rad,"
+        "gammad_rad,ex_m,ey_m,ez_m,ealpha_rad,ebeta_rad,egamma_rad,epos_m,erot_rad,"
+        "T_cabin1_N,T_cabin2_N,T_winch1_N,T_winch2_N,L1_m,L2_m,Lff1_m,Lff2_m,"
+        "u1_m_per_s,u2_m_per_s,n1,n2\n"
+        /* beta of the identity is asin(-0) = -0 in cdpr_quat_to_euler; %.17g keeps the sign,
+         * so the error -0 - 0 prints "-0" too. */
+        "0.5,1,2,3,0,-0,0,1.5,2,3,0,0,0,-0.5,0,0,0,-0,0,0.5,0,"
+        "100,200,110,210,10.25,20.5,10,20,0.125,-0.25,20,21\n",
+        slurp(CDPR_TEST_TMP "/csv/timeseries.csv"));
+    /* The statistics of that one period. */
+    TEST_ASSERT_EQUAL_DOUBLE(0.5, sum.rms_error_m);
+    TEST_ASSERT_EQUAL_DOUBLE(0.5, sum.initial_error_m);
+    TEST_ASSERT_EQUAL_DOUBLE(0.5, sum.final_error_m);
+    TEST_ASSERT_EQUAL_DOUBLE(0.5, sum.rms_error_second_half_m); /* t = 0.5 >= 1 s / 2 */
+    TEST_ASSERT_EQUAL_DOUBLE(100.0, sum.min_tension_N);
+    TEST_ASSERT_EQUAL_DOUBLE(210.0, sum.max_tension_N);
+    TEST_ASSERT_EQUAL_INT(20, sum.nodes_min);
+    TEST_ASSERT_EQUAL_INT(21, sum.nodes_max);
+}
+
+static void fill(cdpr_sim_summary_t *s)
+{
+    memset(s, 0, sizeof *s);
+    s->rms_error_m = 0.1;
+    s->max_error_m = 1.0 / 3.0;
+    s->final_error_m = 2e-7;
+    s->initial_error_m = 1.47;
+    s->rms_error_second_half_m = 0.05;
+    s->rms_error_rad = 1e-3;
+    s->max_error_rad = 3.14159;
+    s->final_error_rad = 0.0;
+    s->max_tension_N = 1234.5;
+    s->min_tension_N = 12.25;
+    s->max_payout_m_per_s = 0.75;
+    s->sim_time_s = 12.6;
+    s->wall_time_s = 3.5;
+    s->node_insertions = 11;
+    s->node_removals = 12;
+    s->capacity_hits = 13;
+    s->substep_limit_hits = 14;
+    s->ik_failures = 15;
+    s->min_length_periods = 16;
+    s->nodes_min = 17;
+    s->nodes_max = 18;
+    s->periods = 1260;
+    s->steps_accepted = 19;
+    s->steps_rejected = 20;
+    s->rhs_evals = 21;
+    s->settle_steps = 22;
+    s->status = CDPR_SIM_WARNINGS;
+    snprintf(s->message, sizeof s->message, "a \"quoted\" note");
+}
+
+static void test_summary_written_then_read_back_equal(void)
+{
+    mkdir(CDPR_TEST_TMP, 0775);
+    const char *path = CDPR_TEST_TMP "/summary.json";
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    cdpr_sim_summary_t a;
+    fill(&a);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &a));
+    const char *text = slurp(path);
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"scenario\": \"scenarios/made-up.yaml\",\n"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"status\": \"warnings\",\n"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"message\": \"a \\\"quoted\\\" note\",\n"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"rms_error_m\": 0.10000000000000001,\n"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"control_period_s\": 0.01,\n"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"periods\": 1260,\n"));
+    cdpr_sim_summary_t b;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &b, &err), err.msg);
+    TEST_ASSERT_EQUAL(CDPR_SIM_WARNINGS, b.status);
+    const double *da[] = {&a.rms_error_m,
+                          &a.max_error_m,
+                          &a.final_error_m,
+                          &a.initial_error_m,
+                          &a.rms_error_second_half_m,
+                          &a.rms_error_rad,
+                          &a.max_error_rad,
+                          &a.final_error_rad,
+                          &a.max_tension_N,
+                          &a.min_tension_N,
+                          &a.max_payout_m_per_s,
+                          &a.sim_time_s,
+                          &a.wall_time_s};
+    const double *db[] = {&b.rms_error_m,
+                          &b.max_error_m,
+                          &b.final_error_m,
+                          &b.initial_error_m,
+                          &b.rms_error_second_half_m,
+                          &b.rms_error_rad,
+                          &b.max_error_rad,
+                          &b.final_error_rad,
+                          &b.max_tension_N,
+                          &b.min_tension_N,
+                          &b.max_payout_m_per_s,
+                          &b.sim_time_s,
+                          &b.wall_time_s};
+    for (size_t i = 0; i < sizeof da / sizeof da[0]; ++i) {
+        TEST_ASSERT_EQUAL_MEMORY(da[i], db[i], sizeof(double)); /* bit for bit */
+    }
+    TEST_ASSERT_EQUAL_UINT32(11, b.node_insertions);
+    TEST_ASSERT_EQUAL_UINT32(12, b.node_removals);
+    TEST_ASSERT_EQUAL_UINT32(13, b.capacity_hits);
+    TEST_ASSERT_EQUAL_UINT32(14, b.substep_limit_hits);
+    TEST_ASSERT_EQUAL_UINT32(15, b.ik_failures);
+    TEST_ASSERT_EQUAL_UINT32(16, b.min_length_periods);
+    TEST_ASSERT_EQUAL_INT(17, b.nodes_min);
+    TEST_ASSERT_EQUAL_INT(18, b.nodes_max);
+    TEST_ASSERT_EQUAL_INT(1260, b.periods);
+    TEST_ASSERT_EQUAL_UINT32(19, b.steps_accepted);
+    TEST_ASSERT_EQUAL_UINT32(20, b.steps_rejected);
+    TEST_ASSERT_EQUAL_UINT32(21, b.rhs_evals);
+    TEST_ASSERT_EQUAL_INT(22, b.settle_steps);
+}
+
+static void test_write_errors_are_io(void)
+{
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    cdpr_sim_summary_t s;
+    fill(&s);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_write_summary("/dev/full", &sc, &s));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO,
+                          cdpr_sim_write_summary("/nonexistent-cdpr-dir/summary.json", &sc, &s));
+    /* The CSV writer on a full device: the error shows at the close. */
+    cdpr_csv_t c;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_csv_open(&c, "/dev/full"));
+    for (int i = 0; i < 10000; ++i) {
+        cdpr_csv_num(&c, 0.1 * (double)i);
+    }
+    cdpr_csv_end_row(&c);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_close(&c));
+    /* The recorder in a directory that cannot be created (below a file). */
+    cdpr_sim_rec_t rec;
+    cdpr_scenario_error_t err;
+    memset(&s, 0, sizeof s);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_rec_open(&rec, &sc, "/dev/null/out", 6, &s, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "/dev/null/out"), err.msg);
+}
+
+static void test_read_errors(void)
+{
+    mkdir(CDPR_TEST_TMP, 0775);
+    cdpr_sim_summary_t s;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO,
+                          cdpr_sim_read_summary(CDPR_TEST_TMP "/missing.json", &s, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "missing.json"), err.msg);
+    write_text(CDPR_TEST_TMP "/partial.json", "{\"status\": \"ok\"}\n");
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE,
+                          cdpr_sim_read_summary(CDPR_TEST_TMP "/partial.json", &s, &err));
+    write_text(CDPR_TEST_TMP "/empty.json", "");
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE,
+                          cdpr_sim_read_summary(CDPR_TEST_TMP "/empty.json", &s, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "empty"), err.msg);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_csv_header_and_row);
+    RUN_TEST(test_summary_written_then_read_back_equal);
+    RUN_TEST(test_write_errors_are_io);
+    RUN_TEST(test_read_errors);
+    return UNITY_END() ? 1 : 0;
+}
