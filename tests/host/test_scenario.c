@@ -376,6 +376,46 @@ static const bad_case_t BAD[] = {
      "  line:", 1},
 };
 
+/* Rope damping as a ratio at a frequency: converted once to c = zeta EA / (pi f) (Kelvin-Voigt:
+ * zeta(omega) = c omega / (2 EA)), replacing the preset's c; the axial law by name; a ratio
+ * and a c together are refused naming the key. */
+static void test_damping_ratio_and_slack_law(void)
+{
+    make_tmp();
+    static char text[sizeof GOOD_LINE + 512];
+    char path[700];
+    replace(GOOD_LINE, "    damping_Ns: 160.0\n",
+            "    damping_ratio: 0.01\n    damping_ref_hz: 4.0\n    slack_law: moordyn\n", text,
+            sizeof text);
+    snprintf(path, sizeof path, "%s/damping_ratio.yaml", tmp_dir);
+    write_text(path, text);
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
+    TEST_ASSERT_EQUAL_DOUBLE(0.01, sc.robot.cable.damping_ratio);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.robot.cable.damping_Ns);
+    TEST_ASSERT_EQUAL_INT(CDPR_SLACK_MOORDYN, sc.robot.cable.slack_law);
+    cdpr_robot_params_t rp;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&sc.robot, NULL, &rp, NULL, NULL));
+    static cdpr_robot_t robot;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&robot, &rp, NULL));
+    /* EA 2.5e6 N: c = 0.01 * 2.5e6 / (pi * 4) = 1989.4368 N s. */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.01 * 2.5e6 / (3.14159265358979323846 * 4.0),
+                              robot.cable[0].p.damping_Ns);
+    replace(GOOD_LINE, "    damping_Ns: 160.0\n", "    damping_Ns: 160.0\n    damping_ratio: 0.01\n",
+            text, sizeof text);
+    snprintf(path, sizeof path, "%s/damping_both.yaml", tmp_dir);
+    write_text(path, text);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "damping_ratio"), err.msg);
+    replace(GOOD_LINE, "    damping_Ns: 160.0\n", "    damping_Ns: 160.0\n    slack_law: clip\n",
+            text, sizeof text);
+    snprintf(path, sizeof path, "%s/slack_law.yaml", tmp_dir);
+    write_text(path, text);
+    TEST_ASSERT_TRUE(cdpr_scenario_load(path, &sc, &err) < 0);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "slack_law"), err.msg);
+}
+
 static void test_bad_files_name_file_key_and_line(void)
 {
     make_tmp();
@@ -471,6 +511,7 @@ int main(void)
     RUN_TEST(test_every_key_resolves_to_the_value_written);
     RUN_TEST(test_omitted_keys_take_the_preset);
     RUN_TEST(test_committed_scenarios_hold_the_papers_numbers);
+    RUN_TEST(test_damping_ratio_and_slack_law);
     RUN_TEST(test_bad_files_name_file_key_and_line);
     RUN_TEST(test_unreadable_files);
     RUN_TEST(test_command_line);

@@ -158,36 +158,90 @@ static void test_damping_sign(void)
     TEST_ASSERT_DOUBLE_WITHIN(REL * 250.0, 5.0, s.tension_N);
 }
 
-static void test_slack_segment_has_zero_tension(void)
+/* The passive law T = max(0, EA max(eps, 0) + c eps_dot) in slack: at rest or shortening
+ * exactly 0 (never pushes); being stretched, the damper alone, c eps_dot. */
+static void test_slack_segment_carries_only_its_stretching_damper(void)
 {
     const cdpr_cable_params_t p = params_tension_only();
     cdpr_segment_t s;
-    /* l = 1.5 < lu = 2 (eps = -0.25), pulled apart at 1000 m/s: still exactly 0 N. */
+    /* l = 1.5 < lu = 2 (eps = -0.25) at rest: exactly 0 N. */
     const cdpr_vec3_t rb = v3_comb(RA, 1.5, T_HAT, 0.0, N_HAT);
-    cdpr_cable_segment_eval(&p, RA, zero3(), rb, vec_of(T_HAT, 1000.0), 2.0, 0.0, zero3(), &s);
+    cdpr_cable_segment_eval(&p, RA, zero3(), rb, zero3(), 2.0, 0.0, zero3(), &s);
     TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, s.tension_N);
     ASSERT_REL(REL, -0.25, s.strain);
     /* Tangent of a slack segment is still the chord direction. */
     ASSERT_V3(REL, vec_of(T_HAT, 1.0), s.tangent);
-    /* Reeling in fast (u < 0 makes eps_dot positive) does not make a slack segment pull. */
-    cdpr_cable_segment_eval(&p, RA, zero3(), rb, zero3(), 2.0, -1000.0, zero3(), &s);
+    /* Pulled apart at 1000 m/s: eps_dot = 1000 / 2 = 500 1/s, T = c eps_dot = 5000 N. */
+    cdpr_cable_segment_eval(&p, RA, zero3(), rb, vec_of(T_HAT, 1000.0), 2.0, 0.0, zero3(), &s);
+    ASSERT_REL(REL, 5000.0, s.tension_N);
+    /* Pushed together at 1000 m/s: the damper would push, the law gives exactly 0 N. */
+    cdpr_cable_segment_eval(&p, RA, zero3(), rb, vec_of(T_HAT, -1000.0), 2.0, 0.0, zero3(), &s);
     TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, s.tension_N);
+    /* Reeling in (u < 0) stretches too: eps_dot = -(l/lu^2) u = (1.5/4) 1000, T = 3750 N. */
+    cdpr_cable_segment_eval(&p, RA, zero3(), rb, zero3(), 2.0, -1000.0, zero3(), &s);
+    ASSERT_REL(REL, 3750.0, s.tension_N);
 }
 
-static void test_exactly_unstretched_segment_has_zero_tension(void)
+/* The MoorDyn-compatible option: the same damper, and the total may push. */
+static void test_moordyn_law_lets_the_damper_push(void)
+{
+    cdpr_cable_params_t p = params_tension_only();
+    p.slack_law = CDPR_SLACK_MOORDYN;
+    cdpr_segment_t s;
+    const cdpr_vec3_t rb = v3_comb(RA, 1.5, T_HAT, 0.0, N_HAT);
+    cdpr_cable_segment_eval(&p, RA, zero3(), rb, vec_of(T_HAT, -1000.0), 2.0, 0.0, zero3(), &s);
+    ASSERT_REL(REL, -5000.0, s.tension_N);
+    /* Taut (eps = 0.25) and shortening at 100 m/s: 250 + 10 (-100 / 2) = -250 N. */
+    const cdpr_vec3_t rt = v3_comb(RA, 2.5, T_HAT, 0.0, N_HAT);
+    cdpr_cable_segment_eval(&p, RA, zero3(), rt, vec_of(T_HAT, -100.0), 2.0, 0.0, zero3(), &s);
+    ASSERT_REL(REL, -250.0, s.tension_N);
+}
+
+/* No jump at the snap: at eps = 0 the tension is c eps_dot from both sides, and near it the
+ * law changes by at most EA |d eps| + c |d eps_dot| (Lipschitz). Axis-aligned chords from the
+ * origin give l = lu exactly (correctly rounded square and square root). */
+static void test_snap_is_continuous(void)
 {
     const cdpr_cable_params_t p = params_tension_only();
-    /* Axis-aligned chords from the origin: l = sqrt(L^2) = L exactly (correctly rounded
-     * square and square root), so eps = 0 and the model says T = 0 even when stretching at
-     * 50 m/s (T > 0 needs eps > 0). Several lu so l * (1/lu) rounding is exercised. */
     const double lus[] = {0.1, 2.0, 3.0, 7.3, 1.0 / 3.0};
     for (size_t i = 0; i < sizeof lus / sizeof lus[0]; ++i) {
         const double lu = lus[i];
         cdpr_segment_t s;
         cdpr_cable_segment_eval(&p, zero3(), zero3(), cdpr_v3(0.0, 0.0, lu),
                                 cdpr_v3(0.0, 0.0, 50.0), lu, 0.0, zero3(), &s);
-        TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, s.tension_N);
         TEST_ASSERT_DOUBLE_WITHIN(0.0, (cdpr_real_t)lu, s.length_m);
+        ASSERT_REL(TOL(1e-14, 6e-6), 10.0 * 50.0 / lu, s.tension_N);
+        /* 1e-6 shorter and longer (slack and taut by 1e-6 strain): within EA * 1e-6 plus the
+         * change of eps_dot's l / lu factor (none here: the far node moves along the chord). */
+        for (int side = -1; side <= 1; side += 2) {
+            cdpr_segment_t n;
+            const double l = lu * (1.0 + 1e-6 * side);
+            cdpr_cable_segment_eval(&p, zero3(), zero3(), cdpr_v3(0.0, 0.0, l),
+                                    cdpr_v3(0.0, 0.0, 50.0), lu, 0.0, zero3(), &n);
+            TEST_ASSERT_DOUBLE_WITHIN(1000.0 * 1e-6 * 1.001 + TOL(1e-9, 1e-3), s.tension_N,
+                                      n.tension_N);
+        }
+    }
+}
+
+/* Passive: the damper part D = T - EA max(eps, 0) never feeds energy in (D eps_dot >= 0) and
+ * T never pushes, over a grid of strains and strain rates around the snap. */
+static void test_damper_part_is_passive_and_never_pushes(void)
+{
+    const cdpr_cable_params_t p = params_tension_only();
+    for (int a = -20; a <= 20; ++a) {
+        for (int b = -20; b <= 20; ++b) {
+            const double l = 2.0 * (1.0 + 0.01 * a);
+            const double v = 0.5 * b;
+            cdpr_segment_t s;
+            cdpr_cable_segment_eval(&p, zero3(), zero3(), cdpr_v3(0.0, 0.0, l),
+                                    cdpr_v3(0.0, 0.0, v), 2.0, 0.0, zero3(), &s);
+            const double eps = (double)s.strain;
+            const double eps_dot = v / 2.0;
+            const double damper = (double)s.tension_N - 1000.0 * (eps > 0.0 ? eps : 0.0);
+            TEST_ASSERT_TRUE(s.tension_N >= 0.0);
+            TEST_ASSERT_TRUE(damper * eps_dot >= -TOL(1e-9, 1e-3));
+        }
     }
 }
 
@@ -340,11 +394,10 @@ static ref_seg_t ref_segment(const cdpr_cable_params_t *p, const double *ra, con
         rel += s.t[i] * (vb[i] - va[i]);
     }
     const double eps_dot = rel / lu - (l / (lu * lu)) * lu_rate;
-    s.T = 0.0;
-    if (eps > 0.0) {
-        const double T = p->ea_N * eps + p->damping_Ns * eps_dot;
-        s.T = (T > 0.0) ? T : 0.0;
-    }
+    /* docs/model.md, slack law: T = max(0, EA max(eps, 0) + c eps_dot) (passive), or without
+     * the floor (MoorDyn). */
+    const double T = p->ea_N * ((eps > 0.0) ? eps : 0.0) + p->damping_Ns * eps_dot;
+    s.T = (p->slack_law == CDPR_SLACK_MOORDYN || T > 0.0) ? T : 0.0;
     double mu[3], mt = 0.0;
     for (int i = 0; i < 3; ++i) {
         mu[i] = 0.5 * (va[i] + vb[i]) - wind[i];
@@ -787,8 +840,10 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_taut_segment_tension_and_direction);
     RUN_TEST(test_damping_sign);
-    RUN_TEST(test_slack_segment_has_zero_tension);
-    RUN_TEST(test_exactly_unstretched_segment_has_zero_tension);
+    RUN_TEST(test_slack_segment_carries_only_its_stretching_damper);
+    RUN_TEST(test_moordyn_law_lets_the_damper_push);
+    RUN_TEST(test_snap_is_continuous);
+    RUN_TEST(test_damper_part_is_passive_and_never_pushes);
     RUN_TEST(test_payout_rate_reduces_tension);
     RUN_TEST(test_drag_purely_normal);
     RUN_TEST(test_drag_purely_tangential);

@@ -18,6 +18,9 @@ void cdpr_cable_params_default(cdpr_cable_params_t *p)
     p->cd = CDPR_R(1.2);
     p->cm = CDPR_R(0.03);
     p->rho_air_kg_per_m3 = CDPR_R(1.225);
+    p->damping_ratio = CDPR_R(0.0);
+    p->damping_ref_hz = CDPR_R(5.0);
+    p->slack_law = CDPR_SLACK_PASSIVE;
 }
 
 cdpr_status_t cdpr_cable_params_validate(const cdpr_cable_params_t *p, cdpr_diag_t *diag)
@@ -32,7 +35,24 @@ cdpr_status_t cdpr_cable_params_validate(const cdpr_cable_params_t *p, cdpr_diag
     CDPR_TRY(check_nonnegative(p->cd, "cd", -1, diag));
     CDPR_TRY(check_nonnegative(p->cm, "cm", -1, diag));
     CDPR_TRY(check_nonnegative(p->rho_air_kg_per_m3, "rho_air_kg_per_m3", -1, diag));
+    CDPR_TRY(check_nonnegative(p->damping_ratio, "damping_ratio", -1, diag));
+    if (p->damping_ratio > CDPR_R(1.0)) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "damping_ratio", -1);
+    }
+    CDPR_TRY(check_positive(p->damping_ref_hz, "damping_ref_hz", -1, diag));
+    if ((p->damping_ratio > CDPR_R(0.0)) && (p->damping_Ns > CDPR_R(0.0))) {
+        /* Two damping values: which one is meant cannot be guessed. */
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "damping_ratio", -1);
+    }
+    if ((p->slack_law != CDPR_SLACK_PASSIVE) && (p->slack_law != CDPR_SLACK_MOORDYN)) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "slack_law", -1);
+    }
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_real_t cdpr_cable_damping_from_ratio(cdpr_real_t ea_N, cdpr_real_t zeta, cdpr_real_t f_hz)
+{
+    return zeta * ea_N / ((cdpr_real_t)CDPR_PI * f_hz);
 }
 
 cdpr_status_t cdpr_cable_init(cdpr_cable_t *c, const cdpr_cable_params_t *p, int n_segments,
@@ -48,6 +68,9 @@ cdpr_status_t cdpr_cable_init(cdpr_cable_t *c, const cdpr_cable_params_t *p, int
     CDPR_TRY(check_positive(length_m, "length_m", -1, diag));
 
     c->p = *p;
+    if (p->damping_ratio > CDPR_R(0.0)) {
+        c->p.damping_Ns = cdpr_cable_damping_from_ratio(p->ea_N, p->damping_ratio, p->damping_ref_hz);
+    }
     c->n = n_segments;
     c->delta_m = length_m / (cdpr_real_t)n_segments;
     for (int k = 0; k < CDPR_MAX_SEGMENTS; ++k) {
@@ -122,6 +145,7 @@ typedef struct {
 typedef struct {
     cdpr_real_t ea;
     cdpr_real_t c;
+    cdpr_real_t floor; /* lower bound of T: 0 (passive) or -inf (MoorDyn, may push) */
     cdpr_real_t drag_k;
     cdpr_real_t cm;
     cdpr_real_t wx;
@@ -134,11 +158,22 @@ static void seg_constants(const cdpr_cable_params_t *p, cdpr_real_t drag_k, cdpr
 {
     k->ea = p->ea_N;
     k->c = p->damping_Ns;
+    k->floor = (p->slack_law == CDPR_SLACK_MOORDYN) ? -(cdpr_real_t)INFINITY : CDPR_R(0.0);
     k->drag_k = drag_k;
     k->cm = p->cm;
     k->wx = wind.x;
     k->wy = wind.y;
     k->wz = wind.z;
+}
+
+/* Axial tension of a segment: T = max(floor, EA max(eps, 0) + c eps_dot), eps = ratio - 1
+ * (docs/model.md "Slack, snap and damping"). */
+static inline cdpr_real_t axial_tension(const seg_k_t *k, cdpr_real_t ratio, cdpr_real_t eps_dot)
+{
+    const cdpr_real_t eps = ratio - CDPR_R(1.0);
+    const cdpr_real_t elastic = (eps > CDPR_R(0.0)) ? (k->ea * eps) : CDPR_R(0.0);
+    const cdpr_real_t raw = elastic + (k->c * eps_dot);
+    return (raw > k->floor) ? raw : k->floor;
 }
 
 /* docs/model.md "One cable" for one segment from node a to node b. Written on scalars so the
@@ -161,17 +196,10 @@ static inline void seg_eval(const seg_k_t *k, const cdpr_real_t *ra, const cdpr_
     const cdpr_real_t mvy = CDPR_R(0.5) * (va[1] + vb[1]);
     const cdpr_real_t mvz = CDPR_R(0.5) * (va[2] + vb[2]);
 
-    /* Tension: T = max(0, EA eps + c eps_dot) if eps > 0, else 0 (a cable never pushes).
-     * eps_dot = t.(v_b - v_a)/lu - (l/lu^2) d lu/dt. */
-    cdpr_real_t tension = CDPR_R(0.0);
-    if (ratio > CDPR_R(1.0)) {
-        const cdpr_real_t rel = tx * (vb[0] - va[0]) + ty * (vb[1] - va[1]) + tz * (vb[2] - va[2]);
-        const cdpr_real_t eps_dot = (rel - ratio * lu_rate) * inv_lu;
-        tension = k->ea * (ratio - CDPR_R(1.0)) + k->c * eps_dot;
-        if (tension < CDPR_R(0.0)) {
-            tension = CDPR_R(0.0);
-        }
-    }
+    /* Tension (axial_tension) with eps_dot = t.(v_b - v_a)/lu - (l/lu^2) d lu/dt. */
+    const cdpr_real_t rel = tx * (vb[0] - va[0]) + ty * (vb[1] - va[1]) + tz * (vb[2] - va[2]);
+    const cdpr_real_t eps_dot = (rel - ratio * lu_rate) * inv_lu;
+    const cdpr_real_t tension = axial_tension(k, ratio, eps_dot);
     s->t = tension;
     s->sx = tension * tx;
     s->sy = tension * ty;
@@ -264,8 +292,7 @@ static void segments_soa(const seg_k_t *k, const cdpr_real_t *lu, const cdpr_rea
         const cdpr_real_t rel = tx * (w->vx[s + 1] - w->vx[s]) + ty * (w->vy[s + 1] - w->vy[s]) +
                                 tz * (w->vz[s + 1] - w->vz[s]);
         const cdpr_real_t eps_dot = rel * inv_lu[s];
-        const cdpr_real_t raw = k->ea * (ratio - CDPR_R(1.0)) + k->c * eps_dot;
-        const cdpr_real_t tension = (ratio > CDPR_R(1.0) && raw > CDPR_R(0.0)) ? raw : CDPR_R(0.0);
+        const cdpr_real_t tension = axial_tension(k, ratio, eps_dot);
         w->t[s] = tension;
         w->sx[s] = tension * tx;
         w->sy[s] = tension * ty;

@@ -41,6 +41,11 @@ cdpr_status_t cdpr_preset_get(cdpr_preset_t preset, cdpr_preset_config_t *cfg)
     c.preset = preset;
     hexagon(&c);
     c.gravity_m_per_s2 = 9.80665;
+    /* Axial law and damping form: the core's defaults (passive slack law; c given in N s,
+     * its damping ratio at a frequency is in docs/robots.md). */
+    c.cable.slack_law = CDPR_SLACK_PASSIVE;
+    c.cable.damping_ratio = 0.0;
+    c.cable.damping_ref_hz = 5.0;
     /* Drag: Cd 1.2 and Cm in 0.02-0.05 from the paper, air at sea level. */
     c.cable.cd = 1.2;
     c.cable.cm = 0.03;

@@ -42,6 +42,9 @@ typedef struct {
     double *rho_kg_per_m;
     double *ea_N;
     double *damping_Ns;
+    double *damping_ratio;
+    double *damping_ref_hz;
+    cdpr_slack_law_t *slack_law;
     double *cd;
     double *cm;
     double *rho_air_kg_per_m3;
@@ -188,11 +191,19 @@ static const cyaml_schema_field_t cabin_fields[] = {
     OPT_VEC("com_m", raw_cabin_t, com_m, 3),
     CYAML_FIELD_END,
 };
+static const cyaml_strval_t slack_law_names[] = {
+    {"passive", CDPR_SLACK_PASSIVE},
+    {"moordyn", CDPR_SLACK_MOORDYN},
+};
 static const cyaml_schema_field_t cable_fields[] = {
     OPT_NUMP("d0_m", raw_cable_t, d0_m),
     OPT_NUMP("rho_kg_per_m", raw_cable_t, rho_kg_per_m),
     OPT_NUMP("ea_N", raw_cable_t, ea_N),
     OPT_NUMP("damping_Ns", raw_cable_t, damping_Ns),
+    OPT_NUMP("damping_ratio", raw_cable_t, damping_ratio),
+    OPT_NUMP("damping_ref_hz", raw_cable_t, damping_ref_hz),
+    CYAML_FIELD_ENUM_PTR("slack_law", OPT | CYAML_FLAG_STRICT, raw_cable_t, slack_law,
+                         slack_law_names, CYAML_ARRAY_LEN(slack_law_names)),
     OPT_NUMP("cd", raw_cable_t, cd),
     OPT_NUMP("cm", raw_cable_t, cm),
     OPT_NUMP("rho_air_kg_per_m3", raw_cable_t, rho_air_kg_per_m3),
@@ -617,6 +628,15 @@ static void resolve_robot(const raw_robot_t *rr, cdpr_preset_config_t *c)
         take(&c->cable.rho_kg_per_m, rr->cable->rho_kg_per_m, 1);
         take(&c->cable.ea_N, rr->cable->ea_N, 1);
         take(&c->cable.damping_Ns, rr->cable->damping_Ns, 1);
+        if (rr->cable->damping_ratio != NULL) {
+            /* A ratio replaces the preset's c (the core takes one of the two). */
+            c->cable.damping_ratio = *rr->cable->damping_ratio;
+            c->cable.damping_Ns = (rr->cable->damping_Ns != NULL) ? *rr->cable->damping_Ns : 0.0;
+        }
+        take(&c->cable.damping_ref_hz, rr->cable->damping_ref_hz, 1);
+        if (rr->cable->slack_law != NULL) {
+            c->cable.slack_law = *rr->cable->slack_law;
+        }
         take(&c->cable.cd, rr->cable->cd, 1);
         take(&c->cable.cm, rr->cable->cm, 1);
         take(&c->cable.rho_air_kg_per_m3, rr->cable->rho_air_kg_per_m3, 1);
@@ -914,6 +934,8 @@ static void check_robot(vctx_t *vp)
     range(&v, "robot.cable.rho_kg_per_m", &c->cable.rho_kg_per_m, 1, 0.0, 1e4, 1);
     range(&v, "robot.cable.ea_N", &c->cable.ea_N, 1, 0.0, 1e13, 1);
     range(&v, "robot.cable.damping_Ns", &c->cable.damping_Ns, 1, 0.0, 1e12, 0);
+    range(&v, "robot.cable.damping_ratio", &c->cable.damping_ratio, 1, 0.0, 1.0, 0);
+    range(&v, "robot.cable.damping_ref_hz", &c->cable.damping_ref_hz, 1, 0.0, 1e4, 1);
     range(&v, "robot.cable.cd", &c->cable.cd, 1, 0.0, 10.0, 0);
     range(&v, "robot.cable.cm", &c->cable.cm, 1, 0.0, 10.0, 0);
     range(&v, "robot.cable.rho_air_kg_per_m3", &c->cable.rho_air_kg_per_m3, 1, 0.0, 100.0, 0);

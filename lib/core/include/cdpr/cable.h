@@ -25,15 +25,35 @@
 #include "cdpr/status.h"
 #include "cdpr/vec3.h"
 
+/// Axial law of a segment: tension from strain eps = l/lu - 1 and strain rate eps_dot
+/// (docs/model.md "One cable", "Slack, snap and damping").
+typedef enum {
+    /// T = max(0, EA max(eps, 0) + c eps_dot): Lipschitz in (eps, eps_dot), never pushes,
+    /// passive (the damper only ever removes energy), and its damper acts whenever the segment
+    /// is being stretched -- also while it is still slack, so a snap has no force jump.
+    CDPR_SLACK_PASSIVE = 0,
+    /// T = EA max(eps, 0) + c eps_dot: the damper acts in slack and taut alike and the total
+    /// may be negative (a damper that pushes), as in MoorDyn. For side-by-side comparisons.
+    CDPR_SLACK_MOORDYN = 1
+} cdpr_slack_law_t;
+
 /// Physical parameters of one cable (inputs). Defaults from cdpr_cable_params_default().
+///
+/// Damping is given either as the raw Kelvin-Voigt coefficient c (damping_Ns) or as a modal
+/// damping ratio zeta at a frequency f (damping_ratio > 0, damping_ref_hz): Kelvin-Voigt damping
+/// of the axial modes is zeta(omega) = c omega / (2 EA), so the core uses
+/// c = zeta EA / (pi f), converted once by cdpr_cable_init. Give one of the two, not both.
 typedef struct {
     cdpr_real_t d0_m;              ///< unstretched diameter [m] (> 0); default 0.006
     cdpr_real_t rho_kg_per_m;      ///< mass per unstretched length [kg/m] (> 0); default 0.14
     cdpr_real_t ea_N;              ///< axial stiffness EA [N] (> 0); default 2e6
     cdpr_real_t damping_Ns;        ///< strain-rate damping c [N s] (>= 0); default 170
+    cdpr_real_t damping_ratio;     ///< or: axial damping ratio zeta [-] in [0, 1]; default 0
+    cdpr_real_t damping_ref_hz;    ///< frequency where zeta holds [Hz] (> 0); default 5
     cdpr_real_t cd;                ///< normal drag coefficient Cd [-] (>= 0); default 1.2
     cdpr_real_t cm;                ///< tangential factor Cm [-] (>= 0), paper pi*C_F = Cm*Cd; 0.03
     cdpr_real_t rho_air_kg_per_m3; ///< air density [kg/m^3] (>= 0); default 1.225
+    cdpr_slack_law_t slack_law;    ///< axial law; default CDPR_SLACK_PASSIVE
 } cdpr_cable_params_t;
 
 /// One cable's discretisation (internal fields maintained by the core; read-only for users).
@@ -69,7 +89,7 @@ typedef struct {
 typedef struct {
     cdpr_real_t length_m;  ///< stretched length l [m]
     cdpr_real_t strain;    ///< l/lu - 1 [-]
-    cdpr_real_t tension_N; ///< T >= 0 [N]
+    cdpr_real_t tension_N; ///< T [N] (>= 0 except with CDPR_SLACK_MOORDYN)
     cdpr_vec3_t tangent;   ///< unit vector from node k to node k+1 (zero if l = 0)
     cdpr_vec3_t drag_N;    ///< aerodynamic force on the whole segment F_k [N]
 } cdpr_segment_t;
@@ -86,6 +106,11 @@ void cdpr_cable_params_default(cdpr_cable_params_t *p);
 /// - CDPR_E_OUT_OF_RANGE: damping_Ns, cd, cm or rho_air_kg_per_m3 < 0.
 /// CDPR_OK (diag: status OK, field "", index -1) otherwise.
 cdpr_status_t cdpr_cable_params_validate(const cdpr_cable_params_t *p, cdpr_diag_t *diag);
+
+/// Kelvin-Voigt coefficient c = zeta EA / (pi f) [N s] that gives the axial modes the damping
+/// ratio `zeta` at frequency `f_hz` (zeta(omega) = c omega / (2 EA)). O(1); no checks (the
+/// caller validated the inputs); cannot fail.
+cdpr_real_t cdpr_cable_damping_from_ratio(cdpr_real_t ea_N, cdpr_real_t zeta, cdpr_real_t f_hz);
 
 /// Initialise a cable of `n_segments` equal segments and total unstretched length
 /// `length_m` [m]. Validates everything first; on error `c` is not written. O(CDPR_MAX_SEGMENTS).
