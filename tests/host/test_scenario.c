@@ -402,8 +402,8 @@ static void test_damping_ratio_and_slack_law(void)
     /* EA 2.5e6 N: c = 0.01 * 2.5e6 / (pi * 4) = 1989.4368 N s. */
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.01 * 2.5e6 / (3.14159265358979323846 * 4.0),
                               robot.cable[0].p.damping_Ns);
-    replace(GOOD_LINE, "    damping_Ns: 160.0\n", "    damping_Ns: 160.0\n    damping_ratio: 0.01\n",
-            text, sizeof text);
+    replace(GOOD_LINE, "    damping_Ns: 160.0\n",
+            "    damping_Ns: 160.0\n    damping_ratio: 0.01\n", text, sizeof text);
     snprintf(path, sizeof path, "%s/damping_both.yaml", tmp_dir);
     write_text(path, text);
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_scenario_load(path, &sc, &err));

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_slack.c
 /// Slack, snap and damping on the straight-release case (docs/validation.md, "Slack and
 /// snap"): one 100 m cable between fixed ends 80 m apart at equal height (EA 1e6 N, 1 kg/m,
@@ -78,8 +79,8 @@ static const cdpr_real_t *node(int i)
 static void integrate_to(cdpr_real_t *t, double t_end)
 {
     while (*t < (cdpr_real_t)t_end) {
-        const cdpr_status_t st = cdpr_rkf45_step(&rk, cdpr_robot_rhs, &robot, t, y,
-                                                 (cdpr_real_t)t_end);
+        const cdpr_status_t st =
+            cdpr_rkf45_step(&rk, cdpr_robot_rhs, &robot, t, y, (cdpr_real_t)t_end);
         TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, st, cdpr_status_str(st));
     }
 }
@@ -168,9 +169,9 @@ static void test_fixed_steps_converge_at_the_method_order_before_the_snap(void)
         solver(1e-6);
         const long n = lround(0.5 / h);
         for (long i = 0; i < n; ++i) {
-            TEST_ASSERT_EQUAL_INT(CDPR_OK,
-                                  cdpr_rkf45_trial(&rk, cdpr_robot_rhs, &robot, (cdpr_real_t)((double)i * h),
-                                                   y, (cdpr_real_t)h, y_out, NULL));
+            TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_trial(&rk, cdpr_robot_rhs, &robot,
+                                                            (cdpr_real_t)((double)i * h), y,
+                                                            (cdpr_real_t)h, y_out, NULL));
             memcpy(y, y_out, sizeof(cdpr_real_t) * (size_t)robot.dim);
         }
         err[s] = 0.0;
@@ -198,7 +199,8 @@ static double energy(void)
         e += m * g * (double)node(i)[2];
     }
     for (int k = 0; k < N_SEG; ++k) {
-        const double a[3] = {(k == 0) ? 0.0 : (double)node(k)[0], (k == 0) ? 0.0 : (double)node(k)[1],
+        const double a[3] = {(k == 0) ? 0.0 : (double)node(k)[0],
+                             (k == 0) ? 0.0 : (double)node(k)[1],
                              (k == 0) ? 0.0 : (double)node(k)[2]};
         const double b[3] = {(k == N_SEG - 1) ? 80.0 : (double)node(k + 1)[0],
                              (k == N_SEG - 1) ? 0.0 : (double)node(k + 1)[1],

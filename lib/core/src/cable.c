@@ -69,7 +69,8 @@ cdpr_status_t cdpr_cable_init(cdpr_cable_t *c, const cdpr_cable_params_t *p, int
 
     c->p = *p;
     if (p->damping_ratio > CDPR_R(0.0)) {
-        c->p.damping_Ns = cdpr_cable_damping_from_ratio(p->ea_N, p->damping_ratio, p->damping_ref_hz);
+        c->p.damping_Ns =
+            cdpr_cable_damping_from_ratio(p->ea_N, p->damping_ratio, p->damping_ref_hz);
     }
     c->n = n_segments;
     c->delta_m = length_m / (cdpr_real_t)n_segments;
