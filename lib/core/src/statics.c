@@ -227,6 +227,17 @@ static load_t make_load(const cdpr_robot_t *r, cdpr_vec3_t f_ext, cdpr_vec3_t ta
     return ld;
 }
 
+/* Column j of a 6 x 6 wrench matrix: force f (rows 0-2) and moment m (rows 3-5). */
+static void set_wrench_column(cdpr_real_t M[NC][NC], int j, cdpr_vec3_t f, cdpr_vec3_t m)
+{
+    M[0][j] = f.x;
+    M[1][j] = f.y;
+    M[2][j] = f.z;
+    M[3][j] = m.x;
+    M[4][j] = m.y;
+    M[5][j] = m.z;
+}
+
 /* Wrench residual for given H (and its Jacobian if J != NULL): force sum_j F_j + ld->f and
  * moment sum_j arm_j x F_j + ld->m. Updates V, L (warm starts) and dV/dH per cable. */
 static cdpr_status_t wrench(const cdpr_robot_t *r, const geom_t *g, const cdpr_real_t *H,
@@ -244,13 +255,7 @@ static cdpr_status_t wrench(const cdpr_robot_t *r, const geom_t *g, const cdpr_r
         m = cdpr_v3_add(m, cdpr_v3_cross(g[j].arm, F));
         if (J != NULL) {
             const cdpr_vec3_t dF = cdpr_v3(g[j].e.x, g[j].e.y, dvdh);
-            const cdpr_vec3_t dM = cdpr_v3_cross(g[j].arm, dF);
-            J[0][j] = dF.x;
-            J[1][j] = dF.y;
-            J[2][j] = dF.z;
-            J[3][j] = dM.x;
-            J[4][j] = dM.y;
-            J[5][j] = dM.z;
+            set_wrench_column(J, j, dF, cdpr_v3_cross(g[j].arm, dF));
         }
     }
     res[0] = f.x;
@@ -306,13 +311,7 @@ static cdpr_status_t ik_straight_load(const cdpr_robot_t *r, const cdpr_cabin_mo
         chord[j] = CDPR_SQRT(g[j].l * g[j].l + g[j].h * g[j].h);
         const cdpr_vec3_t u =
             cdpr_v3(g[j].l * g[j].e.x / chord[j], g[j].l * g[j].e.y / chord[j], g[j].h / chord[j]);
-        const cdpr_vec3_t mu = cdpr_v3_cross(g[j].arm, u);
-        A[0][j] = u.x;
-        A[1][j] = u.y;
-        A[2][j] = u.z;
-        A[3][j] = mu.x;
-        A[4][j] = mu.y;
-        A[5][j] = mu.z;
+        set_wrench_column(A, j, u, cdpr_v3_cross(g[j].arm, u));
     }
     cdpr_real_t t[NC];
     if (solve_linear(NC, A, b, t) != 0) {

@@ -111,25 +111,10 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
     return fail(sc, "robot", "rejected by the model", d, err);
 }
 
-cdpr_status_t cdpr_host_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc,
-                                    cdpr_scenario_error_t *err)
-{
-    cdpr_plant_params_t pp;
-    memset(p, 0, sizeof *p);
-    const cdpr_status_t st = cdpr_host_plant_params(sc, &pp, err);
-    if (st != CDPR_OK) {
-        return st;
-    }
-    cdpr_diag_t d;
-    memset(&d, 0, sizeof d);
-    if (cdpr_plant_init_model(p, &pp, &d) != CDPR_OK) {
-        return init_error(p, sc, &d, err);
-    }
-    return CDPR_OK;
-}
-
-cdpr_status_t cdpr_host_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double *wall_s,
-                                   cdpr_scenario_error_t *err)
+/* Build the model only (full = 0: cdpr_plant_init_model) or the whole plant (cdpr_plant_init),
+ * timing it into *wall_s when asked. */
+static cdpr_status_t build(cdpr_plant_t *p, const cdpr_scenario_t *sc, int full, double *wall_s,
+                           cdpr_scenario_error_t *err)
 {
     cdpr_plant_params_t pp;
     memset(p, 0, sizeof *p);
@@ -140,12 +125,22 @@ cdpr_status_t cdpr_host_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, d
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
     const double t0 = cdpr_clock_now_s();
-    const cdpr_status_t is = cdpr_plant_init(p, &pp, &d);
+    const cdpr_status_t is =
+        (full != 0) ? cdpr_plant_init(p, &pp, &d) : cdpr_plant_init_model(p, &pp, &d);
     if (wall_s != NULL) {
         *wall_s = cdpr_clock_now_s() - t0;
     }
-    if (is != CDPR_OK) {
-        return init_error(p, sc, &d, err);
-    }
-    return CDPR_OK;
+    return (is != CDPR_OK) ? init_error(p, sc, &d, err) : CDPR_OK;
+}
+
+cdpr_status_t cdpr_host_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc,
+                                    cdpr_scenario_error_t *err)
+{
+    return build(p, sc, 0, NULL, err);
+}
+
+cdpr_status_t cdpr_host_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double *wall_s,
+                                   cdpr_scenario_error_t *err)
+{
+    return build(p, sc, 1, wall_s, err);
 }
