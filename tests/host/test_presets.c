@@ -10,6 +10,7 @@
 #include "cdpr/statics.h"
 #include "cdpr/host/trajectory.h"
 #include "test_real.h"
+#include "paper_circle.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -58,15 +59,7 @@ static void test_set_a_geometry(void)
 static void test_set_a_along_the_circle_matches_parameters_md(void)
 {
     init_preset(CDPR_PRESET_PAPER_50M);
-    cdpr_traj_t tr;
-    memset(&tr, 0, sizeof tr);
-    tr.type = CDPR_TRAJ_CIRCLE;
-    tr.centre_m[1] = -2.0;
-    tr.centre_m[2] = 9.135;
-    tr.radius_m = 2.0;
-    tr.speed_m_per_s = 2.0;
-    tr.start_angle_rad = PI / 2.0;
-    tr.direction = 1.0;
+    const cdpr_traj_t tr = test_paper_circle();
     const double lap = 2.0 * PI * 2.0 / 2.0;
     double l0[6];
     double tmin = 1e9;

@@ -21,6 +21,7 @@
 #include "cdpr/host/tracker.h"
 #include "ref_mat3.h"
 #include "test_real.h"
+#include "paper_circle.h"
 #include "unity.h"
 
 /* Control period of the controllers built here [s]. */
@@ -211,15 +212,7 @@ static void test_step_makes_no_heap_allocation(void)
     }
     cdpr_robot_params_t p;
     model_params(&p);
-    cdpr_traj_t tr;
-    memset(&tr, 0, sizeof tr);
-    tr.type = CDPR_TRAJ_CIRCLE;
-    tr.centre_m[1] = -2.0;
-    tr.centre_m[2] = 9.135;
-    tr.radius_m = 2.0;
-    tr.speed_m_per_s = 2.0;
-    tr.start_angle_rad = 1.5707963267948966;
-    tr.direction = 1.0;
+    const cdpr_traj_t tr = test_paper_circle();
     const cdpr_tracker_gains_t g = {0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_alloc_reset();

@@ -10,6 +10,7 @@
 
 #include "cdpr/host/tracker.h"
 #include "cdpr/host/trajectory.h"
+#include "paper_circle.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -19,16 +20,7 @@ static const double PI = 3.14159265358979323846;
 
 static cdpr_traj_t paper_circle(void)
 {
-    cdpr_traj_t tr;
-    memset(&tr, 0, sizeof tr);
-    tr.type = CDPR_TRAJ_CIRCLE;
-    tr.centre_m[1] = -2.0;
-    tr.centre_m[2] = 9.135;
-    tr.radius_m = 2.0;
-    tr.speed_m_per_s = 2.0;
-    tr.start_angle_rad = PI / 2.0;
-    tr.direction = 1.0;
-    return tr;
+    return test_paper_circle();
 }
 
 /* Central difference of every pose coordinate vs the analytic rate. The error of a central
