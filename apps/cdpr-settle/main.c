@@ -154,8 +154,8 @@ static int build(const options_t *o, int n, cdpr_diag_t *d)
     return cdpr_robot_init(&robot, &p, d);
 }
 
-static cdpr_status_t run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, double H,
-                         double va, result_t *res, FILE *csv)
+/* Release the cable of n segments from the straight chord and settle it to rest. */
+static cdpr_status_t settle_release(const options_t *o, int n, result_t *res)
 {
     cdpr_diag_t d;
     if (build(o, n, &d) != CDPR_OK) {
@@ -197,7 +197,13 @@ static cdpr_status_t run(const options_t *o, int n, const cdpr_catenary_cable_t 
     res->steps = cfg.steps;
     res->resets = cfg.resets;
     res->sim_time_s = cfg.time_s;
+    return CDPR_OK;
+}
 
+/* The settled shape against the catenary (deviations, CSV rows) and the mid-span sag. */
+static void compare_shape(const options_t *o, int n, const cdpr_catenary_cable_t *cat, double H,
+                          double va, result_t *res, FILE *csv)
+{
     /* Node positions (A = node 0 at the origin, B = node n), arclengths and deviations. */
     const cdpr_cable_t *c = &robot.cable[0];
     const cdpr_real_t *pos = y + robot.offset[0] + 1;
@@ -246,7 +252,15 @@ static cdpr_status_t run(const options_t *o, int n, const cdpr_catenary_cable_t 
     }
     res->sag_m = sag;
     res->max_dev_m = max_dev;
+}
 
+/* Support forces at both ends of the settled cable. */
+static void support_forces(const options_t *o, int n, result_t *res)
+{
+    const cdpr_cable_t *c = &robot.cable[0];
+    const cdpr_real_t *pos = y + robot.offset[0] + 1;
+    const double l = o->span_m;
+    const double h = o->height_m;
     /* Support forces. At A the support carries segment 0's pull plus node 0's own weight
      * (that lumped mass rests on the support); at B likewise with node n. */
     cdpr_robot_out_t out;
@@ -269,6 +283,17 @@ static cdpr_status_t run(const options_t *o, int n, const cdpr_catenary_cable_t 
         const double fz = -T * dz / len - wb;
         res->t_b_N = hypot(fx, fz);
     }
+}
+
+static cdpr_status_t run(const options_t *o, int n, const cdpr_catenary_cable_t *cat, double H,
+                         double va, result_t *res, FILE *csv)
+{
+    const cdpr_status_t st = settle_release(o, n, res);
+    if (st != CDPR_OK) {
+        return st;
+    }
+    compare_shape(o, n, cat, H, va, res, csv);
+    support_forces(o, n, res);
     return CDPR_OK;
 }
 
