@@ -18,16 +18,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app_cli.h"
 #include "app_run.h"
 #include "app_status.h"
 #include "cdpr/host/cli.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/rt/plant_node.h"
 #include "cdpr/rt/tracker_node.h"
-
-#ifndef CDPR_SOURCE_DIR
-#define CDPR_SOURCE_DIR "."
-#endif
 
 typedef struct {
     const char *scenario;
@@ -69,7 +66,8 @@ static void usage(FILE *f)
             "  --tracker-out DIR      with --with-tracker: its timeseries.csv, summary.json and\n"
             "                         figures (as cdpr-tracker --out)\n"
             "  --quiet                no telemetry summary\n"
-            "  --help                 this text\n\n"
+            "  --help                 this text\n"
+            "  --version              version and git description\n\n"
             "exit codes: 0 completed, 1 stopped by a signal, 2 bad command line or scenario,\n"
             "            3 LCM/thread start-up or output failure, unreadable scenario\n");
 }
@@ -88,11 +86,12 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"with-tracker", no_argument, NULL, 't'},
                                              {"tracker-out", required_argument, NULL, 'o'},
                                              {"quiet", no_argument, NULL, 'q'},
-                                             {"help", no_argument, NULL, 'h'},
+                                             CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     int c;
     double v = 0.0;
-    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
         const int ov = cdpr_app_override_opt("cdpr-rt", c, optarg, &o->ov);
         if (ov != 0) {
             if (ov < 0) {
@@ -142,9 +141,12 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 'h':
             usage(stdout);
-            exit(0);
+            exit(cdpr_app_exit_code(CDPR_OK));
+        case CDPR_APP_OPT_VERSION:
+            cdpr_app_print_version("cdpr-rt");
+            exit(cdpr_app_exit_code(CDPR_OK));
         default:
-            usage(stderr);
+            (void)cdpr_app_bad_option("cdpr-rt", c, argv, longopts);
             return -1;
         }
         if (bad != 0) {
@@ -152,16 +154,16 @@ static int parse(int argc, char **argv, options_t *o)
         }
     }
     if (optind >= argc) {
-        fprintf(stderr, "cdpr-rt: missing SCENARIO (try --help)\n");
+        (void)cdpr_app_usage_error("cdpr-rt", "missing SCENARIO");
         return -1;
     }
     o->scenario = argv[optind++];
     if (optind < argc) {
-        fprintf(stderr, "cdpr-rt: unexpected argument '%s'\n", argv[optind]);
+        (void)cdpr_app_usage_error("cdpr-rt", "unexpected argument '%s'", argv[optind]);
         return -1;
     }
     if (o->tracker_out != NULL && o->with_tracker == 0) {
-        fprintf(stderr, "cdpr-rt: --tracker-out needs --with-tracker\n");
+        (void)cdpr_app_usage_error("cdpr-rt", "--tracker-out needs --with-tracker");
         return -1;
     }
     return 0;
@@ -226,8 +228,9 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
         cdpr_sim_print_summary(stdout, "in-process tracker", &g_tracker_sum);
     }
     if (o->tracker_out != NULL && st == CDPR_OK) {
-        st = cdpr_app_write_outputs("cdpr-rt", sc, o->tracker_out, &g_tracker_sum,
-                                    CDPR_SOURCE_DIR "/scripts/plot_sim.gp");
+        char script[1200];
+        (void)cdpr_app_data_file("scripts/plot_sim.gp", script, sizeof script);
+        st = cdpr_app_write_outputs("cdpr-rt", sc, o->tracker_out, &g_tracker_sum, script);
     }
     return st;
 }
