@@ -198,7 +198,7 @@ static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc
     g_record.traj = &sc->traj;
     g_record.period_s = period_s;
     cdpr_scenario_error_t err;
-    const cdpr_status_t rs = cdpr_sim_rec_open(&g_record.rec, sc, o->tracker_out,
+    const cdpr_status_t rs = cdpr_sim_rec_open(&g_record.rec, sc, &g_rt.plant.pp, o->tracker_out,
                                                g_rt.plant.robot.p.n_cables, &g_tracker_sum, &err);
     if (rs != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
@@ -218,8 +218,21 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
     }
     g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
+    /* The plant runs in this process: its own counts (as cdpr-sim's summary has them). */
+    const cdpr_plant_t *p = &g_rt.plant;
     g_tracker_sum.node_insertions = g_rt.tel.node_insertions;
     g_tracker_sum.node_removals = g_rt.tel.node_removals;
+    g_tracker_sum.capacity_hits = 0;
+    for (int j = 0; j < p->robot.p.n_cables; ++j) {
+        g_tracker_sum.capacity_hits += p->nodes.capacity_hits[j];
+    }
+    g_tracker_sum.substep_limit_hits = p->stats.substep_limit_hits;
+    g_tracker_sum.min_length_periods = p->stats.min_length_periods;
+    g_tracker_sum.steps_accepted = p->rk.stats.steps_accepted;
+    g_tracker_sum.steps_rejected = p->rk.stats.steps_rejected;
+    g_tracker_sum.rhs_evals = p->rk.stats.rhs_evals;
+    g_tracker_sum.settle_steps = p->settle.steps;
+    g_tracker_sum.settle_wall_time_s = (double)NAN; /* not measured by cdpr_rt_init */
     g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
     g_tracker_sum.status = CDPR_SIM_OK;
     snprintf(g_tracker_sum.message, sizeof g_tracker_sum.message, "%llu commands",

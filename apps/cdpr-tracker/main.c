@@ -16,6 +16,7 @@
 /// command line or scenario, 3 LCM failure or output error (also: the scenario file or the
 /// --replay log cannot be read).
 #include <errno.h>
+#include <math.h>
 #include <stdint.h>
 #include <getopt.h>
 #include <stdio.h>
@@ -366,7 +367,9 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     }
     g_record.traj = &sc->traj;
     g_record.period_s = sc->period_s;
-    st = cdpr_sim_rec_open(&g_record.rec, sc, o->out_dir, g_model.robot.p.n_cables, &g_sum, &err);
+    /* The integrator is the plant's as the scenario configures it (cdpr-rt reads the same). */
+    st = cdpr_sim_rec_open(&g_record.rec, sc, &g_model.pp, o->out_dir, g_model.robot.p.n_cables,
+                           &g_sum, &err);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
         return st;
@@ -442,6 +445,17 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     g_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_sum.ik_failures = g_tracker.tracker.ik_failures;
     g_sum.wall_time_s = cdpr_clock_now_s() - wall0;
+    /* What only the plant knows is unknown here (null in summary.json); the node events are
+     * the changes of the segment counts in the tensions messages (cdpr_sim_rec_node_events). */
+    cdpr_sim_rec_node_events(&g_record.rec, &g_sum.node_insertions, &g_sum.node_removals, NULL);
+    g_sum.capacity_hits = CDPR_SIM_UNKNOWN;
+    g_sum.substep_limit_hits = CDPR_SIM_UNKNOWN;
+    g_sum.min_length_periods = CDPR_SIM_UNKNOWN;
+    g_sum.steps_accepted = CDPR_SIM_UNKNOWN;
+    g_sum.steps_rejected = CDPR_SIM_UNKNOWN;
+    g_sum.rhs_evals = CDPR_SIM_UNKNOWN;
+    g_sum.settle_steps = -1;
+    g_sum.settle_wall_time_s = (double)NAN;
     g_sum.status = (rc == CDPR_OK) ? ((g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK)
                                    : CDPR_SIM_FAILED;
     const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
