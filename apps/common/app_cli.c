@@ -72,7 +72,7 @@ cdpr_status_t cdpr_app_bad_option(const char *prog, int c, char *const argv[],
     /* getopt_long has moved optind past a long option it rejected: argv[optind - 1] is it. */
     const char *arg = (optind > 0) ? argv[optind - 1] : "";
     const int is_long = (strncmp(arg, "--", 2) == 0 && arg[2] != '\0') ? 1 : 0;
-    const char *name = arg + 2;
+    const char *name = (is_long != 0) ? arg + 2 : "";
     const char *eq = strchr(name, '=');
     const size_t len = (eq != NULL) ? (size_t)(eq - name) : strlen(name);
     const struct option *first = NULL;
