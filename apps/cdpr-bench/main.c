@@ -28,6 +28,7 @@
 #include <gsl/gsl_odeiv2.h>
 #include <gsl/gsl_version.h>
 
+#include "app_cli.h"
 #include "app_status.h"
 #include "cdpr/config.h"
 #include "cdpr/gsl/ref.h"
@@ -469,10 +470,11 @@ static void print_machine(const options_t *o)
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: cdpr-bench [--quick] [--help]\n"
+    fprintf(f, "usage: cdpr-bench [--quick] [--help] [--version]\n"
                "Time the cdpr core's RHS and RKF45 step against GSL's rkf45 on the same RHS.\n\n"
                "  --quick   short runs (0.02 s, best of 2): a smoke test, numbers are noisy\n"
-               "  --help    this text\n\n"
+               "  --help    this text\n"
+               "  --version version and git description\n\n"
                "Default: best of 5 runs of >= 0.2 s per case (about a minute). Build with the\n"
                "release preset; see docs/performance.md.\n");
 }
@@ -483,9 +485,10 @@ int main(int argc, char **argv)
     o.min_time_s = 0.2;
     o.runs = 5;
     static const struct option long_opts[] = {
-        {"quick", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+        {"quick", no_argument, NULL, 'q'}, CDPR_APP_STD_OPTIONS, {NULL, 0, NULL, 0}};
+    opterr = 0;
     for (;;) {
-        const int c = getopt_long(argc, argv, "qh", long_opts, NULL);
+        const int c = getopt_long(argc, argv, CDPR_APP_OPTSTRING "q", long_opts, NULL);
         if (c == -1) {
             break;
         }
@@ -497,15 +500,16 @@ int main(int argc, char **argv)
         case 'h':
             usage(stdout);
             return cdpr_app_exit_code(CDPR_OK);
+        case CDPR_APP_OPT_VERSION:
+            cdpr_app_print_version("cdpr-bench");
+            return cdpr_app_exit_code(CDPR_OK);
         default:
-            usage(stderr);
-            return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
+            return cdpr_app_exit_code(cdpr_app_bad_option("cdpr-bench", c, argv, long_opts));
         }
     }
     if (optind < argc) {
-        fprintf(stderr, "cdpr-bench: unexpected argument '%s'\n", argv[optind]);
-        usage(stderr);
-        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
+        return cdpr_app_exit_code(
+            cdpr_app_usage_error("cdpr-bench", "unexpected argument '%s'", argv[optind]));
     }
 
     printf("cdpr-bench: the cdpr core's RHS and RKF45 step vs GSL rkf45 on the same RHS\n");

@@ -18,16 +18,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app_cli.h"
 #include "app_run.h"
 #include "app_status.h"
 #include "cdpr/host/cli.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/rt/plant_node.h"
 #include "cdpr/rt/tracker_node.h"
-
-#ifndef CDPR_SOURCE_DIR
-#define CDPR_SOURCE_DIR "."
-#endif
 
 typedef struct {
     const char *scenario;
@@ -69,7 +66,8 @@ static void usage(FILE *f)
             "  --tracker-out DIR      with --with-tracker: its timeseries.csv, summary.json and\n"
             "                         figures (as cdpr-tracker --out)\n"
             "  --quiet                no telemetry summary\n"
-            "  --help                 this text\n\n"
+            "  --help                 this text\n"
+            "  --version              version and git description\n\n"
             "exit codes: 0 completed, 1 stopped by a signal, 2 bad command line or scenario,\n"
             "            3 LCM/thread start-up or output failure, unreadable scenario\n");
 }
@@ -88,11 +86,12 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"with-tracker", no_argument, NULL, 't'},
                                              {"tracker-out", required_argument, NULL, 'o'},
                                              {"quiet", no_argument, NULL, 'q'},
-                                             {"help", no_argument, NULL, 'h'},
+                                             CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     int c;
     double v = 0.0;
-    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
         const int ov = cdpr_app_override_opt("cdpr-rt", c, optarg, &o->ov);
         if (ov != 0) {
             if (ov < 0) {
@@ -142,9 +141,12 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 'h':
             usage(stdout);
-            exit(0);
+            exit(cdpr_app_exit_code(CDPR_OK));
+        case CDPR_APP_OPT_VERSION:
+            cdpr_app_print_version("cdpr-rt");
+            exit(cdpr_app_exit_code(CDPR_OK));
         default:
-            usage(stderr);
+            (void)cdpr_app_bad_option("cdpr-rt", c, argv, longopts);
             return -1;
         }
         if (bad != 0) {
@@ -152,16 +154,16 @@ static int parse(int argc, char **argv, options_t *o)
         }
     }
     if (optind >= argc) {
-        fprintf(stderr, "cdpr-rt: missing SCENARIO (try --help)\n");
+        (void)cdpr_app_usage_error("cdpr-rt", "missing SCENARIO");
         return -1;
     }
     o->scenario = argv[optind++];
     if (optind < argc) {
-        fprintf(stderr, "cdpr-rt: unexpected argument '%s'\n", argv[optind]);
+        (void)cdpr_app_usage_error("cdpr-rt", "unexpected argument '%s'", argv[optind]);
         return -1;
     }
     if (o->tracker_out != NULL && o->with_tracker == 0) {
-        fprintf(stderr, "cdpr-rt: --tracker-out needs --with-tracker\n");
+        (void)cdpr_app_usage_error("cdpr-rt", "--tracker-out needs --with-tracker");
         return -1;
     }
     return 0;
@@ -196,7 +198,7 @@ static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc
     g_record.traj = &sc->traj;
     g_record.period_s = period_s;
     cdpr_scenario_error_t err;
-    const cdpr_status_t rs = cdpr_sim_rec_open(&g_record.rec, sc, o->tracker_out,
+    const cdpr_status_t rs = cdpr_sim_rec_open(&g_record.rec, sc, &g_rt.plant.pp, o->tracker_out,
                                                g_rt.plant.robot.p.n_cables, &g_tracker_sum, &err);
     if (rs != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
@@ -216,8 +218,21 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
     }
     g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
+    /* The plant runs in this process: its own counts (as cdpr-sim's summary has them). */
+    const cdpr_plant_t *p = &g_rt.plant;
     g_tracker_sum.node_insertions = g_rt.tel.node_insertions;
     g_tracker_sum.node_removals = g_rt.tel.node_removals;
+    g_tracker_sum.capacity_hits = 0;
+    for (int j = 0; j < p->robot.p.n_cables; ++j) {
+        g_tracker_sum.capacity_hits += p->nodes.capacity_hits[j];
+    }
+    g_tracker_sum.substep_limit_hits = p->stats.substep_limit_hits;
+    g_tracker_sum.min_length_periods = p->stats.min_length_periods;
+    g_tracker_sum.steps_accepted = p->rk.stats.steps_accepted;
+    g_tracker_sum.steps_rejected = p->rk.stats.steps_rejected;
+    g_tracker_sum.rhs_evals = p->rk.stats.rhs_evals;
+    g_tracker_sum.settle_steps = p->settle.steps;
+    g_tracker_sum.settle_wall_time_s = (double)NAN; /* not measured by cdpr_rt_init */
     g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
     g_tracker_sum.status = CDPR_SIM_OK;
     snprintf(g_tracker_sum.message, sizeof g_tracker_sum.message, "%llu commands",
@@ -226,8 +241,9 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
         cdpr_sim_print_summary(stdout, "in-process tracker", &g_tracker_sum);
     }
     if (o->tracker_out != NULL && st == CDPR_OK) {
-        st = cdpr_app_write_outputs("cdpr-rt", sc, o->tracker_out, &g_tracker_sum,
-                                    CDPR_SOURCE_DIR "/scripts/plot_sim.gp");
+        char script[1200];
+        (void)cdpr_app_data_file("scripts/plot_sim.gp", script, sizeof script);
+        st = cdpr_app_write_outputs("cdpr-rt", sc, o->tracker_out, &g_tracker_sum, script);
     }
     return st;
 }

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app_cli.h"
 #include "app_status.h"
 #include "cdpr/catenary.h"
 #include "cdpr/host/cli.h"
@@ -63,7 +64,8 @@ static void usage(FILE *f)
                "  --ea EA           axial stiffness [N] (default 2e4: ~0.5 %% strain)\n"
                "  --rho RHO         mass per length [kg/m] (default 0.14)\n"
                "  --segments LIST   comma-separated segment counts (default 8,16,32,64)\n"
-               "  --help            this text\n");
+               "  --help            this text\n"
+               "  --version         version and git description\n");
 }
 
 static int parse_segments(const char *s, options_t *o)
@@ -93,10 +95,11 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"ea", required_argument, NULL, 'e'},
                                              {"rho", required_argument, NULL, 'r'},
                                              {"segments", required_argument, NULL, 'n'},
-                                             {"help", no_argument, NULL, 'h'},
+                                             CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     int c;
-    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
         int rc = 0;
         switch (c) {
         case 'o':
@@ -122,9 +125,12 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 'h':
             usage(stdout);
-            exit(0);
+            exit(cdpr_app_exit_code(CDPR_OK));
+        case CDPR_APP_OPT_VERSION:
+            cdpr_app_print_version("cdpr-settle");
+            exit(cdpr_app_exit_code(CDPR_OK));
         default:
-            usage(stderr);
+            (void)cdpr_app_bad_option("cdpr-settle", c, argv, longopts);
             return -1;
         }
         if (rc != 0) {
@@ -132,7 +138,7 @@ static int parse(int argc, char **argv, options_t *o)
         }
     }
     if (optind < argc) {
-        fprintf(stderr, "cdpr-settle: unexpected argument '%s'\n", argv[optind]);
+        (void)cdpr_app_usage_error("cdpr-settle", "unexpected argument '%s'", argv[optind]);
         return -1;
     }
     return 0;

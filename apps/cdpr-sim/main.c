@@ -12,16 +12,13 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "app_cli.h"
 #include "app_run.h"
 #include "app_status.h"
 #include "cdpr/host/plot.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sim.h"
 #include "cdpr/host/trajectory.h"
-
-#ifndef CDPR_SOURCE_DIR
-#define CDPR_SOURCE_DIR "."
-#endif
 
 typedef struct {
     const char *scenario;
@@ -32,6 +29,9 @@ typedef struct {
     int progress; /* -1 auto (a tty), 0 off, 1 forced */
     int quiet;
 } options_t;
+
+/* The default gnuplot script: the installation's (cdpr_app_data_file). */
+static char g_default_script[1200];
 
 static void usage(FILE *f)
 {
@@ -46,13 +46,16 @@ static void usage(FILE *f)
             "  --duration S        simulate S seconds instead of run.duration_s (tests and\n"
             "                      quick looks; S must be a whole number of run.period_s)\n"
             "  --no-plot           do not run gnuplot\n"
-            "  --plot-script FILE  gnuplot script (default %s/scripts/plot_sim.gp)\n"
+            "  --plot-script FILE  gnuplot script; default: share/cdpr/scripts/plot_sim.gp of\n"
+            "                      the installation (the source tree's from a build tree):\n"
+            "                      %s\n"
             "  --progress          progress on stderr even when it is not a terminal\n"
             "  --quiet             no progress and no summary on stdout\n"
-            "  --help              this text\n\n"
+            "  --help              this text\n"
+            "  --version           version and git description\n\n"
             "exit codes: 0 run completed (status ok or warnings), 1 simulation stopped early,\n"
             "            2 bad command line or scenario, 3 output error or unreadable scenario\n",
-            CDPR_SOURCE_DIR);
+            g_default_script);
 }
 
 static int parse(int argc, char **argv, options_t *o)
@@ -64,10 +67,11 @@ static int parse(int argc, char **argv, options_t *o)
         {"plot-script", required_argument, NULL, 's'},
         {"progress", no_argument, NULL, 'p'},
         {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},
+        CDPR_APP_STD_OPTIONS,
         {NULL, 0, NULL, 0}};
     int c;
-    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
         const int ov = cdpr_app_override_opt("cdpr-sim", c, optarg, &o->ov);
         if (ov != 0) {
             if (ov < 0) {
@@ -93,24 +97,27 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 'h':
             usage(stdout);
-            exit(0);
+            exit(cdpr_app_exit_code(CDPR_OK));
+        case CDPR_APP_OPT_VERSION:
+            cdpr_app_print_version("cdpr-sim");
+            exit(cdpr_app_exit_code(CDPR_OK));
         default:
-            usage(stderr);
+            (void)cdpr_app_bad_option("cdpr-sim", c, argv, longopts);
             return -1;
         }
     }
     if (optind >= argc) {
-        fprintf(stderr, "cdpr-sim: missing SCENARIO (try --help)\n");
+        (void)cdpr_app_usage_error("cdpr-sim", "missing SCENARIO");
         return -1;
     }
     o->scenario = argv[optind++];
     if (optind < argc) {
-        fprintf(stderr, "cdpr-sim: unexpected argument '%s' (one scenario per run)\n",
-                argv[optind]);
+        (void)cdpr_app_usage_error("cdpr-sim", "unexpected argument '%s' (one scenario per run)",
+                                   argv[optind]);
         return -1;
     }
     if (o->out_dir == NULL) {
-        fprintf(stderr, "cdpr-sim: --out DIR is required\n");
+        (void)cdpr_app_usage_error("cdpr-sim", "--out DIR is required");
         return -1;
     }
     return 0;
@@ -131,7 +138,8 @@ int main(int argc, char **argv)
 {
     options_t o;
     memset(&o, 0, sizeof o);
-    o.plot_script = CDPR_SOURCE_DIR "/scripts/plot_sim.gp";
+    (void)cdpr_app_data_file("scripts/plot_sim.gp", g_default_script, sizeof g_default_script);
+    o.plot_script = g_default_script;
     o.plot = 1;
     o.progress = -1;
     cdpr_scenario_overrides_none(&o.ov);

@@ -16,6 +16,7 @@
 /// command line or scenario, 3 LCM failure or output error (also: the scenario file or the
 /// --replay log cannot be read).
 #include <errno.h>
+#include <math.h>
 #include <stdint.h>
 #include <getopt.h>
 #include <stdio.h>
@@ -25,6 +26,7 @@
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 
+#include "app_cli.h"
 #include "app_run.h"
 #include "app_status.h"
 #include "cdpr/host/cli.h"
@@ -32,10 +34,6 @@
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/rt/tracker_node.h"
-
-#ifndef CDPR_SOURCE_DIR
-#define CDPR_SOURCE_DIR "."
-#endif
 
 typedef struct {
     const char *scenario;
@@ -73,7 +71,8 @@ static void usage(FILE *f)
            "                   0 when every recorded state was reproduced bit for bit\n"
            "  --no-plot        no figures\n"
            "  --quiet          no summary on stdout\n"
-           "  --help           this text\n\n"
+           "  --help           this text\n"
+           "  --version        version and git description\n\n"
            "exit codes: 0 finished, 1 stopped (signal or silence) or a replayed state differs,\n"
            "            2 bad command line or scenario, 3 LCM or output failure, unreadable\n"
            "            scenario or log\n");
@@ -89,10 +88,11 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"no-plot", no_argument, NULL, 'n'},
                                              {"replay", required_argument, NULL, 'R'},
                                              {"quiet", no_argument, NULL, 'q'},
-                                             {"help", no_argument, NULL, 'h'},
+                                             CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     int c;
-    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
         const int ov = cdpr_app_override_opt("cdpr-tracker", c, optarg, &o->ov);
         if (ov != 0) {
             if (ov < 0) {
@@ -126,9 +126,12 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 'h':
             usage(stdout);
-            exit(0);
+            exit(cdpr_app_exit_code(CDPR_OK));
+        case CDPR_APP_OPT_VERSION:
+            cdpr_app_print_version("cdpr-tracker");
+            exit(cdpr_app_exit_code(CDPR_OK));
         default:
-            usage(stderr);
+            (void)cdpr_app_bad_option("cdpr-tracker", c, argv, longopts);
             return -1;
         }
         if (bad != 0) {
@@ -136,12 +139,12 @@ static int parse(int argc, char **argv, options_t *o)
         }
     }
     if (optind >= argc) {
-        fprintf(stderr, "cdpr-tracker: missing SCENARIO (try --help)\n");
+        (void)cdpr_app_usage_error("cdpr-tracker", "missing SCENARIO");
         return -1;
     }
     o->scenario = argv[optind++];
     if (optind < argc) {
-        fprintf(stderr, "cdpr-tracker: unexpected argument '%s'\n", argv[optind]);
+        (void)cdpr_app_usage_error("cdpr-tracker", "unexpected argument '%s'", argv[optind]);
         return -1;
     }
     return 0;
@@ -364,7 +367,9 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     }
     g_record.traj = &sc->traj;
     g_record.period_s = sc->period_s;
-    st = cdpr_sim_rec_open(&g_record.rec, sc, o->out_dir, g_model.robot.p.n_cables, &g_sum, &err);
+    /* The integrator is the plant's as the scenario configures it (cdpr-rt reads the same). */
+    st = cdpr_sim_rec_open(&g_record.rec, sc, &g_model.pp, o->out_dir, g_model.robot.p.n_cables,
+                           &g_sum, &err);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
         return st;
@@ -440,6 +445,17 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     g_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_sum.ik_failures = g_tracker.tracker.ik_failures;
     g_sum.wall_time_s = cdpr_clock_now_s() - wall0;
+    /* What only the plant knows is unknown here (null in summary.json); the node events are
+     * the changes of the segment counts in the tensions messages (cdpr_sim_rec_node_events). */
+    cdpr_sim_rec_node_events(&g_record.rec, &g_sum.node_insertions, &g_sum.node_removals, NULL);
+    g_sum.capacity_hits = CDPR_SIM_UNKNOWN;
+    g_sum.substep_limit_hits = CDPR_SIM_UNKNOWN;
+    g_sum.min_length_periods = CDPR_SIM_UNKNOWN;
+    g_sum.steps_accepted = CDPR_SIM_UNKNOWN;
+    g_sum.steps_rejected = CDPR_SIM_UNKNOWN;
+    g_sum.rhs_evals = CDPR_SIM_UNKNOWN;
+    g_sum.settle_steps = -1;
+    g_sum.settle_wall_time_s = (double)NAN;
     g_sum.status = (rc == CDPR_OK) ? ((g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK)
                                    : CDPR_SIM_FAILED;
     const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
@@ -447,10 +463,10 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
              "over LCM: %llu states, %llu commands, %llu superseded, %llu clamped",
              (unsigned long long)s->states, (unsigned long long)s->answered,
              (unsigned long long)s->superseded, (unsigned long long)g_tracker.clamped);
-    if (o->out_dir != NULL &&
-        cdpr_app_write_outputs("cdpr-tracker", sc, o->out_dir, &g_sum,
-                               (o->plot != 0) ? CDPR_SOURCE_DIR "/scripts/plot_sim.gp" : NULL) !=
-            CDPR_OK) {
+    char script[1200];
+    (void)cdpr_app_data_file("scripts/plot_sim.gp", script, sizeof script);
+    if (o->out_dir != NULL && cdpr_app_write_outputs("cdpr-tracker", sc, o->out_dir, &g_sum,
+                                                     (o->plot != 0) ? script : NULL) != CDPR_OK) {
         rc = CDPR_E_IO;
     }
     if (o->quiet == 0) {

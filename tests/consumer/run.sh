@@ -4,6 +4,7 @@
 # from outside the source tree, compared with the same program built inside the project.
 #
 #  host (release preset, installed to a temporary prefix):
+#   0. the installed apps find their data files when the prefix is moved (tests/apps/relocate.sh);
 #   1. find_package(cdpr 0.1 REQUIRED COMPONENTS core host) -- tests/consumer/package; also
 #      every other component linked once (CDPR_CONSUMER_ALL);
 #   2. pkg-config cdpr-core: cc $(pkg-config --cflags) state_bits.c $(pkg-config --libs);
@@ -67,6 +68,19 @@ quiet cmake --build --preset release -j "$jobs"
 quiet cmake --install build/release --prefix "$host"
 build/release/tests/consumer/cdpr-consumer-host >"$work/ref-host.txt"
 build/release/tests/consumer/cdpr-consumer-core >"$work/ref-core.txt"
+
+# 0. the installed apps find their data relative to themselves: the release build installed to
+#    a prefix that is then moved; the moved cdpr-sim plots with the moved plot_sim.gp
+#    (tests/apps/relocate.sh, also the ctest app_install_relocated).
+reloc_rc=0
+sh tests/apps/relocate.sh build/release "$work/relocated" >"$work/relocated.txt" 2>&1 || reloc_rc=$?
+if [[ $reloc_rc == 0 ]]; then
+    ok "installed prefix moved: cdpr-sim finds share/cdpr/scripts/plot_sim.gp and writes figures"
+elif [[ $reloc_rc == 77 ]]; then
+    echo "consumers: SKIP relocated installation ($(tail -n 1 "$work/relocated.txt"))"
+else
+    bad "relocated installation: $(tail -n 1 "$work/relocated.txt")"
+fi
 
 # 1. find_package
 b=$work/package

@@ -1,19 +1,25 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /// @file test_results.c
-/// The result writers: timeseries.csv (header and row format, record.h) from a hand-made
-/// period, the statistics of the summary, summary.json written and read back, and write or
-/// read errors reported as statuses (CDPR_E_IO, CDPR_E_PARSE). Expectations are written out
-/// here, never regenerated from the code.
+/// The result writers: timeseries.csv (provenance comments, header and row format, record.h)
+/// from a hand-made period, the statistics of the summary, summary.json written and read back
+/// (provenance, unknown values as null both ways, files without the provenance keys), node
+/// events from the segment counts, and write or read errors reported as statuses (CDPR_E_IO,
+/// CDPR_E_PARSE). Expectations are written out here, never regenerated from the code.
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 
+#include "cdpr/version.h"
 #include "cdpr/host/record.h"
 #include "cdpr/host/summary.h"
 #include "unity.h"
 
 #ifndef CDPR_TEST_TMP
 #define CDPR_TEST_TMP "/tmp/test_results"
+#endif
+#ifndef CDPR_TEST_BUILD_TYPE
+#define CDPR_TEST_BUILD_TYPE ""
 #endif
 
 void setUp(void) {}
@@ -58,7 +64,7 @@ static void test_csv_header_and_row(void)
     memset(&sum, 0, sizeof sum);
     cdpr_sim_rec_t rec;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, dir, 2, &sum, &err),
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, dir, 2, &sum, &err),
                                   err.msg);
     /* Measured at (1, 2, 3) m, level; desired 0.5 m further along x, level. */
     cdpr_traj_sample_t des;
@@ -82,16 +88,24 @@ static void test_csv_header_and_row(void)
     const cdpr_sim_row_t row = {0.5, &des, &meas, t_cabin, t_winch, l_ff, payout, segments};
     cdpr_sim_rec_period(&rec, 0, 1, &row);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
-    TEST_ASSERT_EQUAL_STRING(
-        "t_s,x_m,y_m,z_m,alpha_rad,beta_rad,gamma_rad,xd_m,yd_m,zd_m,alphad_rad,betad_rad,"
-        "gammad_rad,ex_m,ey_m,ez_m,ealpha_rad,ebeta_rad,egamma_rad,epos_m,erot_rad,"
-        "T_cabin1_N,T_cabin2_N,T_winch1_N,T_winch2_N,L1_m,L2_m,Lff1_m,Lff2_m,"
-        "u1_m_per_s,u2_m_per_s,n1,n2\n"
-        /* beta of the identity is asin(-0) = -0 in cdpr_quat_to_euler; %.17g keeps the sign,
-         * so the error -0 - 0 prints "-0" too. */
-        "0.5,1,2,3,0,-0,0,1.5,2,3,0,0,0,-0.5,0,0,0,-0,0,0.5,0,"
-        "100,200,110,210,10.25,20.5,10,20,0.125,-0.25,20,21\n",
-        slurp(CDPR_TEST_TMP "/csv/timeseries.csv"));
+    /* The provenance first, as comments: made-up.yaml does not exist (no hash), no plant
+     * parameters were given (no integrator): null. */
+    char expected[2048];
+    snprintf(expected, sizeof expected,
+             "# version: %s\n# git_describe: %s\n# build_type: %s\n"
+             "# scenario: scenarios/made-up.yaml\n# scenario_sha256: null\n# integrator: null\n"
+             "%s",
+             CDPR_VERSION_STRING, CDPR_GIT_DESCRIBE,
+             (CDPR_TEST_BUILD_TYPE[0] != '\0') ? CDPR_TEST_BUILD_TYPE : "null",
+             "t_s,x_m,y_m,z_m,alpha_rad,beta_rad,gamma_rad,xd_m,yd_m,zd_m,alphad_rad,betad_rad,"
+             "gammad_rad,ex_m,ey_m,ez_m,ealpha_rad,ebeta_rad,egamma_rad,epos_m,erot_rad,"
+             "T_cabin1_N,T_cabin2_N,T_winch1_N,T_winch2_N,L1_m,L2_m,Lff1_m,Lff2_m,"
+             "u1_m_per_s,u2_m_per_s,n1,n2\n"
+             /* beta of the identity is asin(-0) = -0 in cdpr_quat_to_euler; %.17g keeps the sign,
+              * so the error -0 - 0 prints "-0" too. */
+             "0.5,1,2,3,0,-0,0,1.5,2,3,0,0,0,-0.5,0,0,0,-0,0,0.5,0,"
+             "100,200,110,210,10.25,20.5,10,20,0.125,-0.25,20,21\n");
+    TEST_ASSERT_EQUAL_STRING(expected, slurp(CDPR_TEST_TMP "/csv/timeseries.csv"));
     /* The statistics of that one period. */
     TEST_ASSERT_EQUAL_DOUBLE(0.5, sum.rms_error_m);
     TEST_ASSERT_EQUAL_DOUBLE(0.5, sum.initial_error_m);
@@ -200,6 +214,197 @@ static void test_summary_written_then_read_back_equal(void)
     TEST_ASSERT_EQUAL_INT(22, b.settle_steps);
 }
 
+static void test_provenance_of_an_existing_scenario_file(void)
+{
+    /* A scenario "file" holding the bytes "abc": FIPS 180-4's first example, so its hash is
+     * known independently. The integrator is the plant parameters'. */
+    mkdir(CDPR_TEST_TMP, 0775);
+    write_text(CDPR_TEST_TMP "/abc.yaml", "abc");
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    snprintf(sc.path, sizeof sc.path, "%s", CDPR_TEST_TMP "/abc.yaml");
+    cdpr_plant_params_t pp;
+    cdpr_plant_params_default(&pp);
+    pp.integrator = CDPR_PLANT_RKF45;
+    cdpr_sim_summary_t sum;
+    memset(&sum, 0, sizeof sum);
+    cdpr_sim_rec_t rec;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        CDPR_OK, cdpr_sim_rec_open(&rec, &sc, &pp, CDPR_TEST_TMP "/prov", 2, &sum, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    const char *abc = "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad";
+    TEST_ASSERT_EQUAL_STRING(abc, sum.prov.scenario_sha256);
+    TEST_ASSERT_EQUAL_STRING("rkf45", sum.prov.integrator);
+    TEST_ASSERT_EQUAL_STRING(CDPR_VERSION_STRING, sum.prov.version);
+    TEST_ASSERT_EQUAL_STRING(CDPR_GIT_DESCRIBE, sum.prov.git_describe);
+    TEST_ASSERT_EQUAL_STRING(CDPR_TEST_BUILD_TYPE, sum.prov.build_type);
+    const char *csv = slurp(CDPR_TEST_TMP "/prov/timeseries.csv");
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(csv, "\n# scenario_sha256: "
+                    "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad\n"
+                    "# integrator: rkf45\nt_s,"),
+        csv);
+    TEST_ASSERT_EQUAL_STRING("rkf45", cdpr_sim_integrator_name(CDPR_PLANT_RKF45));
+
+    /* summary.json carries the same, and reads back. */
+    const char *path = CDPR_TEST_TMP "/prov/summary.json";
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &sum));
+    const char *text = slurp(path);
+    char line[256];
+    snprintf(line, sizeof line, "{\n  \"version\": \"%s\",\n  \"git_describe\": \"%s\",\n",
+             CDPR_VERSION_STRING, CDPR_GIT_DESCRIBE);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, line), text);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text,
+                                        "\"scenario_sha256\": "
+                                        "\"ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb41"
+                                        "0ff61f20015ad\",\n"),
+                                 text);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"integrator\": \"rkf45\",\n"), text);
+    cdpr_sim_summary_t back;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &back, &err), err.msg);
+    TEST_ASSERT_EQUAL_STRING(abc, back.prov.scenario_sha256);
+    TEST_ASSERT_EQUAL_STRING("rkf45", back.prov.integrator);
+    TEST_ASSERT_EQUAL_STRING(CDPR_VERSION_STRING, back.prov.version);
+    TEST_ASSERT_EQUAL_STRING(CDPR_GIT_DESCRIBE, back.prov.git_describe);
+    TEST_ASSERT_EQUAL_STRING(CDPR_TEST_BUILD_TYPE, back.prov.build_type);
+}
+
+static void test_unknown_values_are_null_both_ways(void)
+{
+    /* What a controller over LCM cannot know: the plant's integrator counts and settling. */
+    mkdir(CDPR_TEST_TMP, 0775);
+    const char *path = CDPR_TEST_TMP "/nulls.json";
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    cdpr_sim_summary_t a;
+    fill(&a);
+    a.capacity_hits = CDPR_SIM_UNKNOWN;
+    a.substep_limit_hits = CDPR_SIM_UNKNOWN;
+    a.min_length_periods = CDPR_SIM_UNKNOWN;
+    a.steps_accepted = CDPR_SIM_UNKNOWN;
+    a.steps_rejected = CDPR_SIM_UNKNOWN;
+    a.rhs_evals = CDPR_SIM_UNKNOWN;
+    a.settle_steps = -1;
+    a.settle_wall_time_s = (double)NAN;
+    a.max_tension_N = (double)INFINITY; /* JSON has no infinity either */
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &a));
+    const char *text = slurp(path);
+    static const char *const nulls[] = {"\"version\": null,\n",
+                                        "\"git_describe\": null,\n",
+                                        "\"build_type\": null,\n",
+                                        "\"scenario_sha256\": null,\n",
+                                        "\"integrator\": null,\n",
+                                        "\"capacity_hits\": null,\n",
+                                        "\"substep_limit_hits\": null,\n",
+                                        "\"min_length_periods\": null,\n",
+                                        "\"steps_accepted\": null,\n",
+                                        "\"steps_rejected\": null,\n",
+                                        "\"rhs_evals\": null,\n",
+                                        "\"settle_steps\": null,\n",
+                                        "\"settle_wall_time_s\": null,\n",
+                                        "\"max_tension_N\": null,\n"};
+    for (size_t i = 0; i < sizeof nulls / sizeof nulls[0]; ++i) {
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, nulls[i]), nulls[i]);
+    }
+    /* The known values next to them stay numbers. */
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"node_insertions\": 11,\n"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"ik_failures\": 15,\n"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "\"periods\": 1260,\n"));
+    cdpr_sim_summary_t b;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &b, &err), err.msg);
+    TEST_ASSERT_TRUE(b.capacity_hits == CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_TRUE(b.substep_limit_hits == CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_TRUE(b.min_length_periods == CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_TRUE(b.steps_accepted == CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_TRUE(b.steps_rejected == CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_TRUE(b.rhs_evals == CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_TRUE(b.settle_steps < 0);
+    TEST_ASSERT_TRUE(isnan(b.settle_wall_time_s));
+    TEST_ASSERT_TRUE(isnan(b.max_tension_N));
+    TEST_ASSERT_EQUAL_STRING("", b.prov.version);
+    TEST_ASSERT_EQUAL_STRING("", b.prov.scenario_sha256);
+    TEST_ASSERT_EQUAL_STRING("", b.prov.integrator);
+    TEST_ASSERT_EQUAL_UINT32(11, b.node_insertions);
+    TEST_ASSERT_EQUAL_UINT32(15, b.ik_failures);
+    TEST_ASSERT_EQUAL_DOUBLE(0.1, b.rms_error_m);
+    /* Written again from what was read (the reader skips the message): the same file. */
+    snprintf(b.message, sizeof b.message, "%s", a.message);
+    char first[8192];
+    snprintf(first, sizeof first, "%s", text);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &b));
+    TEST_ASSERT_EQUAL_STRING(first, slurp(path));
+    /* The printed block says unknown instead of printing the sentinels. */
+    FILE *f = fopen(CDPR_TEST_TMP "/nulls.txt", "w");
+    TEST_ASSERT_NOT_NULL(f);
+    cdpr_sim_print_summary(f, "over LCM", &b);
+    TEST_ASSERT_EQUAL_INT(0, fclose(f));
+    const char *printed = slurp(CDPR_TEST_TMP "/nulls.txt");
+    TEST_ASSERT_NULL_MESSAGE(strstr(printed, "18446744073709551615"), printed);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(printed, "the plant's integrator ran elsewhere"), printed);
+}
+
+static void test_summary_without_provenance_keys_reads(void)
+{
+    /* A summary written before the provenance keys existed (tests/regression/paper-line.json). */
+    char path[600];
+    snprintf(path, sizeof path, "%s/tests/regression/paper-line.json", CDPR_SOURCE_DIR);
+    cdpr_sim_summary_t s;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &s, &err), err.msg);
+    TEST_ASSERT_EQUAL_STRING("", s.prov.version);
+    TEST_ASSERT_EQUAL_STRING("", s.prov.scenario_sha256);
+    TEST_ASSERT_EQUAL_INT(400, s.periods);
+    TEST_ASSERT_TRUE(s.rhs_evals > 0 && s.rhs_evals != CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_TRUE(isfinite(s.settle_wall_time_s));
+}
+
+/* One period of cable segment counts into the recorder (no CSV). */
+static void period(cdpr_sim_rec_t *rec, long k, int s1, int s2)
+{
+    cdpr_traj_sample_t des;
+    memset(&des, 0, sizeof des);
+    des.motion.q.w = 1.0;
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.cabin.q.w = 1.0;
+    const double zero[2] = {0.0, 0.0};
+    const int segments[2] = {s1, s2};
+    const cdpr_sim_row_t row = {0.01 * (double)k, &des, &meas, zero, zero, zero, zero, segments};
+    cdpr_sim_rec_period(rec, k, 0, &row);
+}
+
+static void test_node_events_from_segment_counts(void)
+{
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    cdpr_sim_summary_t sum;
+    memset(&sum, 0, sizeof sum);
+    cdpr_sim_rec_t rec;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, NULL, 2, &sum, &err));
+    /* Cable 1: 20 -> 21 -> 21 -> 22 | gap of 2 periods | 20: 2 insertions, 2 removals (the
+     * gap's net change). Cable 2: 18 throughout, then 19 and back to 18: 1 + 1. State 3 seen
+     * again (a resent state) adds nothing. */
+    period(&rec, 0, 20, 18);
+    period(&rec, 1, 21, 18);
+    period(&rec, 2, 21, 19);
+    period(&rec, 3, 22, 18);
+    period(&rec, 3, 22, 18);
+    period(&rec, 6, 20, 18);
+    unsigned long ins = 0;
+    unsigned long rem = 0;
+    long missed = 0;
+    cdpr_sim_rec_node_events(&rec, &ins, &rem, &missed);
+    TEST_ASSERT_EQUAL_UINT32(3, ins);
+    TEST_ASSERT_EQUAL_UINT32(3, rem);
+    TEST_ASSERT_EQUAL_INT32(2, missed);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(18, sum.nodes_min);
+    TEST_ASSERT_EQUAL_INT(22, sum.nodes_max);
+}
+
 static void test_write_errors_are_io(void)
 {
     cdpr_scenario_t sc;
@@ -221,7 +426,8 @@ static void test_write_errors_are_io(void)
     cdpr_sim_rec_t rec;
     cdpr_scenario_error_t err;
     memset(&s, 0, sizeof s);
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_rec_open(&rec, &sc, "/dev/null/out", 6, &s, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO,
+                          cdpr_sim_rec_open(&rec, &sc, NULL, "/dev/null/out", 6, &s, &err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "/dev/null/out"), err.msg);
 }
 
@@ -247,6 +453,10 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_csv_header_and_row);
     RUN_TEST(test_summary_written_then_read_back_equal);
+    RUN_TEST(test_provenance_of_an_existing_scenario_file);
+    RUN_TEST(test_unknown_values_are_null_both_ways);
+    RUN_TEST(test_summary_without_provenance_keys_reads);
+    RUN_TEST(test_node_events_from_segment_counts);
     RUN_TEST(test_write_errors_are_io);
     RUN_TEST(test_read_errors);
     return UNITY_END() ? 1 : 0;

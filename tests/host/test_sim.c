@@ -15,6 +15,7 @@
 #include <sys/stat.h>
 
 #include "cdpr/host/scenario.h"
+#include "cdpr/host/sha256.h"
 #include "cdpr/host/sim.h"
 #include "cdpr/statics.h"
 #include "unity.h"
@@ -134,6 +135,11 @@ static void regression(const case_t *c)
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(sum_a, &back, &err), err.msg);
     TEST_ASSERT_EQUAL_DOUBLE(a.max_tension_N, back.max_tension_N);
     TEST_ASSERT_EQUAL_UINT32((unsigned)a.node_removals, (unsigned)back.node_removals);
+    /* Its provenance: the scenario file's hash and the plant's integrator. */
+    char sha[CDPR_SHA256_HEX + 1];
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sha256_file(scenario, sha));
+    TEST_ASSERT_EQUAL_STRING(sha, back.prov.scenario_sha256);
+    TEST_ASSERT_EQUAL_STRING("rkf45", back.prov.integrator);
 
     cdpr_sim_summary_t ref;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(ref_path, &ref, &err), err.msg);
@@ -162,6 +168,60 @@ static void test_paper_circle_regression_and_rerun(void)
 static void test_paper_line_regression_and_rerun(void)
 {
     regression(&CASES[1]);
+}
+
+/* Node events as a controller over LCM derives them (cdpr_sim_rec_node_events): the rows of
+ * `csv` (the segment counts n1..nN, one row every few periods) fed to a fresh recorder. */
+static void node_events_from_csv(const char *csv, const cdpr_scenario_t *sc, unsigned long *ins,
+                                 unsigned long *rem)
+{
+    FILE *f = fopen(csv, "r");
+    TEST_ASSERT_NOT_NULL_MESSAGE(f, csv);
+    static char line[16384];
+    int n1 = -1; /* column of n1 */
+    int nc = 0;
+    do {
+        TEST_ASSERT_NOT_NULL(fgets(line, sizeof line, f));
+    } while (line[0] == '#'); /* the provenance comments */
+    int col = 0;
+    for (char *tok = strtok(line, ",\n"); tok != NULL; tok = strtok(NULL, ",\n"), ++col) {
+        if (tok[0] == 'n' && tok[1] >= '1' && tok[1] <= '9') {
+            n1 = (n1 < 0) ? col : n1;
+            nc++;
+        }
+    }
+    TEST_ASSERT_TRUE(n1 > 0 && nc == 6);
+    cdpr_sim_summary_t sum;
+    memset(&sum, 0, sizeof sum);
+    cdpr_sim_rec_t rec;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, sc, NULL, NULL, nc, &sum, &err));
+    cdpr_traj_sample_t des;
+    memset(&des, 0, sizeof des);
+    des.motion.q.w = 1.0;
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.cabin.q.w = 1.0;
+    const double zero[CDPR_MAX_CABLES] = {0.0};
+    while (fgets(line, sizeof line, f) != NULL) {
+        int segments[CDPR_MAX_CABLES] = {0};
+        double t = 0.0;
+        col = 0;
+        for (char *tok = strtok(line, ",\n"); tok != NULL; tok = strtok(NULL, ",\n"), ++col) {
+            if (col == 0) {
+                t = strtod(tok, NULL);
+            } else if (col >= n1 && col < n1 + nc) {
+                segments[col - n1] = (int)strtol(tok, NULL, 10);
+            }
+        }
+        const cdpr_sim_row_t row = {t, &des, &meas, zero, zero, zero, zero, segments};
+        cdpr_sim_rec_period(&rec, lround(t / sc->period_s), 0, &row);
+    }
+    fclose(f);
+    long missed = 0;
+    cdpr_sim_rec_node_events(&rec, ins, rem, &missed);
+    TEST_ASSERT_TRUE(missed > 0); /* the rows are every 2 periods: gaps are folded in */
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
 }
 
 static void test_deploy_retrieve_node_events(void)
@@ -210,6 +270,16 @@ static void test_deploy_retrieve_node_events(void)
     TEST_ASSERT_EQUAL_UINT32((unsigned)(6 * k), (unsigned)s.node_insertions);
     TEST_ASSERT_EQUAL_INT(sc.robot.segments - k, s.nodes_min);
     TEST_ASSERT_EQUAL_INT(sc.robot.segments, s.nodes_max);
+
+    /* The segment counts of the written rows (every 2 periods, output_rate_hz 50) give the
+     * same counts: what cdpr-tracker writes for a run it saw over LCM. */
+    char csv[700];
+    snprintf(csv, sizeof csv, "%s/timeseries.csv", out);
+    unsigned long ins = 0;
+    unsigned long rem = 0;
+    node_events_from_csv(csv, &sc, &ins, &rem);
+    TEST_ASSERT_EQUAL_UINT32((unsigned)s.node_insertions, (unsigned)ins);
+    TEST_ASSERT_EQUAL_UINT32((unsigned)s.node_removals, (unsigned)rem);
 }
 
 int main(void)

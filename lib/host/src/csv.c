@@ -20,6 +20,23 @@ static void sep(cdpr_csv_t *c)
     c->col++;
 }
 
+void cdpr_csv_comment(cdpr_csv_t *c, const char *key, const char *value)
+{
+    if (fprintf(c->f, "# %s: ", key) < 0) {
+        c->failed = 1;
+    }
+    const char *v = (value != NULL && value[0] != '\0') ? value : "null";
+    for (; *v != '\0'; ++v) {
+        const unsigned char ch = (unsigned char)*v;
+        if (fputc((ch < 0x20U || ch == 0x7fU) ? '?' : (int)ch, c->f) == EOF) {
+            c->failed = 1;
+        }
+    }
+    if (fputc('\n', c->f) == EOF) {
+        c->failed = 1;
+    }
+}
+
 void cdpr_csv_name(cdpr_csv_t *c, const char *name)
 {
     sep(c);

@@ -105,10 +105,25 @@ static void csv_row(cdpr_sim_rec_t *rec, const cdpr_sim_row_t *row, const sample
     cdpr_csv_end_row(c);
 }
 
-cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc, const char *out_dir,
-                                int n_cables, cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+/* The provenance as comment lines before the header (the keys of summary.json). */
+static void csv_provenance(cdpr_csv_t *c, const cdpr_scenario_t *sc,
+                           const cdpr_sim_provenance_t *pv)
+{
+    cdpr_csv_comment(c, "version", pv->version);
+    cdpr_csv_comment(c, "git_describe", pv->git_describe);
+    cdpr_csv_comment(c, "build_type", pv->build_type);
+    cdpr_csv_comment(c, "scenario", sc->path);
+    cdpr_csv_comment(c, "scenario_sha256", pv->scenario_sha256);
+    cdpr_csv_comment(c, "integrator", pv->integrator);
+}
+
+cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
+                                const cdpr_plant_params_t *pp, const char *out_dir, int n_cables,
+                                cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
 {
     memset(rec, 0, sizeof *rec);
+    rec->prev_k = -1;
+    cdpr_sim_provenance_init(&sum->prov, sc->path, pp);
     rec->n_cables = n_cables;
     rec->every = cdpr_scenario_output_every(sc);
     rec->duration_s = sc->duration_s;
@@ -131,6 +146,7 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc, 
         return CDPR_E_IO;
     }
     rec->csv_open = 1;
+    csv_provenance(&rec->csv, sc, &sum->prov);
     csv_header(&rec->csv, n_cables);
     return CDPR_OK;
 }
@@ -163,10 +179,39 @@ void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_r
         sum->nodes_min = (row->segments[j] < sum->nodes_min) ? row->segments[j] : sum->nodes_min;
         sum->nodes_max = (row->segments[j] > sum->nodes_max) ? row->segments[j] : sum->nodes_max;
     }
+    /* Node events from the segment counts (a period seen again, e.g. a resent state, adds
+     * nothing new). */
+    if (rec->prev_k < 0 || k > rec->prev_k) {
+        for (int j = 0; j < nc && rec->prev_k >= 0; ++j) {
+            const int d = row->segments[j] - rec->prev_segments[j];
+            if (d > 0) {
+                rec->seg_insertions += (unsigned long)d;
+            } else if (d < 0) {
+                rec->seg_removals += (unsigned long)-d;
+            }
+        }
+        if (rec->prev_k >= 0) {
+            rec->missed += k - rec->prev_k - 1;
+        }
+        for (int j = 0; j < nc; ++j) {
+            rec->prev_segments[j] = row->segments[j];
+        }
+        rec->prev_k = k;
+    }
     sum->periods = k;
     sum->sim_time_s = row->t_s;
     if (rec->csv_open != 0 && (k % rec->every == 0 || last != 0)) {
         csv_row(rec, row, &smp);
+    }
+}
+
+void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
+                              unsigned long *removals, long *missed)
+{
+    *insertions = rec->seg_insertions;
+    *removals = rec->seg_removals;
+    if (missed != NULL) {
+        *missed = rec->missed;
     }
 }
 

@@ -278,7 +278,8 @@ cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
     }
     cdpr_status_t rc = initialise(s, sc, duration, sum, err);
     if (rc == CDPR_OK) {
-        rc = cdpr_sim_rec_open(&s->rec, sc, o->out_dir, s->plant.robot.p.n_cables, sum, err);
+        rc = cdpr_sim_rec_open(&s->rec, sc, &s->plant.pp, o->out_dir, s->plant.robot.p.n_cables,
+                               sum, err);
     }
     if (rc == CDPR_OK) {
         rc = loop(s, sc, o, duration, sum, wall0);

@@ -3,9 +3,19 @@
 /// summary.json writer and reader, and the end-of-run block (summary.h).
 #include "cdpr/host/summary.h"
 
+#include <math.h>
 #include <string.h>
 
+#include "cdpr/version.h"
 #include "cdpr/host/yaml.h"
+
+/* CMAKE_BUILD_TYPE of this library (lib/host/CMakeLists.txt). */
+#ifndef CDPR_HOST_BUILD_TYPE
+#define CDPR_HOST_BUILD_TYPE ""
+#endif
+
+/* 1 unless the count is CDPR_SIM_UNKNOWN. */
+#define KNOWN(count) (((count) != CDPR_SIM_UNKNOWN) ? 1 : 0)
 
 const char *cdpr_sim_status_name(cdpr_sim_status_t st)
 {
@@ -38,6 +48,47 @@ static void json_string(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* A string value, or null when it is "" (unknown). */
+static void json_string_or_null(FILE *f, const char *s)
+{
+    if (s[0] == '\0') {
+        fputs("null", f);
+    } else {
+        json_string(f, s);
+    }
+}
+
+const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator)
+{
+    /* No default: a new scheme in cdpr/plant.h makes -Wswitch ask for its name here. */
+    switch (integrator) {
+    case CDPR_PLANT_RKF45:
+        return "rkf45";
+    }
+    return NULL;
+}
+
+void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_path,
+                              const cdpr_plant_params_t *pp)
+{
+    memset(prov, 0, sizeof *prov);
+    snprintf(prov->version, sizeof prov->version, "%s", CDPR_VERSION_STRING);
+    snprintf(prov->git_describe, sizeof prov->git_describe, "%s", CDPR_GIT_DESCRIBE);
+    snprintf(prov->build_type, sizeof prov->build_type, "%s", CDPR_HOST_BUILD_TYPE);
+    if (scenario_path != NULL && scenario_path[0] != '\0') {
+        (void)cdpr_sha256_file(scenario_path, prov->scenario_sha256);
+    }
+    if (pp != NULL) {
+        const char *name = cdpr_sim_integrator_name(pp->integrator);
+        if (name != NULL) {
+            snprintf(prov->integrator, sizeof prov->integrator, "%s", name);
+        } else {
+            snprintf(prov->integrator, sizeof prov->integrator, "integrator-%d",
+                     (int)pp->integrator);
+        }
+    }
+}
+
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum)
 {
@@ -45,12 +96,23 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
     if (f == NULL) {
         return CDPR_E_IO;
     }
-    fprintf(f, "{\n  \"scenario\": ");
+    const cdpr_sim_provenance_t *pv = &sum->prov;
+    fprintf(f, "{\n  \"version\": ");
+    json_string_or_null(f, pv->version);
+    fprintf(f, ",\n  \"git_describe\": ");
+    json_string_or_null(f, pv->git_describe);
+    fprintf(f, ",\n  \"build_type\": ");
+    json_string_or_null(f, pv->build_type);
+    fprintf(f, ",\n  \"scenario\": ");
     json_string(f, sc->path);
+    fprintf(f, ",\n  \"scenario_sha256\": ");
+    json_string_or_null(f, pv->scenario_sha256);
     fprintf(f, ",\n  \"robot\": ");
     json_string(f, cdpr_preset_name(sc->robot.preset));
     fprintf(f, ",\n  \"trajectory\": ");
     json_string(f, cdpr_traj_type_name(sc->traj.type));
+    fprintf(f, ",\n  \"integrator\": ");
+    json_string_or_null(f, pv->integrator);
     fprintf(f, ",\n  \"status\": ");
     json_string(f, cdpr_sim_status_name(sum->status));
     fprintf(f, ",\n  \"message\": ");
@@ -76,29 +138,39 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"control_period_s", sc->period_s},
     };
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; ++i) {
-        fprintf(f, ",\n  \"%s\": %.17g", nums[i].k, nums[i].v);
+        /* JSON has no NaN or infinity: a non-finite value is not known. */
+        if (isfinite(nums[i].v)) {
+            fprintf(f, ",\n  \"%s\": %.17g", nums[i].k, nums[i].v);
+        } else {
+            fprintf(f, ",\n  \"%s\": null", nums[i].k);
+        }
     }
     const struct {
         const char *k;
         long v;
+        int known;
     } ints[] = {
-        {"node_insertions", (long)sum->node_insertions},
-        {"node_removals", (long)sum->node_removals},
-        {"capacity_hits", (long)sum->capacity_hits},
-        {"substep_limit_hits", (long)sum->substep_limit_hits},
-        {"ik_failures", (long)sum->ik_failures},
-        {"min_length_periods", (long)sum->min_length_periods},
-        {"nodes_min", (long)sum->nodes_min},
-        {"nodes_max", (long)sum->nodes_max},
-        {"periods", sum->periods},
-        {"steps_accepted", (long)sum->steps_accepted},
-        {"steps_rejected", (long)sum->steps_rejected},
-        {"rhs_evals", (long)sum->rhs_evals},
-        {"settle_steps", sum->settle_steps},
-        {"segments", (long)sc->robot.segments},
+        {"node_insertions", (long)sum->node_insertions, KNOWN(sum->node_insertions)},
+        {"node_removals", (long)sum->node_removals, KNOWN(sum->node_removals)},
+        {"capacity_hits", (long)sum->capacity_hits, KNOWN(sum->capacity_hits)},
+        {"substep_limit_hits", (long)sum->substep_limit_hits, KNOWN(sum->substep_limit_hits)},
+        {"ik_failures", (long)sum->ik_failures, KNOWN(sum->ik_failures)},
+        {"min_length_periods", (long)sum->min_length_periods, KNOWN(sum->min_length_periods)},
+        {"nodes_min", (long)sum->nodes_min, 1},
+        {"nodes_max", (long)sum->nodes_max, 1},
+        {"periods", sum->periods, 1},
+        {"steps_accepted", (long)sum->steps_accepted, KNOWN(sum->steps_accepted)},
+        {"steps_rejected", (long)sum->steps_rejected, KNOWN(sum->steps_rejected)},
+        {"rhs_evals", (long)sum->rhs_evals, KNOWN(sum->rhs_evals)},
+        {"settle_steps", sum->settle_steps, (sum->settle_steps >= 0) ? 1 : 0},
+        {"segments", (long)sc->robot.segments, 1},
     };
     for (size_t i = 0; i < sizeof ints / sizeof ints[0]; ++i) {
-        fprintf(f, ",\n  \"%s\": %ld", ints[i].k, ints[i].v);
+        if (ints[i].known != 0) {
+            fprintf(f, ",\n  \"%s\": %ld", ints[i].k, ints[i].v);
+        } else {
+            fprintf(f, ",\n  \"%s\": null", ints[i].k);
+        }
     }
     fprintf(f, "\n}\n");
     /* A full device shows at the flush: check the stream as well as the close. */
@@ -108,20 +180,37 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
 
 /* ---------------------------------------------------------------- reading summary.json */
 
+/* Every number may be null (a pointer left NULL); the provenance strings may also be missing
+ * (files written before they existed). */
 typedef struct {
     char *status;
-    double rms_error_m, max_error_m, final_error_m, initial_error_m, rms_error_second_half_m;
-    double rms_error_rad, max_error_rad, final_error_rad;
-    double max_tension_N, min_tension_N, max_payout_m_per_s, sim_time_s, wall_time_s;
-    double node_insertions, node_removals, capacity_hits, substep_limit_hits, ik_failures;
-    double min_length_periods, nodes_min, nodes_max, periods, steps_accepted, steps_rejected;
-    double rhs_evals, settle_steps;
+    char *version, *git_describe, *build_type, *scenario_sha256, *integrator;
+    double *rms_error_m, *max_error_m, *final_error_m, *initial_error_m, *rms_error_second_half_m;
+    double *rms_error_rad, *max_error_rad, *final_error_rad;
+    double *max_tension_N, *min_tension_N, *max_payout_m_per_s, *sim_time_s, *wall_time_s;
+    double *settle_wall_time_s;
+    double *node_insertions, *node_removals, *capacity_hits, *substep_limit_hits, *ik_failures;
+    double *min_length_periods, *nodes_min, *nodes_max, *periods, *steps_accepted;
+    double *steps_rejected, *rhs_evals, *settle_steps;
 } raw_summary_t;
 
-#define SUM_NUM(key) CYAML_FIELD_FLOAT(#key, CYAML_FLAG_STRICT, raw_summary_t, key)
+#define SUM_NUM(key)                                                                               \
+    CYAML_FIELD_FLOAT_PTR(#key, CYAML_FLAG_STRICT | CYAML_FLAG_POINTER_NULL_STR, raw_summary_t, key)
+#define SUM_OPT_NUM(key)                                                                           \
+    CYAML_FIELD_FLOAT_PTR(#key,                                                                    \
+                          CYAML_FLAG_STRICT | CYAML_FLAG_OPTIONAL | CYAML_FLAG_POINTER_NULL_STR,   \
+                          raw_summary_t, key)
+#define SUM_OPT_STR(key)                                                                           \
+    CYAML_FIELD_STRING_PTR(#key, CYAML_FLAG_OPTIONAL | CYAML_FLAG_POINTER_NULL_STR, raw_summary_t, \
+                           key, 0, 255)
 
 static const cyaml_schema_field_t summary_fields[] = {
     CYAML_FIELD_STRING_PTR("status", CYAML_FLAG_DEFAULT, raw_summary_t, status, 0, 63),
+    SUM_OPT_STR(version),
+    SUM_OPT_STR(git_describe),
+    SUM_OPT_STR(build_type),
+    SUM_OPT_STR(scenario_sha256),
+    SUM_OPT_STR(integrator),
     SUM_NUM(rms_error_m),
     SUM_NUM(max_error_m),
     SUM_NUM(final_error_m),
@@ -135,6 +224,7 @@ static const cyaml_schema_field_t summary_fields[] = {
     SUM_NUM(max_payout_m_per_s),
     SUM_NUM(sim_time_s),
     SUM_NUM(wall_time_s),
+    SUM_OPT_NUM(settle_wall_time_s),
     SUM_NUM(node_insertions),
     SUM_NUM(node_removals),
     SUM_NUM(capacity_hits),
@@ -154,6 +244,24 @@ static const cyaml_schema_value_t summary_schema = {
     CYAML_VALUE_MAPPING(CYAML_FLAG_POINTER, raw_summary_t, summary_fields),
 };
 
+/* A number, NaN for null. */
+static double real_or_nan(const double *v)
+{
+    return (v != NULL) ? *v : (double)NAN;
+}
+
+/* A count, CDPR_SIM_UNKNOWN for null (or a value no count can have). */
+static unsigned long count_or_unknown(const double *v)
+{
+    return (v != NULL && *v >= 0.0 && *v < (double)CDPR_SIM_UNKNOWN) ? (unsigned long)*v
+                                                                     : CDPR_SIM_UNKNOWN;
+}
+
+static void string_or_empty(char *dst, size_t cap, const char *v)
+{
+    snprintf(dst, cap, "%s", (v != NULL) ? v : "");
+}
+
 static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
 {
     memset(sum, 0, sizeof *sum);
@@ -161,32 +269,39 @@ static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
         (strcmp(r->status, "ok") == 0)
             ? CDPR_SIM_OK
             : ((strcmp(r->status, "warnings") == 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_FAILED);
-    sum->rms_error_m = r->rms_error_m;
-    sum->max_error_m = r->max_error_m;
-    sum->final_error_m = r->final_error_m;
-    sum->initial_error_m = r->initial_error_m;
-    sum->rms_error_second_half_m = r->rms_error_second_half_m;
-    sum->rms_error_rad = r->rms_error_rad;
-    sum->max_error_rad = r->max_error_rad;
-    sum->final_error_rad = r->final_error_rad;
-    sum->max_tension_N = r->max_tension_N;
-    sum->min_tension_N = r->min_tension_N;
-    sum->max_payout_m_per_s = r->max_payout_m_per_s;
-    sum->sim_time_s = r->sim_time_s;
-    sum->wall_time_s = r->wall_time_s;
-    sum->node_insertions = (unsigned long)r->node_insertions;
-    sum->node_removals = (unsigned long)r->node_removals;
-    sum->capacity_hits = (unsigned long)r->capacity_hits;
-    sum->substep_limit_hits = (unsigned long)r->substep_limit_hits;
-    sum->ik_failures = (unsigned long)r->ik_failures;
-    sum->min_length_periods = (unsigned long)r->min_length_periods;
-    sum->nodes_min = (int)r->nodes_min;
-    sum->nodes_max = (int)r->nodes_max;
-    sum->periods = (long)r->periods;
-    sum->steps_accepted = (unsigned long)r->steps_accepted;
-    sum->steps_rejected = (unsigned long)r->steps_rejected;
-    sum->rhs_evals = (unsigned long)r->rhs_evals;
-    sum->settle_steps = (long)r->settle_steps;
+    cdpr_sim_provenance_t *pv = &sum->prov;
+    string_or_empty(pv->version, sizeof pv->version, r->version);
+    string_or_empty(pv->git_describe, sizeof pv->git_describe, r->git_describe);
+    string_or_empty(pv->build_type, sizeof pv->build_type, r->build_type);
+    string_or_empty(pv->scenario_sha256, sizeof pv->scenario_sha256, r->scenario_sha256);
+    string_or_empty(pv->integrator, sizeof pv->integrator, r->integrator);
+    sum->rms_error_m = real_or_nan(r->rms_error_m);
+    sum->max_error_m = real_or_nan(r->max_error_m);
+    sum->final_error_m = real_or_nan(r->final_error_m);
+    sum->initial_error_m = real_or_nan(r->initial_error_m);
+    sum->rms_error_second_half_m = real_or_nan(r->rms_error_second_half_m);
+    sum->rms_error_rad = real_or_nan(r->rms_error_rad);
+    sum->max_error_rad = real_or_nan(r->max_error_rad);
+    sum->final_error_rad = real_or_nan(r->final_error_rad);
+    sum->max_tension_N = real_or_nan(r->max_tension_N);
+    sum->min_tension_N = real_or_nan(r->min_tension_N);
+    sum->max_payout_m_per_s = real_or_nan(r->max_payout_m_per_s);
+    sum->sim_time_s = real_or_nan(r->sim_time_s);
+    sum->wall_time_s = real_or_nan(r->wall_time_s);
+    sum->settle_wall_time_s = real_or_nan(r->settle_wall_time_s);
+    sum->node_insertions = count_or_unknown(r->node_insertions);
+    sum->node_removals = count_or_unknown(r->node_removals);
+    sum->capacity_hits = count_or_unknown(r->capacity_hits);
+    sum->substep_limit_hits = count_or_unknown(r->substep_limit_hits);
+    sum->ik_failures = count_or_unknown(r->ik_failures);
+    sum->min_length_periods = count_or_unknown(r->min_length_periods);
+    sum->nodes_min = (r->nodes_min != NULL) ? (int)*r->nodes_min : -1;
+    sum->nodes_max = (r->nodes_max != NULL) ? (int)*r->nodes_max : -1;
+    sum->periods = (r->periods != NULL) ? (long)*r->periods : -1;
+    sum->steps_accepted = count_or_unknown(r->steps_accepted);
+    sum->steps_rejected = count_or_unknown(r->steps_rejected);
+    sum->rhs_evals = count_or_unknown(r->rhs_evals);
+    sum->settle_steps = (r->settle_steps != NULL) ? (long)*r->settle_steps : -1;
 }
 
 cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
@@ -220,9 +335,16 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
             1e3 * s->rms_error_rad, 1e3 * s->max_error_rad);
     fprintf(f, "  tensions        %.4g .. %.4g N;  payout |u| <= %.3g m/s\n", s->min_tension_N,
             s->max_tension_N, s->max_payout_m_per_s);
-    fprintf(f, "  node events     %lu insertions, %lu removals (segments %d..%d per cable)\n",
-            s->node_insertions, s->node_removals, s->nodes_min, s->nodes_max);
-    if (s->rhs_evals > 0) {
+    if (s->node_insertions != CDPR_SIM_UNKNOWN && s->node_removals != CDPR_SIM_UNKNOWN) {
+        fprintf(f, "  node events     %lu insertions, %lu removals (segments %d..%d per cable)\n",
+                s->node_insertions, s->node_removals, s->nodes_min, s->nodes_max);
+    } else {
+        fprintf(f, "  node events     unknown (segments %d..%d per cable)\n", s->nodes_min,
+                s->nodes_max);
+    }
+    if (s->rhs_evals != CDPR_SIM_UNKNOWN && s->rhs_evals > 0 &&
+        s->steps_accepted != CDPR_SIM_UNKNOWN && s->steps_rejected != CDPR_SIM_UNKNOWN &&
+        s->substep_limit_hits != CDPR_SIM_UNKNOWN) {
         fprintf(f,
                 "  integrator      %lu steps, %lu rejected, %lu substep-limit periods, "
                 "%lu IK failures\n",
@@ -231,6 +353,11 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
         fprintf(f, "  controller      %lu IK failures (the plant's integrator ran elsewhere)\n",
                 s->ik_failures);
     }
-    fprintf(f, "  time            %.3g s simulated in %.3g s wall (settling %.3g s)\n",
-            s->sim_time_s, s->wall_time_s, s->settle_wall_time_s);
+    if (isfinite(s->settle_wall_time_s)) {
+        fprintf(f, "  time            %.3g s simulated in %.3g s wall (settling %.3g s)\n",
+                s->sim_time_s, s->wall_time_s, s->settle_wall_time_s);
+    } else {
+        fprintf(f, "  time            %.3g s simulated in %.3g s wall\n", s->sim_time_s,
+                s->wall_time_s);
+    }
 }

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /// @file csv.h
-/// Minimal CSV writer for time series: a header row of column names, then rows of numbers
-/// printed with %.17g (round-trip exact, so two runs' files are byte-identical exactly when
-/// their values are bit-identical). Write errors are remembered and reported at close.
+/// Minimal CSV writer for time series: comment lines ("# key: value", before the header; gnuplot,
+/// pandas' comment='#' and the like skip them), a header row of column names, then rows of
+/// numbers printed with %.17g (round-trip exact, so two runs' files are byte-identical exactly
+/// when their values are bit-identical). Write errors are remembered and reported at close.
 #ifndef CDPR_HOST_CSV_H
 #define CDPR_HOST_CSV_H
 
@@ -18,6 +19,10 @@ typedef struct {
 
 /// Open `path` for writing. Returns CDPR_OK, or CDPR_E_IO (errno set by fopen).
 cdpr_status_t cdpr_csv_open(cdpr_csv_t *c, const char *path);
+
+/// One comment line "# KEY: VALUE" (VALUE "" or NULL: "null"; control characters in it are
+/// written as '?', so the line stays one line). Before the header row.
+void cdpr_csv_comment(cdpr_csv_t *c, const char *key, const char *value);
 
 /// One header field (a column name).
 void cdpr_csv_name(cdpr_csv_t *c, const char *name);

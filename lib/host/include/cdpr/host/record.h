@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /// @file record.h
-/// Recorder of a tracking run: timeseries.csv (header and one row per output period, columns
-/// in docs/scenarios.md, %.17g) and the error, tension and node statistics of the summary
-/// (summary.h). Used by the batch runner (sim.h) and by the controller node (tracker_node.h),
-/// so a run over LCM writes the same files.
+/// Recorder of a tracking run: timeseries.csv (provenance comment lines, header and one row per
+/// output period, columns in docs/scenarios.md, %.17g) and the error, tension and node
+/// statistics of the summary (summary.h). Used by the batch runner (sim.h) and by the
+/// controller node (tracker_node.h), so a run over LCM writes the same files.
 ///
 /// Host library; no allocation (the CSV goes through stdio).
 #ifndef CDPR_HOST_RECORD_H
@@ -39,17 +39,34 @@ typedef struct {
     double sum2_pos, sum2_rot, sum2_pos_late;
     long n, n_late;
     cdpr_sim_summary_t *sum;
+    long prev_k; ///< period of the last recorded row (-1: none yet)
+    int prev_segments[CDPR_MAX_CABLES];
+    unsigned long seg_insertions, seg_removals; ///< node events seen in the segment counts
+    long missed; ///< periods between the first and the last recorded that were not recorded
 } cdpr_sim_rec_t;
 
 /// Start recording into `sum` (zeroed by the caller) over the scenario's run.duration_s
 /// (rows every run.output_rate_hz) and, when out_dir is not NULL, into out_dir/timeseries.csv
-/// (the directory is created). Returns CDPR_OK, or CDPR_E_IO with `err` naming the directory
-/// or file.
-cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc, const char *out_dir,
-                                int n_cables, cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err);
+/// (the directory is created). Fills sum->prov (cdpr_sim_provenance_init: the scenario file
+/// sc->path is hashed now; `pp` the plant's parameters, NULL when not known) and writes it as
+/// the CSV's comment lines. Returns CDPR_OK, or CDPR_E_IO with `err` naming the directory or
+/// file.
+cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
+                                const cdpr_plant_params_t *pp, const char *out_dir, int n_cables,
+                                cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err);
 
 /// Record period k (t_k = row->t_s); `last` forces a CSV row.
 void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row);
+
+/// Node events as the recorded rows show them: per cable, a rise of the segment count from one
+/// recorded period to the next is that many insertions, a fall that many removals (a node
+/// event changes the count by one, and within one period a cable's winch moves one way, so
+/// this equals the plant's own counts when every period is recorded -- lockstep, the batch
+/// run). `missed` (may be NULL): periods not recorded between the first and the last recorded
+/// one; the events in such a gap count by their net change. Events before the first recorded
+/// period are not seen.
+void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
+                              unsigned long *removals, long *missed);
 
 /// Finish the statistics (RMS values) and close the CSV. Returns CDPR_OK, or CDPR_E_IO when
 /// a write or the close failed. Safe to call twice.

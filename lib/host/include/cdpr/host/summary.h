@@ -4,14 +4,43 @@
 /// compute (record.h fills the statistics), write to summary.json, read back and print.
 ///
 /// summary.json: one JSON object, keys in docs/scenarios.md; numbers printed with %.17g
-/// (round-trip exact). Host library; the reader allocates through libcyaml and frees it.
+/// (round-trip exact). A value the writer cannot know (a count of the plant's integrator when
+/// the plant ran in another process) is null, never 0: CDPR_SIM_UNKNOWN in a count, a negative
+/// settle_steps, a non-finite double, "" in a provenance string. Host library; the reader
+/// allocates through libcyaml and frees it.
 #ifndef CDPR_HOST_SUMMARY_H
 #define CDPR_HOST_SUMMARY_H
 
+#include <limits.h>
 #include <stdio.h>
 
+#include "cdpr/plant.h"
 #include "cdpr/status.h"
 #include "cdpr/host/scenario.h"
+#include "cdpr/host/sha256.h"
+
+/// An unknown count (unsigned long fields of cdpr_sim_summary_t): written as null.
+#define CDPR_SIM_UNKNOWN ULONG_MAX
+
+/// Where a run's outputs come from (summary.json and the comment lines of timeseries.csv).
+/// "" is unknown (written as null).
+typedef struct {
+    char version[32];                          ///< CDPR_VERSION_STRING of the writer's build
+    char git_describe[64];                     ///< CDPR_GIT_DESCRIBE of the writer's build
+    char build_type[32];                       ///< CMAKE_BUILD_TYPE of the host library
+    char scenario_sha256[CDPR_SHA256_HEX + 1]; ///< SHA-256 of the scenario file's bytes (hex)
+    char integrator[32];                       ///< the plant's scheme ("rkf45")
+} cdpr_sim_provenance_t;
+
+/// Name of an integration scheme as written in the outputs ("rkf45"); NULL for a value this
+/// library does not know.
+const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator);
+
+/// Provenance of a run of the scenario file `scenario_path` (its bytes are hashed now; ""
+/// when it cannot be read) with plant parameters `pp` (NULL: integrator unknown); version, git
+/// description and build type of this build.
+void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_path,
+                              const cdpr_plant_params_t *pp);
 
 /// Run status.
 typedef enum {
@@ -21,7 +50,7 @@ typedef enum {
 } cdpr_sim_status_t;
 
 /// Summary of a run (outputs). Errors are |p - p_d| and the angle of q_d q^-1 over every
-/// control period t_k, k = 0..N (t_0 after settling).
+/// control period t_k, k = 0..N (t_0 after settling). Unknown values: see the file comment.
 typedef struct {
     double rms_error_m;               ///< RMS position error [m]
     double max_error_m;               ///< largest position error [m]
@@ -34,24 +63,25 @@ typedef struct {
     double max_tension_N;             ///< largest end tension, any cable, either end [N]
     double min_tension_N;             ///< smallest end tension [N]
     double max_payout_m_per_s;        ///< largest |payout rate| applied [m/s]
-    unsigned long node_insertions;    ///< all cables
-    unsigned long node_removals;      ///< all cables
+    unsigned long node_insertions;    ///< all cables (over LCM: from the segment counts seen)
+    unsigned long node_removals;      ///< all cables (over LCM: from the segment counts seen)
     unsigned long capacity_hits;      ///< node-event calls that wanted a node at capacity
     unsigned long substep_limit_hits; ///< periods with CDPR_WARN_SUBSTEP_LIMIT
     unsigned long ik_failures;        ///< periods whose feed-forward IK failed (held)
     unsigned long min_length_periods; ///< winch-periods held at the minimum length
     unsigned long steps_accepted;     ///< RKF45 accepted steps (run only)
     unsigned long steps_rejected;     ///< RKF45 rejected trials
-    unsigned long rhs_evals;          ///< RHS calls (run only; 0: the plant ran elsewhere)
-    long settle_steps;                ///< accepted steps of the initial settling
+    unsigned long rhs_evals;          ///< RHS calls (run only)
+    long settle_steps;                ///< accepted steps of the initial settling (< 0: unknown)
     int nodes_min;                    ///< fewest segments of any cable during the run
     int nodes_max;                    ///< most segments of any cable during the run
     long periods;                     ///< control periods run
     double sim_time_s;                ///< simulated time reached [s]
     double wall_time_s;               ///< wall-clock time of the run incl. settling [s]
-    double settle_wall_time_s;        ///< of which settling [s]
+    double settle_wall_time_s;        ///< of which settling [s] (NaN: unknown)
     cdpr_sim_status_t status;         ///< see cdpr_sim_status_t
     char message[256];                ///< what failed or warned, "" if nothing
+    cdpr_sim_provenance_t prov;       ///< where the outputs come from
 } cdpr_sim_summary_t;
 
 /// Name of a status as written in summary.json ("ok", "warnings", "failed").
@@ -63,15 +93,17 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
                                      const cdpr_sim_summary_t *sum);
 
 /// Read a summary.json written by cdpr_sim_write_summary (JSON is YAML, so libcyaml reads it;
-/// keys it does not know are ignored). Fills the numeric fields and the status; returns
-/// CDPR_OK, or with `err` naming the file (and libcyaml's reason): CDPR_E_IO (cannot open),
-/// CDPR_E_PARSE (malformed, a key missing or of the wrong type, empty).
+/// keys it does not know are ignored). Fills the numeric fields, the status and the
+/// provenance (optional keys: files written before they existed have none); a null reads as
+/// unknown (CDPR_SIM_UNKNOWN, settle_steps -1, NaN, ""). Returns CDPR_OK, or with `err` naming
+/// the file (and libcyaml's reason): CDPR_E_IO (cannot open), CDPR_E_PARSE (malformed, a key
+/// missing or of the wrong type, empty).
 cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
                                     cdpr_scenario_error_t *err);
 
 /// Print the end-of-run block of `s` to `f` (cdpr-sim's): "TITLE: status - message", then
-/// tracking error, tensions, node events, integrator (when the plant ran elsewhere,
-/// s->rhs_evals == 0: the controller's IK failures instead) and time.
+/// tracking error, tensions, node events, integrator (when its counts are unknown or zero --
+/// the plant ran elsewhere -- the controller's IK failures instead) and time.
 void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s);
 
 #endif /* CDPR_HOST_SUMMARY_H */

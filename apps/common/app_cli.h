@@ -1,0 +1,68 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/// @file app_cli.h
+/// What every app's command line shares (GNU conventions):
+///
+///   --help      the usage on stdout, exit 0
+///   --version   one line "PROG 0.1.0 (git DESCRIBE)" on stdout (cdpr/version.h), exit 0
+///   a usage error (unknown, ambiguous or malformed option, missing argument or operand) is
+///               ONE line on stderr, "PROG: what; try 'PROG --help'", and exit 2 (the status
+///               table: CDPR_E_INVALID_ARG, app_status.h)
+///
+/// The apps call getopt_long with opterr = 0 and an optstring starting with ':' (so a missing
+/// argument returns ':'), and hand '?' and ':' to cdpr_app_bad_option, which prints the line
+/// getopt would have printed, plus the hint. And the data files the apps read (gnuplot
+/// scripts) are found relative to the executable (cdpr_app_data_file).
+#ifndef CDPR_APP_CLI_H
+#define CDPR_APP_CLI_H
+
+#include <getopt.h>
+#include <stddef.h>
+
+#include "cdpr/status.h"
+
+/// getopt_long code of --version (beyond every short option character).
+#define CDPR_APP_OPT_VERSION 0x100
+
+/// The optstring of every app: ':' first (a missing argument returns ':'), then -h.
+#define CDPR_APP_OPTSTRING ":h"
+
+/// The --help and --version entries of the apps' getopt_long tables.
+#define CDPR_APP_STD_OPTIONS                                                                       \
+    {"help", no_argument, NULL, 'h'},                                                              \
+    {                                                                                              \
+        "version", no_argument, NULL, CDPR_APP_OPT_VERSION                                         \
+    }
+
+#if defined(__GNUC__)
+#define CDPR_APP_PRINTF(f, a) __attribute__((format(printf, f, a)))
+#else
+#define CDPR_APP_PRINTF(f, a)
+#endif
+
+/// Print "PROG VERSION (git DESCRIBE)\n" on stdout (CDPR_VERSION_STRING, CDPR_GIT_DESCRIBE).
+void cdpr_app_print_version(const char *prog);
+
+/// Print "PROG: MESSAGE; try 'PROG --help'" on stderr (MESSAGE: printf format and arguments).
+/// Returns CDPR_E_INVALID_ARG.
+cdpr_status_t cdpr_app_usage_error(const char *prog, const char *fmt, ...) CDPR_APP_PRINTF(2, 3);
+
+/// After getopt_long (opterr = 0, CDPR_APP_OPTSTRING) returned `c`, '?' or ':': print the one
+/// line (unrecognized option '--frob', option '--out' requires an argument, option '--quiet'
+/// doesn't allow an argument, option '--p' is ambiguous, invalid option -- 'x'; each followed
+/// by "; try 'PROG --help'"). `longopts` is the table given to getopt_long. Returns
+/// CDPR_E_INVALID_ARG.
+cdpr_status_t cdpr_app_bad_option(const char *prog, int c, char *const argv[],
+                                  const struct option *longopts);
+
+/// Path of data file `rel` (relative to the data directory <prefix>/share/cdpr, e.g.
+/// "scripts/plot_sim.gp") into `buf`: the first that exists of
+///   1. <directory of the executable>/../share/cdpr/rel (the installation this executable is
+///      part of, wherever the prefix was moved; /proc/self/exe),
+///   2. the source tree's rel (CDPR_SOURCE_DIR: an executable run from its build tree),
+///   3. the configured data directory's rel (CDPR_DATA_DIR: the executable copied elsewhere).
+/// Returns CDPR_OK, or CDPR_E_IO when none exists (buf then holds candidate 1, or 2 when the
+/// executable's path is unknown, for the message), or CDPR_E_INVALID_ARG when a path does not
+/// fit in `cap` bytes.
+cdpr_status_t cdpr_app_data_file(const char *rel, char *buf, size_t cap);
+
+#endif /* CDPR_APP_CLI_H */

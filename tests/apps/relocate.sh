@@ -1,0 +1,35 @@
+#!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
+# An installation works wherever its prefix is moved: install BUILD_DIR to a temporary prefix,
+# move the prefix, then run the moved cdpr-sim on the moved installation's scenario. It must
+# use the moved share/cdpr/scripts/plot_sim.gp (found relative to the executable; its --help
+# names the default script) and write the figures.
+# Usage: relocate.sh BUILD_DIR WORK_DIR     (exit 77: skipped, no gnuplot)
+set -eu
+build=$1
+w=$2
+command -v gnuplot >/dev/null || { echo "SKIPPED: gnuplot not found"; exit 77; }
+rm -rf "$w"
+mkdir -p "$w"
+cmake --install "$build" --prefix "$w/installed" >"$w/install.txt" 2>&1 ||
+    { cat "$w/install.txt"; echo "FAIL: cmake --install $build"; exit 1; }
+mv "$w/installed" "$w/moved"
+sim=$w/moved/bin/cdpr-sim
+[ -x "$sim" ] || { echo "FAIL: $sim not installed"; exit 1; }
+
+script=$w/moved/bin/../share/cdpr/scripts/plot_sim.gp
+"$sim" --help >"$w/help.txt"
+grep -qF "$script" "$w/help.txt" ||
+    { cat "$w/help.txt"; echo "FAIL: the default plot script is not $script"; exit 1; }
+
+"$sim" "$w/moved/share/cdpr/scenarios/paper-line.yaml" --out "$w/out" --duration 1 --quiet \
+    2>"$w/err.txt" || { cat "$w/err.txt"; echo "FAIL: cdpr-sim exited $?"; exit 1; }
+if grep -q "^cdpr-sim: warning" "$w/err.txt"; then
+    cat "$w/err.txt"
+    echo "FAIL: cdpr-sim warned (plot script or gnuplot)"
+    exit 1
+fi
+for f in figure5.png tensions.png timeseries.csv summary.json; do
+    [ -s "$w/out/$f" ] || { echo "FAIL: $w/out/$f missing or empty"; exit 1; }
+done
+echo "PASS: the installation moved to $w/moved runs and plots with its own $script"
