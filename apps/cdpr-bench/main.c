@@ -497,14 +497,9 @@ int main(int argc, char **argv)
             o.min_time_s = 0.02;
             o.runs = 2;
             break;
-        case 'h':
-            usage(stdout);
-            return cdpr_app_exit_code(CDPR_OK);
-        case CDPR_APP_OPT_VERSION:
-            cdpr_app_print_version("cdpr-bench");
-            return cdpr_app_exit_code(CDPR_OK);
         default:
-            return cdpr_app_exit_code(cdpr_app_bad_option("cdpr-bench", c, argv, long_opts));
+            return cdpr_app_exit_code(
+                cdpr_app_other_option("cdpr-bench", c, argv, long_opts, usage));
         }
     }
     if (optind < argc) {

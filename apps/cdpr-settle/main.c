@@ -123,14 +123,8 @@ static int parse(int argc, char **argv, options_t *o)
         case 'n':
             rc = parse_segments(optarg, o);
             break;
-        case 'h':
-            usage(stdout);
-            exit(cdpr_app_exit_code(CDPR_OK));
-        case CDPR_APP_OPT_VERSION:
-            cdpr_app_print_version("cdpr-settle");
-            exit(cdpr_app_exit_code(CDPR_OK));
         default:
-            (void)cdpr_app_bad_option("cdpr-settle", c, argv, longopts);
+            (void)cdpr_app_other_option("cdpr-settle", c, argv, longopts, usage);
             return -1;
         }
         if (rc != 0) {

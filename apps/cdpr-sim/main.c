@@ -95,25 +95,12 @@ static int parse(int argc, char **argv, options_t *o)
         case 'q':
             o->quiet = 1;
             break;
-        case 'h':
-            usage(stdout);
-            exit(cdpr_app_exit_code(CDPR_OK));
-        case CDPR_APP_OPT_VERSION:
-            cdpr_app_print_version("cdpr-sim");
-            exit(cdpr_app_exit_code(CDPR_OK));
         default:
-            (void)cdpr_app_bad_option("cdpr-sim", c, argv, longopts);
+            (void)cdpr_app_other_option("cdpr-sim", c, argv, longopts, usage);
             return -1;
         }
     }
-    if (optind >= argc) {
-        (void)cdpr_app_usage_error("cdpr-sim", "missing SCENARIO");
-        return -1;
-    }
-    o->scenario = argv[optind++];
-    if (optind < argc) {
-        (void)cdpr_app_usage_error("cdpr-sim", "unexpected argument '%s' (one scenario per run)",
-                                   argv[optind]);
+    if (cdpr_app_scenario_operand("cdpr-sim", argc, argv, &o->scenario) != CDPR_OK) {
         return -1;
     }
     if (o->out_dir == NULL) {

@@ -4,11 +4,13 @@
 #include "app_cli.h"
 
 #include <stdarg.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "app_status.h"
 #include "cdpr/version.h"
 
 /* Relative path from the installed executables to the data directory, e.g. "../share/cdpr"
@@ -161,4 +163,31 @@ cdpr_status_t cdpr_app_data_file(const char *rel, char *buf, size_t cap)
     }
     snprintf(buf, cap, "%s", first);
     return CDPR_E_IO;
+}
+
+cdpr_status_t cdpr_app_other_option(const char *prog, int c, char *const argv[],
+                                    const struct option *longopts, void (*usage)(FILE *))
+{
+    if (c == 'h') {
+        usage(stdout);
+        exit(cdpr_app_exit_code(CDPR_OK));
+    }
+    if (c == CDPR_APP_OPT_VERSION) {
+        cdpr_app_print_version(prog);
+        exit(cdpr_app_exit_code(CDPR_OK));
+    }
+    return cdpr_app_bad_option(prog, c, argv, longopts);
+}
+
+cdpr_status_t cdpr_app_scenario_operand(const char *prog, int argc, char *const argv[],
+                                        const char **scenario)
+{
+    if (optind >= argc) {
+        return cdpr_app_usage_error(prog, "missing SCENARIO");
+    }
+    *scenario = argv[optind++];
+    if (optind < argc) {
+        return cdpr_app_usage_error(prog, "unexpected argument '%s'", argv[optind]);
+    }
+    return CDPR_OK;
 }

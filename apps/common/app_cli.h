@@ -17,6 +17,7 @@
 
 #include <getopt.h>
 #include <stddef.h>
+#include <stdio.h>
 
 #include "cdpr/status.h"
 
@@ -53,6 +54,17 @@ cdpr_status_t cdpr_app_usage_error(const char *prog, const char *fmt, ...) CDPR_
 /// CDPR_E_INVALID_ARG.
 cdpr_status_t cdpr_app_bad_option(const char *prog, int c, char *const argv[],
                                   const struct option *longopts);
+
+/// The `default:` of every app's getopt switch: `c` = 'h' prints `usage` on stdout and exits 0,
+/// CDPR_APP_OPT_VERSION prints the version line and exits 0, anything else is the one-line
+/// usage error of cdpr_app_bad_option. Returns CDPR_E_INVALID_ARG (it only returns for errors).
+cdpr_status_t cdpr_app_other_option(const char *prog, int c, char *const argv[],
+                                    const struct option *longopts, void (*usage)(FILE *));
+
+/// The one operand of the scenario-running apps: `*scenario` = argv[optind], CDPR_OK; or the
+/// one-line usage error for a missing or an extra operand (CDPR_E_INVALID_ARG).
+cdpr_status_t cdpr_app_scenario_operand(const char *prog, int argc, char *const argv[],
+                                        const char **scenario);
 
 /// Path of data file `rel` (relative to the data directory <prefix>/share/cdpr, e.g.
 /// "scripts/plot_sim.gp") into `buf`: the first that exists of
