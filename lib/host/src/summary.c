@@ -48,7 +48,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
     fprintf(f, "{\n  \"scenario\": ");
     json_string(f, sc->path);
     fprintf(f, ",\n  \"robot\": ");
-    json_string(f, cdpr_preset_name(sc->robot.preset));
+    json_string(f, cdpr_scenario_robot_name(sc));
     fprintf(f, ",\n  \"trajectory\": ");
     json_string(f, cdpr_traj_type_name(sc->traj.type));
     fprintf(f, ",\n  \"status\": ");
@@ -95,7 +95,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"steps_rejected", (long)sum->steps_rejected},
         {"rhs_evals", (long)sum->rhs_evals},
         {"settle_steps", sum->settle_steps},
-        {"segments", (long)sc->robot.segments},
+        {"segments", (long)cdpr_scenario_segments(sc)},
     };
     for (size_t i = 0; i < sizeof ints / sizeof ints[0]; ++i) {
         fprintf(f, ",\n  \"%s\": %ld", ints[i].k, ints[i].v);
