@@ -37,7 +37,7 @@ def main():
     lc = lcm.LCM(a.lcm_url) if a.lcm_url else lcm.LCM()
     states = {}
     tens = {}
-    ctl = {"answered": 0, "seq": 0, "l0": None, "t0": None, "last": -1}
+    ctl = {"answered": 0, "seq": 0, "l0": None, "t0": None, "last": -1, "cmd": b""}
 
     def reference(t):
         s = min(max((t - ctl["t0"]) / a.ramp, 0.0), 1.0) if a.ramp > 0 else 1.0
@@ -67,12 +67,18 @@ def main():
             u = a.gain * (ref[j] - m.length_m[j]) + ref_rate
             values[j] = max(-a.u_max, min(a.u_max, u))
         cmd.value = values
-        lc.publish(a.prefix + "WINCH_COMMAND", cmd.encode())
+        ctl["cmd"] = cmd.encode()
+        lc.publish(a.prefix + "WINCH_COMMAND", ctl["cmd"])
         ctl["answered"] += 1
         ctl["last"] = k
 
     def on_state(channel, data):
         s = cabin_state_t.decode(data)
+        if s.seq == ctl["last"]:
+            # A state sent again (lockstep: our answer may have been lost): answer again; the
+            # plant ignores the copy as replayed if it had it.
+            lc.publish(a.prefix + "WINCH_COMMAND", ctl["cmd"])
+            return
         states[s.seq] = s
         if s.seq in tens:
             answer(s.seq)
