@@ -45,14 +45,24 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
     cdpr_plant_params_default(pp);
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    if (cdpr_preset_build(&sc->robot, NULL, &pp->robot, &pp->winch, &d) != CDPR_OK) {
+    cdpr_rig_t rig;
+    cdpr_scenario_rig(sc, &rig);
+    if (cdpr_rig_build(&rig, NULL, &pp->robot, &pp->winch, &d) != CDPR_OK) {
         return fail(sc, "robot", "rejected by the model", &d, err);
+    }
+    if (rig.n_cables != CDPR_RIG_IK_CABLES) {
+        char what[256];
+        snprintf(what, sizeof what,
+                 "%d cables: the plant starts from the sag-aware inverse kinematics of the "
+                 "initial pose (cdpr_statics_ik), which needs exactly %d",
+                 rig.n_cables, CDPR_RIG_IK_CABLES);
+        cdpr_scenario_error(sc, "robot", what, err);
+        return CDPR_E_CAPACITY;
     }
     double pose[6];
     cdpr_scenario_initial_pose(sc, pose);
     pp->initial = cdpr_cabin_motion_at_pose(pose);
-    pp->wind_m_per_s =
-        cdpr_v3(sc->robot.wind_m_per_s[0], sc->robot.wind_m_per_s[1], sc->robot.wind_m_per_s[2]);
+    pp->wind_m_per_s = cdpr_v3(rig.wind_m_per_s[0], rig.wind_m_per_s[1], rig.wind_m_per_s[2]);
     const cdpr_scenario_integrator_t *in = &sc->integrator;
     pp->rkf45.rtol = in->rtol;
     pp->rkf45.h_max_s = in->h_max_s;

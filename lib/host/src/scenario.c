@@ -11,10 +11,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <yaml.h>
 
 #include "cdpr/config.h"
 #include "cdpr/host/yaml.h"
+#include "rig_raw.h"
 
 /* ---------------------------------------------------------------- raw (file) structs */
 
@@ -135,7 +135,8 @@ typedef struct {
 
 typedef struct {
     char *description;
-    raw_robot_t robot;
+    raw_robot_t robot;   /* robot: with preset: (top_schema) */
+    cdpr_raw_rig_t *rig; /* robot: without preset: (top_schema_rig) */
     raw_initial_t *initial;
     raw_traj_t trajectory;
     raw_controller_t controller;
@@ -306,6 +307,20 @@ static const cyaml_schema_field_t top_fields[] = {
 static const cyaml_schema_value_t top_schema = {
     CYAML_VALUE_MAPPING(CYAML_FLAG_POINTER, raw_t, top_fields),
 };
+/* The same file with a robot file or an embedded robot (rig_raw.h) instead of a preset. */
+static const cyaml_schema_field_t top_fields_rig[] = {
+    CYAML_FIELD_STRING_PTR("description", OPT, raw_t, description, 0, 255),
+    CYAML_FIELD_MAPPING_PTR("robot", REQ, raw_t, rig, cdpr_rig_scenario_fields),
+    CYAML_FIELD_MAPPING_PTR("initial", OPT, raw_t, initial, initial_fields),
+    CYAML_FIELD_MAPPING("trajectory", REQ, raw_t, trajectory, traj_fields),
+    CYAML_FIELD_MAPPING("controller", REQ, raw_t, controller, controller_fields),
+    CYAML_FIELD_MAPPING_PTR("integrator", OPT, raw_t, integrator, integrator_fields),
+    CYAML_FIELD_MAPPING("run", REQ, raw_t, run, run_fields),
+    CYAML_FIELD_END,
+};
+static const cyaml_schema_value_t top_schema_rig = {
+    CYAML_VALUE_MAPPING(CYAML_FLAG_POINTER, raw_t, top_fields_rig),
+};
 
 /* ---------------------------------------------------------------- errors */
 
@@ -344,219 +359,16 @@ void cdpr_scenario_error(const cdpr_scenario_t *sc, const char *key, const char 
     format_error(err, path, line, key, what);
 }
 
-/* libyaml event walk: the line of the key at a dotted path. Only mappings are descended
- * (keys inside sequences are not addressable by a dotted path). */
-#define KEY_DEPTH 16
-#define KEY_LEN   64
-
 int cdpr_yaml_key_line(const char *path, const char *key)
 {
-    char want[256];
-    snprintf(want, sizeof want, "%s", key);
-    char *bracket = strchr(want, '[');
-    if (bracket != NULL) {
-        *bracket = '\0';
-    }
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        return 0;
-    }
-    yaml_parser_t parser;
-    if (yaml_parser_initialize(&parser) == 0) {
-        fclose(f);
-        return 0;
-    }
-    yaml_parser_set_input_file(&parser, f);
-    /* Per depth: is it a mapping, does it expect a key next, the current key. */
-    int is_map[KEY_DEPTH];
-    int want_key[KEY_DEPTH];
-    char keys[KEY_DEPTH][KEY_LEN];
-    int depth = 0; /* number of open collections */
-    int found = 0;
-    int done = 0;
-    /* Bounded by the file: every iteration consumes one event; an error or stream end stops. */
-    while (done == 0) {
-        yaml_event_t ev;
-        if (yaml_parser_parse(&parser, &ev) == 0) {
-            break;
-        }
-        const int line = (int)ev.start_mark.line + 1;
-        switch (ev.type) {
-        case YAML_STREAM_END_EVENT:
-            done = 1;
-            break;
-        case YAML_MAPPING_START_EVENT:
-        case YAML_SEQUENCE_START_EVENT:
-            if (depth >= KEY_DEPTH) {
-                done = 1;
-                break;
-            }
-            is_map[depth] = (ev.type == YAML_MAPPING_START_EVENT) ? 1 : 0;
-            want_key[depth] = 1;
-            keys[depth][0] = '\0';
-            ++depth;
-            break;
-        case YAML_MAPPING_END_EVENT:
-        case YAML_SEQUENCE_END_EVENT:
-            --depth;
-            if (depth > 0 && is_map[depth - 1] != 0) {
-                want_key[depth - 1] = 1; /* the collection was a value */
-            }
-            break;
-        case YAML_SCALAR_EVENT:
-        case YAML_ALIAS_EVENT:
-            if (depth > 0 && is_map[depth - 1] != 0) {
-                if (want_key[depth - 1] != 0 && ev.type == YAML_SCALAR_EVENT) {
-                    snprintf(keys[depth - 1], KEY_LEN, "%s", (const char *)ev.data.scalar.value);
-                    /* Dotted path of this key; only through mappings. */
-                    char got[256];
-                    got[0] = '\0';
-                    int all_maps = 1;
-                    for (int d = 0; d < depth; ++d) {
-                        all_maps &= is_map[d];
-                        const size_t n = strlen(got);
-                        snprintf(got + n, sizeof got - n, "%s%s", (d > 0) ? "." : "", keys[d]);
-                    }
-                    if (all_maps != 0 && strcmp(got, want) == 0) {
-                        found = line;
-                        done = 1;
-                    }
-                    want_key[depth - 1] = 0;
-                } else {
-                    want_key[depth - 1] = 1;
-                }
-            }
-            break;
-        default:
-            break;
-        }
-        yaml_event_delete(&ev);
-    }
-    yaml_parser_delete(&parser);
-    fclose(f);
-    return found;
+    return cdpr_yaml_path_line(path, key);
 }
 
 /* libcyaml's log (yaml.h), turned into "FILE:LINE: KEY: message". */
-
-/* One backtrace entry: "in mapping field 'k' (line: L, ...)", "in sequence entry 'i' (...)",
- * "in mapping (...)". */
-typedef struct {
-    char kind; /* 'f' field, 's' sequence entry, 'm' mapping */
-    char name[KEY_LEN];
-    int line;
-} trace_t;
-
-static int parse_trace_line(const char *s, trace_t *t)
-{
-    const char *p;
-    const char *open = NULL;
-    if ((p = strstr(s, "in mapping field '")) != NULL) {
-        t->kind = 'f';
-        open = p + strlen("in mapping field '");
-    } else if ((p = strstr(s, "in sequence entry '")) != NULL) {
-        t->kind = 's';
-        open = p + strlen("in sequence entry '");
-    } else if (strstr(s, "in mapping") != NULL) {
-        t->kind = 'm';
-    } else {
-        return 0;
-    }
-    t->name[0] = '\0';
-    if (open != NULL) {
-        const char *close = strchr(open, '\'');
-        if (close == NULL) {
-            return 0;
-        }
-        size_t n = (size_t)(close - open);
-        n = (n < KEY_LEN - 1) ? n : KEY_LEN - 1;
-        memcpy(t->name, open, n);
-        t->name[n] = '\0';
-    }
-    const char *ln = strstr(s, "(line: ");
-    t->line = (ln != NULL) ? (int)strtol(ln + strlen("(line: "), NULL, 10) : 0;
-    return 1;
-}
-
 static void cyaml_error_message(const char *path, const cdpr_yaml_log_t *lb,
                                 cdpr_scenario_error_t *err)
 {
-    char message[512] = "";
-    trace_t trace[KEY_DEPTH];
-    memset(trace, 0, sizeof trace);
-    int nt = 0;
-    /* Walk the collected lines. */
-    const char *s = lb->text;
-    while (*s != '\0') {
-        const char *eol = strchr(s, '\n');
-        const size_t n = (eol != NULL) ? (size_t)(eol - s) : strlen(s);
-        char line[512];
-        const size_t m = (n < sizeof line - 1) ? n : sizeof line - 1;
-        memcpy(line, s, m);
-        line[m] = '\0';
-        if (strncmp(line, "Load: ", 6) == 0 && strstr(line, "Backtrace") == NULL &&
-            message[0] == '\0') {
-            snprintf(message, sizeof message, "%s", line + 6);
-        } else if (nt < KEY_DEPTH && parse_trace_line(line, &trace[nt]) != 0) {
-            ++nt;
-        }
-        s += n;
-        if (*s == '\n') {
-            ++s;
-        }
-    }
-    /* Which key: a key that libcyaml names in its message, else the innermost field. */
-    static const char unexpected[] = "Unexpected key: ";
-    static const char missing[] = "Missing required mapping field: ";
-    const char *named = NULL;
-    int is_unknown = 0;
-    int skip_innermost_field = 0;
-    if (strstr(message, unexpected) == message) {
-        named = message + sizeof unexpected - 1;
-        is_unknown = 1;
-    } else if (strstr(message, missing) == message) {
-        named = message + sizeof missing - 1;
-        /* The innermost "field" entry is the mapping's last visited field, not the key. */
-        skip_innermost_field = (nt > 0 && trace[0].kind == 'f') ? 1 : 0;
-    }
-    char key[512] = "";
-    for (int i = nt - 1; i >= skip_innermost_field; --i) {
-        const size_t k = strlen(key);
-        if (trace[i].kind == 'f') {
-            snprintf(key + k, sizeof key - k, "%s%.63s", (k > 0) ? "." : "", trace[i].name);
-        } else if (trace[i].kind == 's') {
-            snprintf(key + k, sizeof key - k, "[%.63s]", trace[i].name);
-        }
-    }
-    if (named != NULL) {
-        const size_t k = strlen(key);
-        snprintf(key + k, sizeof key - k, "%s%.63s", (k > 0) ? "." : "", named);
-    }
-    /* libcyaml's line is where it noticed the problem; prefer the line of the key itself
-     * (or, for a missing key, of the mapping that lacks it). */
-    int line = (nt > 0) ? trace[0].line : 0;
-    char parent[512];
-    snprintf(parent, sizeof parent, "%s", key);
-    if (named != NULL && is_unknown == 0) {
-        char *dot = strrchr(parent, '.');
-        parent[(dot != NULL) ? (size_t)(dot - parent) : 0] = '\0';
-    }
-    const int key_line = (parent[0] != '\0') ? cdpr_yaml_key_line(path, parent) : 0;
-    line = (key_line > 0) ? key_line : line;
-    char what[640];
-    if (is_unknown != 0) {
-        snprintf(what, sizeof what, "unknown key");
-    } else if (named != NULL) {
-        snprintf(what, sizeof what, "missing required key");
-    } else if (message[0] != '\0') {
-        snprintf(what, sizeof what, "%s", message);
-    } else {
-        snprintf(what, sizeof what, "%s", cyaml_strerror(lb->err));
-    }
-    if (key[0] == '\0') {
-        snprintf(key, sizeof key, "(document)");
-    }
-    format_error(err, path, line, key, what);
+    cdpr_yaml_error_message(path, lb, err->msg, sizeof err->msg);
 }
 
 /* ---------------------------------------------------------------- defaults and resolve */
@@ -720,9 +532,71 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
 
 static void resolve(const raw_t *r, cdpr_scenario_t *sc)
 {
-    resolve_robot(&r->robot, &sc->robot);
+    if (r->rig == NULL) {
+        sc->robot_source = CDPR_ROBOT_FROM_PRESET;
+        resolve_robot(&r->robot, &sc->robot);
+    }
     resolve_motion(r, sc);
     resolve_run(r, sc);
+}
+
+/* robot: without preset: a robot file (path relative to the scenario's folder) or an embedded
+ * robot. */
+static cdpr_status_t resolve_rig(const cdpr_raw_rig_t *rr, cdpr_scenario_t *sc,
+                                 cdpr_scenario_error_t *err)
+{
+    cdpr_rig_error_t re;
+    cdpr_status_t st;
+    if (rr->file == NULL) {
+        if (rr->cables == NULL && rr->cabin == NULL) {
+            cdpr_scenario_error(sc, "robot",
+                                "needs preset: (a compiled preset and overrides), file: (a robot "
+                                "file) or an embedded robot (cables:, cabin:, ...; "
+                                "docs/robots.md)",
+                                err);
+            return CDPR_E_PARSE;
+        }
+        sc->robot_source = CDPR_ROBOT_EMBEDDED;
+        st = cdpr_rig_resolve(rr, sc->path, "robot.", &sc->rig, &re);
+    } else {
+        const void *other[] = {rr->gravity_m_per_s2,
+                               rr->air_density_kg_per_m3,
+                               rr->wind_m_per_s,
+                               rr->nominal_pose,
+                               rr->segments,
+                               rr->rope,
+                               rr->winch,
+                               rr->cabin,
+                               rr->cables};
+        for (size_t i = 0; i < sizeof other / sizeof other[0]; ++i) {
+            if (other[i] != NULL) {
+                cdpr_scenario_error(sc, "robot.file",
+                                    "a robot file takes no other robot keys here: change the "
+                                    "robot file, or embed the robot instead",
+                                    err);
+                return CDPR_E_PARSE;
+            }
+        }
+        char file[sizeof sc->rig.name];
+        const char *slash = strrchr(sc->path, '/');
+        if (rr->file[0] == '/' || slash == NULL) {
+            snprintf(file, sizeof file, "%s", rr->file);
+        } else {
+            snprintf(file, sizeof file, "%.*s/%s", (int)(slash - sc->path), sc->path, rr->file);
+        }
+        sc->robot_source = CDPR_ROBOT_FROM_FILE;
+        st = cdpr_rig_load(file, &sc->rig, &re);
+        if (st == CDPR_E_IO) {
+            char what[1024];
+            snprintf(what, sizeof what, "%.900s (relative to the scenario's folder)", re.msg);
+            cdpr_scenario_error(sc, "robot.file", what, err);
+            return st;
+        }
+    }
+    if (st != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "%s", re.msg);
+    }
+    return st;
 }
 
 /* Which trajectory blocks a file gave: exactly the one matching `type`. */
@@ -800,7 +674,11 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     snprintf(sc->path, sizeof sc->path, "%s", path);
     cdpr_yaml_log_t lg;
     void *data = NULL;
-    cdpr_status_t st = cdpr_yaml_load(path, &top_schema, CYAML_CFG_DEFAULT, &data, &lg);
+    /* A robot section with a preset: the override schema; else a robot file or an embedded
+     * robot (robot.preset is looked up with libyaml before libcyaml reads the file). */
+    const cyaml_schema_value_t *schema =
+        (cdpr_yaml_key_line(path, "robot.preset") > 0) ? &top_schema : &top_schema_rig;
+    cdpr_status_t st = cdpr_yaml_load(path, schema, CYAML_CFG_DEFAULT, &data, &lg);
     if (st == CDPR_E_IO) {
         snprintf(err->msg, sizeof err->msg, "%s: cannot open: %.512s", path, lg.text);
         return st;
@@ -818,12 +696,15 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     if (st == CDPR_OK) {
         st = check_whole_numbers(raw, sc, err);
     }
+    if (st == CDPR_OK && raw->rig != NULL) {
+        st = resolve_rig(raw->rig, sc, err);
+    }
     if (st == CDPR_OK) {
         defaults_common(sc);
         resolve(raw, sc);
         st = cdpr_scenario_check(sc, err);
     }
-    cdpr_yaml_free(&top_schema, data);
+    cdpr_yaml_free(schema, data);
     return st;
 }
 
@@ -1010,10 +891,30 @@ static void check_run(vctx_t *vp)
     *vp = v;
 }
 
+/* A robot file or an embedded robot: the rig's own checks, keys named in its file. */
+static void check_rig(vctx_t *v)
+{
+    const cdpr_scenario_t *sc = v->sc;
+    const int from_file = (sc->robot_source == CDPR_ROBOT_FROM_FILE) ? 1 : 0;
+    cdpr_rig_error_t re;
+    const cdpr_status_t st = cdpr_rig_check(&sc->rig, (from_file != 0) ? sc->rig.name : sc->path,
+                                            (from_file != 0) ? "" : "robot.", &re);
+    if (st != CDPR_OK) {
+        if (v->err != NULL) {
+            snprintf(v->err->msg, sizeof v->err->msg, "%s", re.msg);
+        }
+        v->failed = st;
+    }
+}
+
 cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
     vctx_t v = {sc, err, CDPR_OK};
-    check_robot(&v);
+    if (sc->robot_source == CDPR_ROBOT_FROM_PRESET) {
+        check_robot(&v);
+    } else {
+        check_rig(&v);
+    }
     check_motion(&v);
     check_run(&v);
     if (v.failed == CDPR_OK) {
@@ -1039,6 +940,36 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
         }
     }
     return v.failed;
+}
+
+void cdpr_scenario_rig(const cdpr_scenario_t *sc, cdpr_rig_t *rig)
+{
+    if (sc->robot_source == CDPR_ROBOT_FROM_PRESET) {
+        cdpr_rig_from_preset(&sc->robot, rig);
+    } else {
+        *rig = sc->rig;
+    }
+}
+
+const char *cdpr_scenario_robot_name(const cdpr_scenario_t *sc)
+{
+    return (sc->robot_source == CDPR_ROBOT_FROM_PRESET) ? cdpr_preset_name(sc->robot.preset)
+                                                        : sc->rig.name;
+}
+
+int cdpr_scenario_segments(const cdpr_scenario_t *sc)
+{
+    return (sc->robot_source == CDPR_ROBOT_FROM_PRESET) ? sc->robot.segments
+                                                        : sc->rig.cable[0].segments;
+}
+
+cdpr_status_t cdpr_scenario_build_robot(const cdpr_scenario_t *sc, const double *length_m,
+                                        cdpr_robot_params_t *p, cdpr_winch_params_t *w,
+                                        cdpr_diag_t *diag)
+{
+    cdpr_rig_t rig;
+    cdpr_scenario_rig(sc, &rig);
+    return cdpr_rig_build(&rig, length_m, p, w, diag);
 }
 
 void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6])

@@ -42,7 +42,7 @@ static cdpr_status_t check_reachable(sim_t *s, const cdpr_scenario_t *sc, double
 {
     cdpr_robot_params_t mp;
     cdpr_diag_t d;
-    if (cdpr_preset_build(&sc->robot, NULL, &mp, NULL, &d) != CDPR_OK ||
+    if (cdpr_scenario_build_robot(sc, NULL, &mp, NULL, &d) != CDPR_OK ||
         cdpr_robot_init(&s->model, &mp, &d) != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "rejected by the model: field '%s': %s", d.field,

@@ -108,7 +108,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
     fprintf(f, ",\n  \"scenario_sha256\": ");
     json_string_or_null(f, pv->scenario_sha256);
     fprintf(f, ",\n  \"robot\": ");
-    json_string(f, cdpr_preset_name(sc->robot.preset));
+    json_string(f, cdpr_scenario_robot_name(sc));
     fprintf(f, ",\n  \"trajectory\": ");
     json_string(f, cdpr_traj_type_name(sc->traj.type));
     fprintf(f, ",\n  \"integrator\": ");
@@ -163,7 +163,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"steps_rejected", (long)sum->steps_rejected, KNOWN(sum->steps_rejected)},
         {"rhs_evals", (long)sum->rhs_evals, KNOWN(sum->rhs_evals)},
         {"settle_steps", sum->settle_steps, (sum->settle_steps >= 0) ? 1 : 0},
-        {"segments", (long)sc->robot.segments, 1},
+        {"segments", (long)cdpr_scenario_segments(sc), 1},
     };
     for (size_t i = 0; i < sizeof ints / sizeof ints[0]; ++i) {
         if (ints[i].known != 0) {

@@ -143,6 +143,11 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
     if (tr == NULL || model_params == NULL || traj == NULL || g == NULL || !isfinite(t0_s)) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "tracker", -1);
     }
+    /* The feed-forward is the sag-aware IK (cdpr_statics_ik_wrench): six cables only. */
+    if (model_params->n_cables != 6) {
+        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "n_cables (the tracker's IK needs 6)",
+                             model_params->n_cables);
+    }
     const cdpr_status_t gs = check_gains(g, period_s, diag);
     if (gs != CDPR_OK) {
         return gs;

@@ -6,7 +6,9 @@
 #include <errno.h>
 #include <stdarg.h> /* collect_log (libcyaml hands a va_list) */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <yaml.h>
 
 /* Error-level lines, appended in order, truncated at the buffer's end. */
 static void collect_log(cyaml_log_t level, void *ctx, const char *fmt, va_list args)
@@ -78,4 +80,269 @@ void cdpr_yaml_free(const cyaml_schema_value_t *schema, void *data)
         const cyaml_config_t cfg = config(CYAML_CFG_DEFAULT, NULL);
         (void)cyaml_free(&cfg, schema, data, 0);
     }
+}
+
+/* ---------------------------------------------------------------- key lines */
+
+#define PATH_DEPTH 16
+#define PATH_LEN   256
+
+typedef struct {
+    int is_map;          /* mapping (1) or sequence (0) */
+    int want_key;        /* mapping: the next scalar is a key */
+    int index;           /* sequence: index of the next entry */
+    int key_line;        /* mapping: line of the current key */
+    char key[64];        /* mapping: the current key */
+    char path[PATH_LEN]; /* path of this collection */
+} frame_t;
+
+/* Path and line of the node that starts now, in the collection `f` (NULL: the root). */
+static int node_path(frame_t *f, int ev_line, char *path, size_t cap)
+{
+    if (f == NULL) {
+        path[0] = '\0';
+        return ev_line;
+    }
+    if (f->is_map != 0) {
+        snprintf(path, cap, "%s%s%s", f->path, (f->path[0] != '\0') ? "." : "", f->key);
+        f->want_key = 1;
+        return f->key_line;
+    }
+    snprintf(path, cap, "%s[%d]", f->path, f->index);
+    ++f->index;
+    return ev_line;
+}
+
+/* One walk of the file: the line of `want`, or 0. Frames live on the heap (16 x 344 bytes). */
+static int walk_line(const char *path, const char *want)
+{
+    FILE *fp = fopen(path, "rb");
+    if (fp == NULL) {
+        return 0;
+    }
+    yaml_parser_t parser;
+    if (yaml_parser_initialize(&parser) == 0) {
+        fclose(fp);
+        return 0;
+    }
+    yaml_parser_set_input_file(&parser, fp);
+    frame_t *st = calloc(PATH_DEPTH, sizeof *st);
+    int depth = 0;
+    int found = 0;
+    int done = (st == NULL) ? 1 : 0;
+    /* Bounded by the file: every iteration consumes one event; an error or stream end stops. */
+    while (done == 0) {
+        yaml_event_t ev;
+        if (yaml_parser_parse(&parser, &ev) == 0) {
+            break;
+        }
+        const int line = (int)ev.start_mark.line + 1;
+        frame_t *top = (depth > 0) ? &st[depth - 1] : NULL;
+        switch (ev.type) {
+        case YAML_STREAM_END_EVENT:
+            done = 1;
+            break;
+        case YAML_SCALAR_EVENT:
+        case YAML_ALIAS_EVENT:
+        case YAML_MAPPING_START_EVENT:
+        case YAML_SEQUENCE_START_EVENT:
+            if (top != NULL && top->is_map != 0 && top->want_key != 0) {
+                /* A key (only scalar keys are addressable). */
+                snprintf(top->key, sizeof top->key, "%s",
+                         (ev.type == YAML_SCALAR_EVENT) ? (const char *)ev.data.scalar.value : "");
+                top->key_line = line;
+                top->want_key = 0;
+                if (ev.type == YAML_SCALAR_EVENT) {
+                    break;
+                }
+            }
+            {
+                char p[PATH_LEN];
+                const int node_line = node_path(top, line, p, sizeof p);
+                if (top != NULL && strcmp(p, want) == 0) {
+                    found = node_line;
+                    done = 1;
+                    break;
+                }
+                if (ev.type == YAML_MAPPING_START_EVENT || ev.type == YAML_SEQUENCE_START_EVENT) {
+                    if (depth >= PATH_DEPTH) {
+                        done = 1;
+                        break;
+                    }
+                    frame_t *f = &st[depth++];
+                    memset(f, 0, sizeof *f);
+                    f->is_map = (ev.type == YAML_MAPPING_START_EVENT) ? 1 : 0;
+                    f->want_key = 1;
+                    snprintf(f->path, sizeof f->path, "%s", p);
+                }
+            }
+            break;
+        case YAML_MAPPING_END_EVENT:
+        case YAML_SEQUENCE_END_EVENT:
+            depth = (depth > 0) ? depth - 1 : 0;
+            break;
+        default:
+            break;
+        }
+        yaml_event_delete(&ev);
+    }
+    free(st);
+    yaml_parser_delete(&parser);
+    fclose(fp);
+    return found;
+}
+
+int cdpr_yaml_path_line(const char *path, const char *key)
+{
+    if (path == NULL || path[0] == '\0' || key == NULL) {
+        return 0;
+    }
+    char want[PATH_LEN];
+    snprintf(want, sizeof want, "%s", key);
+    const int line = walk_line(path, want);
+    char *bracket = strrchr(want, '[');
+    if (line > 0 || bracket == NULL || strchr(bracket, '.') != NULL) {
+        return line;
+    }
+    *bracket = '\0'; /* a list shorter than the index: the list's own line */
+    return walk_line(path, want);
+}
+
+/* ---------------------------------------------------------------- error text */
+
+void cdpr_yaml_format_error(char *out, size_t cap, const char *path, int line, const char *key,
+                            const char *what)
+{
+    if (path == NULL || path[0] == '\0') {
+        snprintf(out, cap, "scenario: %s: %s", key, what);
+    } else if (line > 0) {
+        snprintf(out, cap, "%s:%d: %s: %s", path, line, key, what);
+    } else {
+        snprintf(out, cap, "%s: %s: %s", path, key, what);
+    }
+}
+
+/* One backtrace entry: "in mapping field 'k' (line: L, ...)", "in sequence entry 'i' (...)",
+ * "in mapping (...)". */
+typedef struct {
+    char kind; /* 'f' field, 's' sequence entry, 'm' mapping */
+    char name[64];
+    int line;
+} trace_t;
+
+static int parse_trace_line(const char *s, trace_t *t)
+{
+    const char *p;
+    const char *open = NULL;
+    if ((p = strstr(s, "in mapping field '")) != NULL) {
+        t->kind = 'f';
+        open = p + strlen("in mapping field '");
+    } else if ((p = strstr(s, "in sequence entry '")) != NULL) {
+        t->kind = 's';
+        open = p + strlen("in sequence entry '");
+    } else if (strstr(s, "in mapping") != NULL) {
+        t->kind = 'm';
+    } else {
+        return 0;
+    }
+    t->name[0] = '\0';
+    if (open != NULL) {
+        const char *close = strchr(open, '\'');
+        if (close == NULL) {
+            return 0;
+        }
+        size_t n = (size_t)(close - open);
+        n = (n < sizeof t->name - 1) ? n : sizeof t->name - 1;
+        memcpy(t->name, open, n);
+        t->name[n] = '\0';
+    }
+    const char *ln = strstr(s, "(line: ");
+    t->line = (ln != NULL) ? (int)strtol(ln + strlen("(line: "), NULL, 10) : 0;
+    return 1;
+}
+
+void cdpr_yaml_error_message(const char *path, const cdpr_yaml_log_t *lb, char *out, size_t cap)
+{
+    char message[512] = "";
+    trace_t trace[PATH_DEPTH];
+    memset(trace, 0, sizeof trace);
+    int nt = 0;
+    /* Walk the collected lines. */
+    const char *s = lb->text;
+    while (*s != '\0') {
+        const char *eol = strchr(s, '\n');
+        const size_t n = (eol != NULL) ? (size_t)(eol - s) : strlen(s);
+        char line[512];
+        const size_t m = (n < sizeof line - 1) ? n : sizeof line - 1;
+        memcpy(line, s, m);
+        line[m] = '\0';
+        if (strncmp(line, "Load: ", 6) == 0 && strstr(line, "Backtrace") == NULL &&
+            message[0] == '\0') {
+            snprintf(message, sizeof message, "%s", line + 6);
+        } else if (nt < PATH_DEPTH && parse_trace_line(line, &trace[nt]) != 0) {
+            ++nt;
+        }
+        s += n;
+        if (*s == '\n') {
+            ++s;
+        }
+    }
+    /* Which key: a key that libcyaml names in its message, else the innermost field. */
+    static const char unexpected[] = "Unexpected key: ";
+    static const char missing[] = "Missing required mapping field: ";
+    const char *named = NULL;
+    int is_unknown = 0;
+    int skip_innermost_field = 0;
+    if (strstr(message, unexpected) == message) {
+        named = message + sizeof unexpected - 1;
+        is_unknown = 1;
+    } else if (strstr(message, missing) == message) {
+        named = message + sizeof missing - 1;
+        /* The innermost "field" entry is the mapping's last visited field, not the key. */
+        skip_innermost_field = (nt > 0 && trace[0].kind == 'f') ? 1 : 0;
+    } else if (strstr(message, " entries (") != NULL && nt > 0 && trace[0].kind == 's') {
+        /* "Insufficient/Excessive entries" of a list inside a list: the innermost entry is
+         * the count read so far, not a position. */
+        skip_innermost_field = 1;
+    }
+    char key[512] = "";
+    for (int i = nt - 1; i >= skip_innermost_field; --i) {
+        const size_t k = strlen(key);
+        if (trace[i].kind == 'f') {
+            snprintf(key + k, sizeof key - k, "%s%.63s", (k > 0) ? "." : "", trace[i].name);
+        } else if (trace[i].kind == 's') {
+            /* libcyaml counts entries from 1 once it has started one; keys count from 0. */
+            const long idx = strtol(trace[i].name, NULL, 10);
+            snprintf(key + k, sizeof key - k, "[%ld]", (idx > 0) ? idx - 1 : 0);
+        }
+    }
+    if (named != NULL) {
+        const size_t k = strlen(key);
+        snprintf(key + k, sizeof key - k, "%s%.63s", (k > 0) ? "." : "", named);
+    }
+    /* libcyaml's line is where it noticed the problem; prefer the line of the key itself
+     * (or, for a missing key, of the mapping that lacks it). */
+    int line = (nt > 0) ? trace[0].line : 0;
+    char parent[512];
+    snprintf(parent, sizeof parent, "%s", key);
+    if (named != NULL && is_unknown == 0) {
+        char *dot = strrchr(parent, '.');
+        parent[(dot != NULL) ? (size_t)(dot - parent) : 0] = '\0';
+    }
+    const int key_line = (parent[0] != '\0') ? cdpr_yaml_path_line(path, parent) : 0;
+    line = (key_line > 0) ? key_line : line;
+    char what[640];
+    if (is_unknown != 0) {
+        snprintf(what, sizeof what, "unknown key");
+    } else if (named != NULL) {
+        snprintf(what, sizeof what, "missing required key");
+    } else if (message[0] != '\0') {
+        snprintf(what, sizeof what, "%s", message);
+    } else {
+        snprintf(what, sizeof what, "%s", cyaml_strerror(lb->err));
+    }
+    if (key[0] == '\0') {
+        snprintf(key, sizeof key, "(document)");
+    }
+    cdpr_yaml_format_error(out, cap, path, line, key, what);
 }

@@ -2,11 +2,12 @@
 /// @file scenario.h
 /// Scenario files: YAML mapped onto C structs by libcyaml's schema (no hand-written parser).
 ///
-/// A file has the sections `robot` (preset name plus optional overrides of every value of
-/// presets.h), `initial` (optional pose and offset), `trajectory` (type circle | line | hold
-/// and the matching block), `controller` (gains), `integrator` (optional
-/// tolerances and substep bound) and `run` (duration, control period, output rate).
-/// docs/scenarios.md lists every key with its unit and range; scenarios/ holds examples.
+/// A file has the sections `robot` (a preset name plus optional overrides of every value of
+/// presets.h; or a robot file, `file:` relative to the scenario file; or an embedded robot
+/// description, rig.h), `initial` (optional pose and offset), `trajectory` (type circle | line |
+/// hold and the matching block), `controller` (gains), `integrator` (optional tolerances and
+/// substep bound) and `run` (duration, control period, output rate). docs/scenarios.md lists every
+/// key with its unit and range; scenarios/ holds examples.
 ///
 /// Errors name the file, the line (when known) and the key path, e.g.
 ///   scenarios/x.yaml:12: robot.cable.ea_N: not a finite number (nan)
@@ -24,6 +25,7 @@
 #include "cdpr/plant.h"
 #include "cdpr/status.h"
 #include "cdpr/host/presets.h"
+#include "cdpr/host/rig.h"
 #include "cdpr/host/tracker.h"
 #include "cdpr/host/trajectory.h"
 
@@ -42,12 +44,21 @@ typedef struct {
     int max_attempts;             ///< attempts per period while the budget is refused (>= 1)
 } cdpr_scenario_integrator_t;
 
+/// Where a scenario's robot comes from.
+typedef enum {
+    CDPR_ROBOT_FROM_PRESET = 0, ///< `robot: {preset: ..., overrides}`: `robot` holds it
+    CDPR_ROBOT_FROM_FILE = 1,   ///< `robot: {file: ...}`: `rig` holds it (rig.name = the file)
+    CDPR_ROBOT_EMBEDDED = 2     ///< `robot: {cables: [...], cabin: {...}, ...}`: `rig` holds it
+} cdpr_robot_source_t;
+
 /// A resolved scenario: every default applied, every value checked (plain data, no
 /// pointers; nothing to free).
 typedef struct {
     char path[512];                        ///< file it came from ("" if built in code)
     char description[256];                 ///< optional free text
-    cdpr_preset_config_t robot;            ///< robot (preset + overrides)
+    cdpr_robot_source_t robot_source;      ///< which of `robot` and `rig` is the robot
+    cdpr_preset_config_t robot;            ///< robot (preset + overrides), if from a preset
+    cdpr_rig_t rig;                        ///< robot from a file or embedded (else unused)
     int has_initial_pose;                  ///< 1 if initial.pose was given
     double initial_pose[6];                ///< initial.pose (else the trajectory at t = 0)
     double initial_offset[6];              ///< added to the initial pose (m, rad)
@@ -107,6 +118,22 @@ void cdpr_scenario_overrides_none(cdpr_scenario_overrides_t *ov);
 /// not a whole number of periods). `sc` then holds the overridden, unchecked values.
 cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_overrides_t *ov,
                                      const char *prog, FILE *notes, cdpr_scenario_error_t *err);
+
+/// The scenario's robot as a rig: `rig`, or the preset configuration `robot` through
+/// cdpr_rig_from_preset. O(cables); cannot fail.
+void cdpr_scenario_rig(const cdpr_scenario_t *sc, cdpr_rig_t *rig);
+
+/// Name of the scenario's robot: the preset's name, the robot file's path or "embedded".
+const char *cdpr_scenario_robot_name(const cdpr_scenario_t *sc);
+
+/// Segments of the scenario robot's first cable (the initial discretisation).
+int cdpr_scenario_segments(const cdpr_scenario_t *sc);
+
+/// Build the core robot and winch parameters of the scenario (cdpr_scenario_rig,
+/// cdpr_rig_build; `length_m` and errors as there).
+cdpr_status_t cdpr_scenario_build_robot(const cdpr_scenario_t *sc, const double *length_m,
+                                        cdpr_robot_params_t *p, cdpr_winch_params_t *w,
+                                        cdpr_diag_t *diag);
 
 /// Initial pose: initial.pose (or the trajectory at t = 0) plus initial.offset.
 void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6]);

@@ -108,7 +108,8 @@ typedef struct {
 } cdpr_tracker_t;
 
 /// Validate and initialise for control period `period_s` (> 0): builds the model from
-/// `model_params` (6 cables) and computes L_ff(t0). Errors: CDPR_E_INVALID_ARG /
+/// `model_params` (6 cables: other counts are CDPR_E_CAPACITY, diag "n_cables ...") and
+/// computes L_ff(t0). Errors: CDPR_E_INVALID_ARG /
 /// CDPR_E_NOT_FINITE / CDPR_E_OUT_OF_RANGE for gains and period (`diag` names the field), the
 /// model's init errors, or the IK status of the desired pose at t0 (e.g. CDPR_E_INFEASIBLE: the
 /// trajectory starts outside the feasible set).

@@ -2,7 +2,8 @@
 /// @file yaml.h
 /// The one libcyaml set-up of the host library: configuration, a log callback that collects
 /// libcyaml's error lines, load and free. Used by the scenario loader (scenario.h) and the
-/// summary.json reader (summary.h). Internal to lib/host (its users include libcyaml anyway).
+/// summary.json reader (summary.h) and the robot files (rig.h); key lines and error text. Internal
+/// to lib/host (its users include libcyaml anyway).
 ///
 /// Host library; loading allocates (libcyaml); cdpr_yaml_free releases it.
 #ifndef CDPR_HOST_YAML_H
@@ -33,6 +34,23 @@ cdpr_status_t cdpr_yaml_load(const char *path, const cyaml_schema_value_t *schem
 /// First line of the collected error text, else libcyaml's message for log->err, into `buf`.
 /// Returns buf.
 const char *cdpr_yaml_first_error(const cdpr_yaml_log_t *log, char *buf, size_t cap);
+
+/// Line (1-based) of the node at `key` in the YAML file `path`, or 0 if it is not there. `key`
+/// is a dotted path of mapping keys with "[i]" (0-based) for sequence entries:
+/// "robot.cables[2].rope.ea_N", "cabin.com_m[1]". A mapping value gives the line of its key, a
+/// sequence entry its own line; a path whose last "[i]" is not there (a short list) gives the
+/// line of the list. Uses libyaml; reads the file once.
+int cdpr_yaml_path_line(const char *path, const char *key);
+
+/// "FILE:LINE: KEY: what" ("FILE: KEY: what" without a line, "scenario: KEY: what" without a
+/// file) into out.
+void cdpr_yaml_format_error(char *out, size_t cap, const char *path, int line, const char *key,
+                            const char *what);
+
+/// libcyaml's error of a failed load (log) as "FILE:LINE: KEY: what": the key path from its
+/// backtrace ("unknown key", "missing required key" or libcyaml's message), the line of the
+/// key itself where libyaml finds it.
+void cdpr_yaml_error_message(const char *path, const cdpr_yaml_log_t *log, char *out, size_t cap);
 
 /// Free what cdpr_yaml_load returned (NULL is fine).
 void cdpr_yaml_free(const cyaml_schema_value_t *schema, void *data);

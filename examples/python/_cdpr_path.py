@@ -1,0 +1,21 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""Find the lcm module and the generated cdpr message types (docs/realtime.md, "Python").
+
+Both are found through PYTHONPATH when set. As a fallback for running the examples from a
+source tree, this adds the places scripts/setup.sh and the build put them:
+  $CDPR_LCM_PYTHON, else ~/.cache/cdpr/lcm-python     (the lcm module, built at set-up)
+  $CDPR_LCMTYPES_PYTHON, else build/debug/lcmtypes/python  (the cdpr package, lcm-gen -p)
+"""
+import os
+import sys
+
+
+def _add(path):
+    if path and os.path.isdir(path) and path not in sys.path:
+        sys.path.append(path)
+
+
+_here = os.path.dirname(os.path.abspath(__file__))
+_add(os.environ.get("CDPR_LCM_PYTHON") or os.path.expanduser("~/.cache/cdpr/lcm-python"))
+_add(os.environ.get("CDPR_LCMTYPES_PYTHON") or
+     os.path.join(_here, "..", "..", "build", "debug", "lcmtypes", "python"))

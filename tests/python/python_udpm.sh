@@ -1,0 +1,71 @@
+#!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
+# examples/python/{subscriber,controller}.py against cdpr-rt over udpm (inside the private
+# network namespace of run_in_netns.sh; ttl=0):
+#  1. lockstep: the Python controller answers every state, so the plant steps all 100 periods
+#     on its commands (0 lockstep timeouts, none on hold) and accepts them (>= 100 accepted,
+#     0 ignored; the answer to the final state 100 may come after the plant's end), while the
+#     subscriber decodes all 101 states and tension messages;
+#  2. free-running: the plant does not wait; it must still accept the controller's commands
+#     (at least half of the periods with a new command, none ignored).
+# PYTHONPATH (tests/python/CMakeLists.txt) holds LCM's Python module and the generated types.
+# Usage: python_udpm.sh BUILD_DIR SOURCE_DIR WORK_DIR PYTHON
+set -eu
+bin=$1/apps
+src=$2
+w=$3
+py=$4
+scenario=$src/scenarios/paper-line.yaml
+url='udpm://239.255.76.67:7667?ttl=0'
+rm -rf "$w"
+mkdir -p "$w"
+[ -x "$py" ] || { echo "SKIPPED: $py not found"; exit 77; }
+if ! "$py" -c 'import lcm, cdpr.cabin_state_t' 2> "$w/import.txt"; then
+    cat "$w/import.txt"
+    echo "SKIPPED: LCM's Python module is not importable (PYTHONPATH=${PYTHONPATH:-}); scripts/setup.sh builds it"
+    exit 77
+fi
+fail() {
+    echo "FAIL: $*"
+    exit 1
+}
+
+# 1. Lockstep.
+"$py" "$src/examples/python/subscriber.py" --lcm-url "$url" --count 101 --timeout 20 \
+    --every 20 > "$w/sub.txt" 2>&1 &
+sub=$!
+"$py" "$src/examples/python/controller.py" --lcm-url "$url" --count 101 --timeout 20 \
+    > "$w/ctl.txt" 2>&1 &
+ctl=$!
+sleep 1
+"$bin/cdpr-rt" "$scenario" --rate 100 --duration 1 --lockstep --max-trials 2000 \
+    --lcm-url "$url" > "$w/rt.txt"
+status=0
+wait "$ctl" || status=$?
+wait "$sub" || status=$?
+cat "$w/rt.txt" "$w/ctl.txt" "$w/sub.txt"
+[ "$status" -eq 0 ] || fail "a Python example exited with an error"
+grep -q "0 timeouts" "$w/rt.txt" || fail "lockstep timeouts"
+grep -q "100 periods with a new command, 0 on hold" "$w/rt.txt" ||
+    fail "the plant did not step every period on a Python command"
+accepted=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\1/p' "$w/rt.txt")
+ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p' "$w/rt.txt")
+[ -n "$accepted" ] && [ "$accepted" -ge 100 ] && [ "$ignored" -eq 0 ] ||
+    fail "lockstep: ${accepted:-?} commands accepted, ${ignored:-?} ignored"
+grep -q "answered 101 states (last state seq 100)" "$w/ctl.txt" || fail "controller count"
+grep -q "101 states and 101 tension messages decoded" "$w/sub.txt" || fail "subscriber count"
+echo "PASS: lockstep, $accepted Python commands accepted, 101 states decoded"
+
+# 2. Free-running.
+"$py" "$src/examples/python/controller.py" --lcm-url "$url" --timeout 5 > "$w/ctl2.txt" 2>&1 &
+ctl=$!
+sleep 1
+"$bin/cdpr-rt" "$scenario" --rate 100 --duration 1 --max-trials 2000 --lcm-url "$url" \
+    > "$w/rt2.txt"
+wait "$ctl" || fail "controller.py exited with an error (free-running)"
+cat "$w/rt2.txt" "$w/ctl2.txt"
+accepted=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\1/p' "$w/rt2.txt")
+ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p' "$w/rt2.txt")
+[ -n "$accepted" ] && [ "$accepted" -ge 50 ] || fail "free-running: only ${accepted:-?} commands accepted"
+[ "$ignored" -eq 0 ] || fail "free-running: $ignored commands ignored"
+echo "PASS: free-running, $accepted Python commands accepted, none ignored"
