@@ -103,14 +103,21 @@ static int node_path(frame_t *f, int ev_line, char *path, size_t cap)
         path[0] = '\0';
         return ev_line;
     }
+    int n;
+    int line;
     if (f->is_map != 0) {
-        snprintf(path, cap, "%s%s%s", f->path, (f->path[0] != '\0') ? "." : "", f->key);
+        n = snprintf(path, cap, "%s%s%s", f->path, (f->path[0] != '\0') ? "." : "", f->key);
         f->want_key = 1;
-        return f->key_line;
+        line = f->key_line;
+    } else {
+        n = snprintf(path, cap, "%s[%d]", f->path, f->index);
+        ++f->index;
+        line = ev_line;
     }
-    snprintf(path, cap, "%s[%d]", f->path, f->index);
-    ++f->index;
-    return ev_line;
+    if (n < 0 || (size_t)n >= cap) {
+        path[0] = '\0'; /* deeper than any scenario key: matches nothing */
+    }
+    return line;
 }
 
 /* One walk of the file: the line of `want`, or 0. Frames live on the heap (16 x 344 bytes). */
