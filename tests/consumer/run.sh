@@ -6,7 +6,8 @@
 #  host (release preset, installed to a temporary prefix):
 #   0. the installed apps find their data files when the prefix is moved (tests/apps/relocate.sh);
 #   1. find_package(cdpr 0.1 REQUIRED COMPONENTS core host) -- tests/consumer/package; also
-#      every other component linked once (CDPR_CONSUMER_ALL);
+#      every other component linked once (CDPR_CONSUMER_ALL) and the docs' example
+#      examples/quickstart.c built and run against the package;
 #   2. pkg-config cdpr-core: cc $(pkg-config --cflags) state_bits.c $(pkg-config --libs);
 #      every .pc file validated and resolved;
 #   3. the libraries built shared (CDPR_SHARED=ON): SONAMEs, only cdpr_* exported, and 1.'s
@@ -85,7 +86,7 @@ fi
 # 1. find_package
 b=$work/package
 if quiet cmake -S tests/consumer/package -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-    -DCMAKE_PREFIX_PATH="$host" -DCDPR_CONSUMER_ALL=ON &&
+    -DCMAKE_PREFIX_PATH="$host" -DCDPR_CONSUMER_ALL=ON -DCDPR_CONSUMER_EXAMPLES="$src/examples" &&
     quiet cmake --build "$b" -j "$jobs"; then
     if grep -q "^cdpr_DIR:PATH=$host/" "$b/CMakeCache.txt"; then
         ok "find_package found the installed package ($(grep '^cdpr_DIR' "$b/CMakeCache.txt"))"
@@ -95,6 +96,11 @@ if quiet cmake -S tests/consumer/package -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Rel
     "$b/cdpr-consumer-host" >"$work/package.txt" || bad "find_package consumer exited $?"
     same "find_package(cdpr COMPONENTS core host) consumer == in-project cdpr-consumer-host" \
         "$work/ref-host.txt" "$work/package.txt"
+    if "$b/cdpr-quickstart" >"$work/quickstart.txt"; then
+        ok "the docs' example (examples/quickstart.c) builds against the package and runs"
+    else
+        bad "examples/quickstart.c against the installed package exited non-zero"
+    fi
     if "$b/cdpr-consumer-all" >"$work/all.txt"; then
         ok "all components (gsl, lcm, lcmtypes, rt) link and run: $(cat "$work/all.txt")"
     else

@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cdpr/cabin.h"
@@ -115,7 +116,12 @@ static cdpr_status_t rig_error(const char *path, const char *prefix, const char 
     int line = cdpr_yaml_path_line(p, full);
     const char *dot = strchr(key, '.');
     int cable = -1;
-    if (line == 0 && dot != NULL && sscanf(key, "cables[%d]", &cable) == 1) {
+    if (line == 0 && dot != NULL && strncmp(key, "cables[", 7) == 0) {
+        char *end = NULL;
+        const long c = strtol(key + 7, &end, 10);
+        cable = (end != key + 7 && *end == ']' && c >= 0 && c < 1000) ? (int)c : -1;
+    }
+    if (cable >= 0) {
         char alt[256];
         snprintf(alt, sizeof alt, "%s%s", prefix, dot + 1);
         const int alt_line = cdpr_yaml_path_line(p, alt);
