@@ -176,7 +176,7 @@ static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc
     const double period_s = g_rt.plant.pp.period_s;
     cdpr_diag_t d;
     const cdpr_status_t st =
-        cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch, &sc->traj, &g,
+        cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, g_rt.plant.pp.winch, &sc->traj, &g,
                              period_s, o->rt.lcm.channel_prefix, &d);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: tracker: field '%s': %s\n", d.field, cdpr_status_str(st));

@@ -347,7 +347,7 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     }
     const cdpr_tracker_gains_t g = sc->gains;
     cdpr_diag_t d;
-    st = cdpr_rt_tracker_init(&g_tracker, &g_model.params, &g_model.pp.winch, &sc->traj, &g,
+    st = cdpr_rt_tracker_init(&g_tracker, &g_model.params, g_model.pp.winch, &sc->traj, &g,
                               sc->period_s, o->prefix, &d);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: controller: field '%s': %s\n", d.field, cdpr_status_str(st));

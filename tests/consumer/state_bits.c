@@ -83,7 +83,10 @@ static int build_params(void)
         return -1;
     }
     cfg.segments = N_SEGMENTS;
-    const cdpr_status_t st = cdpr_preset_build(&cfg, NULL, &pp.robot, &pp.winch, &d);
+    const cdpr_status_t st = cdpr_preset_build(&cfg, NULL, &pp.robot, &pp.winch[0], &d);
+    for (int j = 1; j < CDPR_MAX_CABLES; ++j) {
+        pp.winch[j] = pp.winch[0];
+    }
     if (st != CDPR_OK) {
         printf("preset: %s at %s[%d]\n", cdpr_status_str(st), d.field, d.index);
         return -1;

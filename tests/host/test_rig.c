@@ -129,18 +129,20 @@ static void check_file_equals_preset(const char *file, cdpr_preset_t preset)
     static cdpr_robot_params_t p_file;
     static cdpr_robot_params_t p_rig;
     cdpr_winch_params_t w_preset;
-    cdpr_winch_params_t w_file;
-    cdpr_winch_params_t w_rig;
+    cdpr_winch_params_t w_file[CDPR_MAX_CABLES];
+    cdpr_winch_params_t w_rig[CDPR_MAX_CABLES];
     memset(&p_preset, 0, sizeof p_preset);
     memset(&p_file, 0, sizeof p_file);
     memset(&p_rig, 0, sizeof p_rig);
     memset(&w_preset, 0, sizeof w_preset);
-    memset(&w_file, 0, sizeof w_file);
-    memset(&w_rig, 0, sizeof w_rig);
+    memset(w_file, 0, sizeof w_file);
+    memset(w_rig, 0, sizeof w_rig);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&cfg, NULL, &p_preset, &w_preset, NULL));
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rig_build(&rig, NULL, &p_file, &w_file, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rig_build(&rig, NULL, &p_file, w_file, NULL));
     assert_same_params(&p_preset, &p_file, file);
-    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&w_preset, &w_file, sizeof w_preset, file);
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&w_preset, &w_file[j], sizeof w_preset, file);
+    }
     /* With given lengths too (the plant's second build, after the IK). */
     const double lengths[6] = {31.0, 31.5, 32.0, 32.5, 33.0, 33.5};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&cfg, lengths, &p_preset, NULL, NULL));
@@ -149,9 +151,9 @@ static void check_file_equals_preset(const char *file, cdpr_preset_t preset)
     /* The preset as a rig builds the same. */
     static cdpr_rig_t from_preset;
     cdpr_rig_from_preset(&cfg, &from_preset);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rig_build(&from_preset, lengths, &p_rig, &w_rig, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rig_build(&from_preset, lengths, &p_rig, w_rig, NULL));
     assert_same_params(&p_preset, &p_rig, file);
-    TEST_ASSERT_EQUAL_MEMORY(&w_preset, &w_rig, sizeof w_preset);
+    TEST_ASSERT_EQUAL_MEMORY(&w_preset, &w_rig[5], sizeof w_preset);
     /* Everything the file holds besides the core parameters: wind and the nominal pose. */
     TEST_ASSERT_EQUAL_MEMORY(cfg.wind_m_per_s, rig.wind_m_per_s, sizeof rig.wind_m_per_s);
     TEST_ASSERT_EQUAL_MEMORY(cfg.nominal_pose, rig.nominal_pose, sizeof rig.nominal_pose);
@@ -219,8 +221,8 @@ static void test_example_rig_and_its_scenario(void)
     TEST_ASSERT_EQUAL_INT(CDPR_ROBOT_FROM_FILE, sc.robot_source);
     TEST_ASSERT_NOT_NULL(strstr(cdpr_scenario_robot_name(&sc), "robots/example-rig.yaml"));
     static cdpr_robot_params_t p;
-    cdpr_winch_params_t w;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_scenario_build_robot(&sc, NULL, &p, &w, NULL));
+    cdpr_winch_params_t w[CDPR_MAX_CABLES];
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_scenario_build_robot(&sc, NULL, &p, w, NULL));
     TEST_ASSERT_EQUAL_INT(6, p.n_cables);
     TEST_ASSERT_EQUAL_DOUBLE(-13.5, p.cables[2].exit_point_m.x);
     TEST_ASSERT_EQUAL_DOUBLE(32.5, p.cables[2].exit_point_m.z);
@@ -238,7 +240,11 @@ static void test_example_rig_and_its_scenario(void)
     TEST_ASSERT_EQUAL_DOUBLE(-1.2, p.cabin.inertia_com_kg_m2.m[2][0]);
     TEST_ASSERT_EQUAL_DOUBLE(0.9, p.cabin.inertia_com_kg_m2.m[1][2]);
     TEST_ASSERT_EQUAL_DOUBLE(0.05, p.cabin.com_body_m.z);
-    TEST_ASSERT_EQUAL_DOUBLE(4.0, w.u_max_m_per_s);
+    /* Per-cable winch limits: cable 2 has its own, the others the defaults. */
+    TEST_ASSERT_EQUAL_DOUBLE(4.0, w[0].u_max_m_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(4.5, w[1].u_max_m_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(4.0, w[1].a_max_m_per_s2);
+    TEST_ASSERT_EQUAL_DOUBLE(5.0, w[2].a_max_m_per_s2);
     /* The plant starts (IK, catenaries, settling) on it. */
     static cdpr_plant_t plant;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_host_plant_init(&plant, &sc, NULL, &err), err.msg);
@@ -381,8 +387,9 @@ static const bad_case_t BAD[] = {
     {"attachment on its exit point", "    attach_m: [1.60, 1.20, -0.45]\n",
      "    attach_m: [11.0, 22.5, 19.0]\n", "cables[1]", "- exit_m: [11.0, 22.5",
      CDPR_E_NOT_POSITIVE},
-    {"winch limits differ", "    segments: 24\n", "    segments: 24\n    winch: {kp_per_s: 4.0}\n",
-     "cables[3].winch", "winch: {kp_per_s", CDPR_E_OUT_OF_RANGE},
+    {"a bad winch limit of one cable", "    segments: 24\n",
+     "    segments: 24\n    winch: {kp_per_s: 0.0}\n", "cables[3].winch.kp_per_s",
+     "winch: {kp_per_s", CDPR_E_OUT_OF_RANGE},
     {"missing winch limit", "  kp_per_s: 5.0\n", "", "cables[0].winch.kp_per_s", "", CDPR_E_PARSE},
     {"wrong row length", "    - [0.6, 47.0, 0.9]\n", "    - [0.6, 47.0]\n",
      "cabin.inertia_kg_m2[1]", "[0.6, 47.0]", CDPR_E_PARSE},

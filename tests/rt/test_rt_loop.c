@@ -109,7 +109,7 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
     const cdpr_tracker_gains_t g = g_sc.gains;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
-                          cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch,
+                          cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, g_rt.plant.pp.winch,
                                                &g_sc.traj, &g, 1.0 / rate, NULL, NULL));
     g_tracker.answer_in_handler = 1;
     g_tracker.on_step = record_lcm;
@@ -144,7 +144,7 @@ static void test_lockstep_memq_equals_in_process_loop(void)
          * clamps the same way in-process, so clamp here to compare what was sent. */
         double sent[CDPR_MAX_CABLES];
         for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
-            const double u = g_ref.pp.winch.u_max_m_per_s;
+            const double u = g_ref.pp.winch[j].u_max_m_per_s;
             sent[j] = fmax(-u, fmin(u, c.rate_m_per_s[j]));
         }
         bits_equal(sent, g_lcm_rec.rate[k], CDPR_ROBOT_CABLES, "command", k);
@@ -201,7 +201,7 @@ static void test_rt_thread_makes_no_allocation_and_no_lcm_call(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
     const cdpr_tracker_gains_t g = g_sc.gains;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
-                          cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, &g_rt.plant.pp.winch,
+                          cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, g_rt.plant.pp.winch,
                                                &g_sc.traj, &g, 1e-3, NULL, NULL));
     g_tracker.answer_in_handler = 1;
     cdpr_alloc_reset();

@@ -307,7 +307,7 @@ static void test_bad_parameters_are_named_and_nothing_steps(void)
     b.robot.cables[2].cable.ea_N = CDPR_R(-1.0);
     expect_bad(&b, CDPR_E_NOT_POSITIVE, "ea_N");
     b = pp;
-    b.winch.u_max_m_per_s = CDPR_R(0.0);
+    b.winch[3].u_max_m_per_s = CDPR_R(0.0);
     expect_bad(&b, CDPR_E_NOT_POSITIVE, "u_max_m_per_s");
     b = pp;
     b.rkf45.rtol = CDPR_R(-1.0);

@@ -11,7 +11,9 @@
 void cdpr_plant_params_default(cdpr_plant_params_t *pp)
 {
     cdpr_robot_params_default(&pp->robot);
-    cdpr_winch_params_default(&pp->winch);
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        cdpr_winch_params_default(&pp->winch[j]);
+    }
     static const cdpr_real_t origin[6] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0),
                                           CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
     pp->initial = cdpr_cabin_motion_at_pose(origin);
@@ -138,7 +140,7 @@ static cdpr_status_t place_and_settle(cdpr_plant_t *p, cdpr_diag_t *diag)
 static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
 {
     for (int j = 0; j < p->params.n_cables; ++j) {
-        CDPR_TRY(cdpr_winch_init(&p->winch[j], &p->pp.winch, diag));
+        CDPR_TRY(cdpr_winch_init(&p->winch[j], &p->pp.winch[j], diag));
     }
     p->robot.in.wind_m_per_s = p->pp.wind_m_per_s;
     cdpr_rkf45_params_t ip = p->pp.rkf45;

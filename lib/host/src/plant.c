@@ -47,7 +47,7 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
     memset(&d, 0, sizeof d);
     cdpr_rig_t rig;
     cdpr_scenario_rig(sc, &rig);
-    if (cdpr_rig_build(&rig, NULL, &pp->robot, &pp->winch, &d) != CDPR_OK) {
+    if (cdpr_rig_build(&rig, NULL, &pp->robot, pp->winch, &d) != CDPR_OK) {
         return fail(sc, "robot", "rejected by the model", &d, err);
     }
     if (rig.n_cables != CDPR_RIG_IK_CABLES) {

@@ -177,21 +177,6 @@ void cdpr_rig_from_preset(const cdpr_preset_config_t *cfg, cdpr_rig_t *rig)
     memcpy(rig->nominal_pose, cfg->nominal_pose, sizeof rig->nominal_pose);
 }
 
-static int differs(double a, double b)
-{
-    return (a < b || a > b) ? 1 : 0;
-}
-
-static int same_winch(const cdpr_winch_params_t *a, const cdpr_winch_params_t *b)
-{
-    return (differs(a->u_max_m_per_s, b->u_max_m_per_s) == 0 &&
-            differs(a->a_max_m_per_s2, b->a_max_m_per_s2) == 0 &&
-            differs(a->kp_per_s, b->kp_per_s) == 0 &&
-            differs(a->min_length_m, b->min_length_m) == 0)
-               ? 1
-               : 0;
-}
-
 /* The same steps, in the same order, as cdpr_preset_build (presets.c): bit-identical. */
 cdpr_status_t cdpr_rig_build(const cdpr_rig_t *rig, const double *length_m, cdpr_robot_params_t *p,
                              cdpr_winch_params_t *w, cdpr_diag_t *diag)
@@ -239,18 +224,17 @@ cdpr_status_t cdpr_rig_build(const cdpr_rig_t *rig, const double *length_m, cdpr
     if (st != CDPR_OK) {
         return st;
     }
-    for (int j = 1; j < rig->n_cables; ++j) {
-        if (same_winch(&rig->cable[j].winch, &rig->cable[0].winch) == 0) {
-            return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "winch", j);
-        }
-    }
     if (w != NULL) {
-        cdpr_winch_t wt;
-        const cdpr_status_t ws = cdpr_winch_init(&wt, &rig->cable[0].winch, diag);
-        if (ws != CDPR_OK) {
-            return ws;
+        for (int j = 0; j < rig->n_cables; ++j) {
+            cdpr_winch_t wt;
+            const cdpr_status_t ws = cdpr_winch_init(&wt, &rig->cable[j].winch, diag);
+            if (ws != CDPR_OK) {
+                return cdpr_diag_set(diag, ws, (diag != NULL) ? diag->field : "winch", j);
+            }
         }
-        *w = rig->cable[0].winch;
+        for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+            w[j] = rig->cable[(j < rig->n_cables) ? j : 0].winch;
+        }
     }
     *p = rp;
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
@@ -660,16 +644,12 @@ cdpr_status_t cdpr_rig_check(const cdpr_rig_t *rig, const char *path, const char
     cdpr_robot_params_t p;
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    const cdpr_status_t st = cdpr_rig_build(rig, NULL, &p, NULL, &d);
+    cdpr_winch_params_t w[CDPR_MAX_CABLES];
+    const cdpr_status_t st = cdpr_rig_build(rig, NULL, &p, w, &d);
     if (st != CDPR_OK) {
         char key[64];
         char what[512];
-        if (strcmp(d.field, "winch") == 0) {
-            snprintf(key, sizeof key, "cables[%d].winch", d.index);
-            snprintf(what, sizeof what,
-                     "differs from cable 1's: the plant applies one set of winch limits to "
-                     "every winch (cdpr_plant_params_t.winch)");
-        } else if (d.index >= 0 && d.index < rig->n_cables) {
+        if (d.index >= 0 && d.index < rig->n_cables) {
             snprintf(key, sizeof key, "cables[%d]", d.index);
             snprintf(what, sizeof what, "rejected by the model: field '%s' (cable %d): %s%s",
                      d.field, d.index + 1, cdpr_status_str(st),

@@ -71,7 +71,7 @@ static cdpr_status_t init_bridge(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     bp.n_cables = rt->plant.robot.p.n_cables;
     double longest = 0.0;
     for (int j = 0; j < bp.n_cables; ++j) {
-        bp.winch[j] = rt->plant.pp.winch;
+        bp.winch[j] = rt->plant.pp.winch[j];
         longest = fmax(longest, rt->plant.initial.cable[j].length_m);
     }
     bp.max_length_m = fmax(bp.max_length_m, 4.0 * longest);

@@ -73,7 +73,7 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
     t->period_s = period_s;
     t->n_cables = model->n_cables;
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
-        t->u_max_m_per_s[j] = winch->u_max_m_per_s;
+        t->u_max_m_per_s[j] = winch[j].u_max_m_per_s;
     }
     t->answered_state_seq = -1;
     t->cmd_seq = -1;

@@ -84,8 +84,8 @@ typedef struct {
     /// Robot: geometry, cables, cabin, gravity (mode must be CDPR_CABIN_DYNAMIC). The cables'
     /// length_m are only a starting value for validation: the IK replaces them.
     cdpr_robot_params_t robot;
-    cdpr_winch_params_t winch;          ///< limits of every winch
-    cdpr_cabin_motion_t initial;        ///< initial pose (p_m, q; velocities must be zero)
+    cdpr_winch_params_t winch[CDPR_MAX_CABLES]; ///< limits of winch j (j < robot.n_cables)
+    cdpr_cabin_motion_t initial;                ///< initial pose (p_m, q; velocities must be zero)
     cdpr_vec3_t wind_m_per_s;           ///< uniform wind during the run [m/s] (finite); default 0
     cdpr_statics_opts_t ik;             ///< settings of the initial IK
     cdpr_plant_start_t start;           ///< settled or on the catenaries

@@ -63,10 +63,10 @@ void cdpr_rig_from_preset(const cdpr_preset_config_t *cfg, cdpr_rig_t *rig);
 /// Build the core parameters, exactly as cdpr_preset_build does for a preset (byte for byte
 /// for cdpr_rig_from_preset's rigs): dynamic cabin, cable j with its rope, segments and
 /// unstretched length `length_m[j]` (NULL: the straight distance at the nominal pose, a
-/// placeholder for statics-only models), validated with cdpr_robot_init's rules. The plant
-/// takes one set of winch limits, so `w` (may be NULL) receives cable 0's, and a rig whose
-/// cables' winch limits differ is refused (CDPR_E_OUT_OF_RANGE, diag "winch", index = the
-/// first cable that differs). Errors: diag names the core field (index = cable).
+/// placeholder for statics-only models), validated with cdpr_robot_init's rules. `w` (may be
+/// NULL; CDPR_MAX_CABLES entries) receives every cable's winch limits (entries past n_cables:
+/// cable 0's), validated by cdpr_winch_init's rules. Errors: diag names the core field
+/// (index = cable).
 cdpr_status_t cdpr_rig_build(const cdpr_rig_t *rig, const double *length_m, cdpr_robot_params_t *p,
                              cdpr_winch_params_t *w, cdpr_diag_t *diag);
 

@@ -130,7 +130,8 @@ const char *cdpr_scenario_robot_name(const cdpr_scenario_t *sc);
 int cdpr_scenario_segments(const cdpr_scenario_t *sc);
 
 /// Build the core robot and winch parameters of the scenario (cdpr_scenario_rig,
-/// cdpr_rig_build; `length_m` and errors as there).
+/// cdpr_rig_build; `w`: NULL or CDPR_MAX_CABLES entries, one per winch; `length_m` and errors
+/// as there).
 cdpr_status_t cdpr_scenario_build_robot(const cdpr_scenario_t *sc, const double *length_m,
                                         cdpr_robot_params_t *p, cdpr_winch_params_t *w,
                                         cdpr_diag_t *diag);

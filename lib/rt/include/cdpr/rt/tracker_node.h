@@ -83,7 +83,7 @@ typedef struct {
 } cdpr_rt_tracker_t;
 
 /// Build the node: the controller (cdpr_tracker_init with `model` params, `traj`, gains `g`
-/// whose period_s is the control period, t0 = 0), the winch speed limit `winch` (rates are
+/// whose period_s is the control period, t0 = 0), the winch speed limits `winch[j]` (rates are
 /// clamped to +-u_max before publishing: the plant refuses larger ones, and clamps them itself
 /// in the in-process loop, so the result is the same) and the channel names from `prefix`
 /// (NULL: "CDPR_"). Errors as cdpr_tracker_init; CDPR_E_INVALID_ARG for a prefix too long.
