@@ -155,9 +155,6 @@ cdpr_status_t cdpr_ros_set_dim(cdpr_ros_t *s, int dim)
         return CDPR_E_CAPACITY;
     }
     s->dim = dim;
-    if (s->h_s > s->p.h_init_s) {
-        s->h_s = s->p.h_init_s;
-    }
     return CDPR_OK;
 }
 
@@ -329,6 +326,9 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
     if (s == NULL || problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
         !isfinite(t_end) || !(t_end > *t)) {
         return CDPR_E_INVALID_ARG;
+    }
+    if (all_finite(y, s->dim) == 0) {
+        return failed(s, CDPR_E_STATE_NOT_FINITE);
     }
     cdpr_real_t *yn = slot(s, YNEW);
     int have_f1 = 0;

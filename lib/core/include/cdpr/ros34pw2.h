@@ -133,8 +133,10 @@ cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr
 cdpr_status_t cdpr_ros_init(cdpr_ros_t *s, const cdpr_ros_params_t *p, cdpr_real_t *work,
                             int work_len, int dim_max, int dim, cdpr_diag_t *diag);
 
-/// Change the state dimension (after node insertion/removal). The next step restarts from
-/// min(h_s, h_init_s). Counters are kept. atol_vec is not re-checked: it must hold dim valid
+/// Change the state dimension (after node insertion/removal). The step size is kept (unlike
+/// cdpr_rkf45_set_dim): an L-stable method has no stability reason to restart small after a
+/// node event, and a step that is too long for the new layout fails the error test and is
+/// retried shorter. Counters are kept. atol_vec is not re-checked: it must hold dim valid
 /// entries. O(1). CDPR_E_CAPACITY (s unchanged) when s is NULL or dim is outside [1, dim_max];
 /// CDPR_OK otherwise.
 cdpr_status_t cdpr_ros_set_dim(cdpr_ros_t *s, int dim);
