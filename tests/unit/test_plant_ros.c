@@ -82,7 +82,9 @@ static void init_plant(cdpr_plant_t *p, const cdpr_plant_params_t *pp)
 static cdpr_plant_t ref;
 
 /* The implicit run's settings: loose node tolerances (the stiff axial modes are damped, not
- * resolved: docs/model.md "Time integration"), a 1 kHz period, at most 3 trials. */
+ * resolved: docs/model.md "Time integration"), a 1 kHz period, at most 3 trials, the plant's
+ * default reuse of W (jac_reuse_max 4; measured with 0 / 10 / 100: cabin 0.5 / 1.3 / 75 um,
+ * 10 ms mean tension 0.23 / 0.24 / 2.2 % of the peak). */
 static void ros_params(cdpr_plant_params_t *pp)
 {
     pp->integrator = CDPR_PLANT_ROS34PW2;

@@ -521,6 +521,39 @@ static void test_advance_refuses_above_force_err_max(void)
     TEST_ASSERT_TRUE(solver.stats.forced_steps >= 1u);
 }
 
+/* jac_reuse_max: equal steps share one factorisation for up to 1 + jac_reuse_max trials; the
+ * lagged W keeps the result on the closed form (W-method), and set_dim / invalidate force a new
+ * factorisation. */
+static void test_factorisation_reuse(void)
+{
+    const double L = 1.0e4;
+    dense_t d = dense(2, jac_pr, 1.0, &L);
+    const cdpr_ros_problem_t pb = problem(rhs_pr, (void *)&L, &d);
+    cdpr_ros_params_t p = params_tol(TOL(1e-6, 1e-4));
+    p.jac_reuse_max = 4;
+    p.h_init_s = 0.01;
+    init_solver(&p, 2);
+    cdpr_real_t t = 0.0;
+    cdpr_real_t y[2] = {1.0, 1.0};
+    for (int k = 0; k < 100; ++k) {
+        TEST_ASSERT_TRUE(cdpr_ros_advance(&solver, &pb, &t, y, 0.01, 1) >= 0);
+    }
+    const unsigned long trials = solver.stats.steps_accepted + solver.stats.steps_rejected;
+    TEST_ASSERT_EQUAL_UINT(100u, trials);
+    TEST_ASSERT_EQUAL_UINT(20u, solver.stats.factorisations);
+    TEST_ASSERT_EQUAL_INT(d.factor_calls, (int)solver.stats.factorisations);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-5, 1e-3), exp(-1.0), (double)y[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-5, 1e-3), cos(1.0), (double)y[1]);
+    cdpr_ros_invalidate(&solver);
+    TEST_ASSERT_TRUE(cdpr_ros_advance(&solver, &pb, &t, y, 0.01, 1) >= 0);
+    TEST_ASSERT_EQUAL_UINT(21u, solver.stats.factorisations);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_ros_set_dim(&solver, 2));
+    TEST_ASSERT_TRUE(cdpr_ros_advance(&solver, &pb, &t, y, 0.01, 1) >= 0);
+    TEST_ASSERT_EQUAL_UINT(22u, solver.stats.factorisations);
+    p.jac_reuse_max = -1;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_ros_params_validate(&p, 2, NULL));
+}
+
 /* ---------------------------------------------------------------- failure paths */
 
 /* A factorisation or a solve that refuses (singular W) ends step and advance with
@@ -727,6 +760,7 @@ int main(void)
     RUN_TEST(test_l_stability);
     RUN_TEST(test_advance_exact_interval_and_work_bound);
     RUN_TEST(test_advance_refuses_above_force_err_max);
+    RUN_TEST(test_factorisation_reuse);
     RUN_TEST(test_singular_w_leaves_state_bit_identical);
     RUN_TEST(test_nan_and_refusing_rhs);
     RUN_TEST(test_invalid_arguments_and_parameters);

@@ -29,6 +29,7 @@ void cdpr_plant_params_default(cdpr_plant_params_t *pp)
     pp->integrator = CDPR_PLANT_RKF45;
     cdpr_rkf45_params_default(&pp->rkf45);
     cdpr_ros_params_default(&pp->ros);
+    pp->ros.jac_reuse_max = 4; /* one factorisation per 5 equal steps (docs/model.md §7) */
     pp->atol.position_m = CDPR_R(1e-6);
     pp->atol.velocity_m_per_s = CDPR_R(1e-5);
     pp->atol.quaternion = CDPR_R(1e-8);

@@ -74,6 +74,7 @@ void cdpr_ros_params_default(cdpr_ros_params_t *p)
     p->shrink_min = CDPR_R(0.2);
     p->grow_max = CDPR_R(5.0);
     p->force_err_max = CDPR_R(91.125); /* (safety / shrink_min)^3 = 4.5^3 */
+    p->jac_reuse_max = 0;
 }
 
 cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr_diag_t *diag)
@@ -110,6 +111,9 @@ cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr
     if (!(p->force_err_max >= CDPR_R(1.0))) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "force_err_max", -1);
     }
+    if (p->jac_reuse_max < 0) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "jac_reuse_max", -1);
+    }
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -135,6 +139,9 @@ cdpr_status_t cdpr_ros_init(cdpr_ros_t *s, const cdpr_ros_params_t *p, cdpr_real
     s->dim = dim;
     s->h_s = (p->h_init_s < p->h_max_s) ? p->h_init_s : p->h_max_s;
     s->last_err = CDPR_R(0.0);
+    s->w_gh = CDPR_R(0.0);
+    s->w_valid = 0;
+    s->w_uses = 0;
     s->stats.steps_accepted = 0;
     s->stats.steps_rejected = 0;
     s->stats.nonfinite_rejected = 0;
@@ -155,7 +162,15 @@ cdpr_status_t cdpr_ros_set_dim(cdpr_ros_t *s, int dim)
         return CDPR_E_CAPACITY;
     }
     s->dim = dim;
+    s->w_valid = 0;
     return CDPR_OK;
+}
+
+void cdpr_ros_invalidate(cdpr_ros_t *s)
+{
+    if (s != NULL) {
+        s->w_valid = 0;
+    }
 }
 
 /* One counted call of f. */
@@ -166,12 +181,38 @@ static cdpr_status_t eval(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real
     return (pb->f(t, y, dydt, pb->f_ctx) < 0) ? CDPR_E_RHS : CDPR_OK;
 }
 
-/* One counted solve. */
+/* One counted solve; a refused solve forgets the factorisation. */
 static cdpr_status_t solve(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, const cdpr_real_t *b,
                            cdpr_real_t *x)
 {
     s->stats.solves++;
-    return (pb->solve(pb->lin_ctx, b, x) < 0) ? CDPR_E_SINGULAR : CDPR_OK;
+    if (pb->solve(pb->lin_ctx, b, x) < 0) {
+        s->w_valid = 0;
+        return CDPR_E_SINGULAR;
+    }
+    return CDPR_OK;
+}
+
+/* W for gamma h: the one in force while it may be reused, else a counted factorisation. A W
+ * made for gamma h' is I - gamma h (h'/h) J: still a W-method matrix (order kept), close to the
+ * exact one while h'/h is within 1e-3 of 1 (equal steps of advance differ by rounding). */
+static cdpr_status_t prepare_w(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                               const cdpr_real_t *y, cdpr_real_t gh)
+{
+    const cdpr_real_t d = gh - s->w_gh;
+    if (s->w_valid != 0 && !(CDPR_FABS(d) > CDPR_R(1e-3) * gh) && s->w_uses < s->p.jac_reuse_max) {
+        s->w_uses++;
+        return CDPR_OK;
+    }
+    s->stats.factorisations++;
+    s->w_valid = 0;
+    if (pb->factor(pb->lin_ctx, t, y, gh) < 0) {
+        return CDPR_E_SINGULAR;
+    }
+    s->w_gh = gh;
+    s->w_uses = 0;
+    s->w_valid = (s->p.jac_reuse_max > 0) ? 1 : 0;
+    return CDPR_OK;
 }
 
 /* One trial; `have_f1` says slot F1 already holds f(t, y). The slots never alias each other
@@ -193,10 +234,7 @@ static cdpr_status_t trial(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_rea
     if (have_f1 == 0) {
         CDPR_TRY(eval(s, pb, t, y, f1));
     }
-    s->stats.factorisations++;
-    if (pb->factor(pb->lin_ctx, t, y, gh) < 0) {
-        return CDPR_E_SINGULAR;
-    }
+    CDPR_TRY(prepare_w(s, pb, t, y, gh));
     /* Stage 1: W u1 = gamma h f(t, y). */
     for (int i = 0; i < n; ++i) {
         ft[i] = gh * f1[i];

@@ -169,8 +169,9 @@ typedef struct {
 /// Defaults: the robot of cdpr_robot_params_default (one cable: set six for the IK), default
 /// winch limits, cabin at the origin, level, no wind, IK defaults, settled start in double
 /// (catenary start in float), settling defaults with rtol 1e-9 / atol 1e-10, RKF45 with its
-/// defaults (the run's integrator), ROS34PW2 with its defaults, absolute tolerances 1e-6 m, 1e-5
-/// m/s, 1e-8, 1e-6 rad/s, Δt = 0.01 s, 50 trials, 1 attempt. O(cables); cannot fail.
+/// defaults (the run's integrator), ROS34PW2 with its defaults but jac_reuse_max 4, absolute
+/// tolerances 1e-6 m, 1e-5 m/s, 1e-8, 1e-6 rad/s, Δt = 0.01 s, 50 trials, 1 attempt. O(cables);
+/// cannot fail.
 void cdpr_plant_params_default(cdpr_plant_params_t *pp);
 
 /// Validate the plant's own fields of `pp` (not the robot, winch, IK and integrator settings,

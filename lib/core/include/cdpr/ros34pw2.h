@@ -76,6 +76,11 @@ typedef struct {
     /// them). Default 91.125 = (safety / shrink_min)^3 of the defaults: the largest error that
     /// the step-size formula corrects with a single rejection.
     cdpr_real_t force_err_max;
+    /// Reuse one factorisation for up to this many further trials while gamma h is unchanged
+    /// within a relative 1e-3 (>= 0; 0: factor every trial, the default). A W-method keeps its
+    /// order with a lagged J; the caller must not change what its factor callback reads (its W
+    /// object, the layout) without cdpr_ros_set_dim or cdpr_ros_invalidate.
+    int jac_reuse_max;
 } cdpr_ros_params_t;
 
 /// Counters (plain fields, read-only for users; reset by cdpr_ros_init).
@@ -102,6 +107,9 @@ typedef struct {
     int dim;              ///< current dimension (<= dim_max)
     cdpr_real_t h_s;      ///< step size to try next [s]
     cdpr_real_t last_err; ///< error norm of the last trial (<= 1: it passed the error test)
+    cdpr_real_t w_gh;     ///< gamma h of the factorisation in force [s]
+    int w_valid;          ///< 1 while the caller's W may be reused (jac_reuse_max > 0)
+    int w_uses;           ///< trials that reused it since it was made
     cdpr_ros_stats_t stats;
 } cdpr_ros_t;
 
@@ -116,7 +124,7 @@ void cdpr_ros_params_default(cdpr_ros_params_t *p);
 /// - CDPR_E_NOT_POSITIVE: atol, an atol_vec entry, h_init_s, h_min_s, h_max_s, safety or
 ///   shrink_min <= 0.
 /// - CDPR_E_OUT_OF_RANGE: rtol < 0, h_max_s < h_min_s, safety >= 1, shrink_min >= 1,
-///   grow_max <= 1, or force_err_max < 1.
+///   grow_max <= 1, force_err_max < 1, or jac_reuse_max < 0.
 /// CDPR_OK (diag: status OK, field "", index -1) otherwise.
 cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr_diag_t *diag);
 
@@ -136,15 +144,21 @@ cdpr_status_t cdpr_ros_init(cdpr_ros_t *s, const cdpr_ros_params_t *p, cdpr_real
 /// Change the state dimension (after node insertion/removal). The step size is kept (unlike
 /// cdpr_rkf45_set_dim): an L-stable method has no stability reason to restart small after a
 /// node event, and a step that is too long for the new layout fails the error test and is
-/// retried shorter. Counters are kept. atol_vec is not re-checked: it must hold dim valid
-/// entries. O(1). CDPR_E_CAPACITY (s unchanged) when s is NULL or dim is outside [1, dim_max];
-/// CDPR_OK otherwise.
+/// retried shorter. The factorisation in force is forgotten. Counters are kept. atol_vec is not
+/// re-checked: it must hold dim valid entries. O(1). CDPR_E_CAPACITY (s unchanged) when s is NULL
+/// or dim is outside [1, dim_max]; CDPR_OK otherwise.
 cdpr_status_t cdpr_ros_set_dim(cdpr_ros_t *s, int dim);
+
+/// Forget the factorisation in force: the next trial factors (after the caller changed what
+/// factor reads). Also done by init, set_dim and any failed factorisation or solve. O(1);
+/// s may be NULL (no-op).
+void cdpr_ros_invalidate(cdpr_ros_t *s);
 
 /// One trial of size h from (t, y) without step-size control: writes the order-3 solution into
 /// y_out and returns the weighted error norm in *err (may be NULL; +Inf when the new state or
 /// the norm is not finite), also kept in s->last_err. For tests and benchmarks. 1
-/// factorisation, 4 solves, 4 calls of f plus O(dim); no argument checks. y is not modified;
+/// factorisation (none when one is reused, jac_reuse_max), 4 solves, 4 calls of f plus O(dim);
+/// no argument checks. y is not modified;
 /// y, y_out and the workspace must not overlap. Returns CDPR_OK, CDPR_E_RHS (f refused) or
 /// CDPR_E_SINGULAR (factor or solve refused); on error y_out and *err are not written.
 /// Counts its calls in stats; the step-size state is not touched.
@@ -170,8 +184,8 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
 
 /// Advance by exactly dt with at most `max_trials` trials: the bounded-work call of a
 /// real-time loop. Work, whatever the outcome: at most max_trials trials, i.e. at most
-/// max_trials factorisations, 4 max_trials solves and 4 max_trials calls of f, plus
-/// O(max_trials * (dim + max_trials)) arithmetic; no allocation.
+/// max_trials factorisations (fewer with jac_reuse_max > 0), 4 max_trials solves and 4 max_trials
+/// calls of f, plus O(max_trials * (dim + max_trials)) arithmetic; no allocation.
 ///
 /// The trials are adaptive steps (as cdpr_ros_step) until these no longer fit in the trials
 /// left even growing at grow_max per step; the rest of the interval is then covered by equal
