@@ -23,7 +23,12 @@ cdpr_status_t cdpr_robot_w_init(cdpr_robot_w_t *w, const cdpr_robot_t *r)
 }
 
 /* Segment slots of w->seg. */
-enum { S_TL = 0, S_KMT, S_TX, S_TY, S_TZ, S_CT };
+#define S_TL  0
+#define S_KMT 1
+#define S_TX  2
+#define S_TY  3
+#define S_TZ  4
+#define S_CT  5
 
 /* Linearisation of one segment from node a to node b (robot_w.h): writes T/l, dT/dl - T/l,
  * the tangent and dT/dl' into s. The tension law is that of cable.c (axial_tension). */
@@ -91,8 +96,14 @@ static void seg_p(const cdpr_real_t *s, cdpr_real_t g, cdpr_real_t *P)
 }
 
 /* Inverse of a symmetric packed 3x3 by cofactors; 0 when singular or not finite. */
-static int sym_inv(const cdpr_real_t *D, cdpr_real_t *Di)
+/* A symmetric 3x3 block, packed xx xy xz yy yz zz. */
+typedef struct {
+    cdpr_real_t a[6];
+} sym3_t;
+
+static int sym_inv(const sym3_t *Ds, cdpr_real_t Di[6])
 {
+    const cdpr_real_t *D = Ds->a;
     const cdpr_real_t c00 = D[3] * D[5] - D[4] * D[4];
     const cdpr_real_t c01 = D[2] * D[4] - D[1] * D[5];
     const cdpr_real_t c02 = D[1] * D[4] - D[2] * D[3];
@@ -230,13 +241,9 @@ static int factor_cable(cdpr_robot_w_t *w, int j, const cdpr_real_t *yc, cdpr_ve
         cdpr_real_t p_lo[6]; /* P_{i-1} */
         seg_p(w->seg[j][i - 1], g, p_lo);
         const cdpr_real_t m = w->mass[j][i - 1];
-        cdpr_real_t D[6];
-        for (int a = 0; a < 6; ++a) {
-            D[a] = p_lo[a] + p_hi[a];
-        }
-        D[0] += m;
-        D[3] += m;
-        D[5] += m;
+        sym3_t Ds = {{p_lo[0] + p_hi[0] + m, p_lo[1] + p_hi[1], p_lo[2] + p_hi[2],
+                      p_lo[3] + p_hi[3] + m, p_lo[4] + p_hi[4], p_lo[5] + p_hi[5] + m}};
+        cdpr_real_t *D = Ds.a;
         if (i < nf) {
             /* R_i = D'_{i+1}^-1 P_i; D -= P_i R_i (its symmetric part) */
             cdpr_real_t *Ri = w->q[j][i - 1];
@@ -252,7 +259,7 @@ static int factor_cable(cdpr_robot_w_t *w, int j, const cdpr_real_t *yc, cdpr_ve
             D[4] -= CDPR_R(0.5) * (PR[5] + PR[7]);
             D[5] -= PR[8];
         }
-        if (sym_inv(D, w->dinv[j][i - 1]) == 0) {
+        if (sym_inv(&Ds, w->dinv[j][i - 1]) == 0) {
             return 0;
         }
         for (int a = 0; a < 6; ++a) {
@@ -446,13 +453,11 @@ static void seg_apply(const cdpr_real_t *s, const cdpr_real_t *d, cdpr_real_t *o
 }
 
 /* Gam u = u_p + X u_th (u: 6 generalised cabin components). */
-static void gam_apply(const cdpr_real_t *X, const cdpr_real_t *u, cdpr_real_t *out)
+static void gam_apply(const cdpr_real_t X[9], const cdpr_real_t u[6], cdpr_real_t out[3])
 {
-    cdpr_real_t xt[3];
-    mv33(X, u + 3, xt);
-    out[0] = u[0] + xt[0];
-    out[1] = u[1] + xt[1];
-    out[2] = u[2] + xt[2];
+    out[0] = u[0] + (X[0] * u[3] + X[1] * u[4] + X[2] * u[5]);
+    out[1] = u[1] + (X[3] * u[3] + X[4] * u[4] + X[5] * u[5]);
+    out[2] = u[2] + (X[6] * u[3] + X[7] * u[4] + X[8] * u[5]);
 }
 
 /* acc += Gam^T f = (f, X^T f). */

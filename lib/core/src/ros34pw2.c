@@ -55,9 +55,17 @@
 #define E4 CDPR_R(0.5)
 
 /* Workspace slots. */
-enum { U1 = 0, U2, U3, U4, YTMP, F1, FT, YNEW, YBAK };
+#define U1   0
+#define U2   1
+#define U3   2
+#define U4   3
+#define YTMP 4
+#define F1   5
+#define FT   6
+#define YNEW 7
+#define YBAK 8
 
-static cdpr_real_t *slot(const cdpr_ros_t *s, int k)
+static cdpr_real_t *ros_slot(const cdpr_ros_t *s, int k)
 {
     return s->work + (size_t)k * (size_t)s->dim_max;
 }
@@ -174,16 +182,16 @@ void cdpr_ros_invalidate(cdpr_ros_t *s)
 }
 
 /* One counted call of f. */
-static cdpr_status_t eval(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
-                          const cdpr_real_t *y, cdpr_real_t *dydt)
+static cdpr_status_t ros_eval(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                              const cdpr_real_t *y, cdpr_real_t *dydt)
 {
     s->stats.rhs_evals++;
     return (pb->f(t, y, dydt, pb->f_ctx) < 0) ? CDPR_E_RHS : CDPR_OK;
 }
 
 /* One counted solve; a refused solve forgets the factorisation. */
-static cdpr_status_t solve(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, const cdpr_real_t *b,
-                           cdpr_real_t *x)
+static cdpr_status_t ros_solve(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, const cdpr_real_t *b,
+                               cdpr_real_t *x)
 {
     s->stats.solves++;
     if (pb->solve(pb->lin_ctx, b, x) < 0) {
@@ -196,8 +204,8 @@ static cdpr_status_t solve(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, const cd
 /* W for gamma h: the one in force while it may be reused, else a counted factorisation. A W
  * made for gamma h' is I - gamma h (h'/h) J: still a W-method matrix (order kept), close to the
  * exact one while h'/h is within 1e-3 of 1 (equal steps of advance differ by rounding). */
-static cdpr_status_t prepare_w(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
-                               const cdpr_real_t *y, cdpr_real_t gh)
+static cdpr_status_t ros_prepare_w(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                                   const cdpr_real_t *y, cdpr_real_t gh)
 {
     const cdpr_real_t d = gh - s->w_gh;
     if (s->w_valid != 0 && !(CDPR_FABS(d) > CDPR_R(1e-3) * gh) && s->w_uses < s->p.jac_reuse_max) {
@@ -217,56 +225,56 @@ static cdpr_status_t prepare_w(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
 
 /* One trial; `have_f1` says slot F1 already holds f(t, y). The slots never alias each other
  * or y/y_out. */
-static cdpr_status_t trial(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
-                           const cdpr_real_t *restrict y, cdpr_real_t h,
-                           cdpr_real_t *restrict y_out, cdpr_real_t *err, int have_f1)
+static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                             const cdpr_real_t *restrict y, cdpr_real_t h,
+                             cdpr_real_t *restrict y_out, cdpr_real_t *err, int have_f1)
 {
     const int n = s->dim;
-    cdpr_real_t *restrict u1 = slot(s, U1);
-    cdpr_real_t *restrict u2 = slot(s, U2);
-    cdpr_real_t *restrict u3 = slot(s, U3);
-    cdpr_real_t *restrict u4 = slot(s, U4);
-    cdpr_real_t *restrict yt = slot(s, YTMP);
-    cdpr_real_t *restrict f1 = slot(s, F1);
-    cdpr_real_t *restrict ft = slot(s, FT);
+    cdpr_real_t *restrict u1 = ros_slot(s, U1);
+    cdpr_real_t *restrict u2 = ros_slot(s, U2);
+    cdpr_real_t *restrict u3 = ros_slot(s, U3);
+    cdpr_real_t *restrict u4 = ros_slot(s, U4);
+    cdpr_real_t *restrict yt = ros_slot(s, YTMP);
+    cdpr_real_t *restrict f1 = ros_slot(s, F1);
+    cdpr_real_t *restrict ft = ros_slot(s, FT);
     const cdpr_real_t gh = GAMMA * h;
 
     if (have_f1 == 0) {
-        CDPR_TRY(eval(s, pb, t, y, f1));
+        CDPR_TRY(ros_eval(s, pb, t, y, f1));
     }
-    CDPR_TRY(prepare_w(s, pb, t, y, gh));
+    CDPR_TRY(ros_prepare_w(s, pb, t, y, gh));
     /* Stage 1: W u1 = gamma h f(t, y). */
     for (int i = 0; i < n; ++i) {
         ft[i] = gh * f1[i];
     }
-    CDPR_TRY(solve(s, pb, ft, u1));
+    CDPR_TRY(ros_solve(s, pb, ft, u1));
     /* Stage 2. */
     for (int i = 0; i < n; ++i) {
         yt[i] = y[i] + A21 * u1[i];
     }
-    CDPR_TRY(eval(s, pb, t + ALPHA2 * h, yt, ft));
+    CDPR_TRY(ros_eval(s, pb, t + ALPHA2 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
         ft[i] = gh * ft[i] + GAMMA * (C21 * u1[i]);
     }
-    CDPR_TRY(solve(s, pb, ft, u2));
+    CDPR_TRY(ros_solve(s, pb, ft, u2));
     /* Stage 3. */
     for (int i = 0; i < n; ++i) {
         yt[i] = y[i] + (A31 * u1[i] + A32 * u2[i]);
     }
-    CDPR_TRY(eval(s, pb, t + ALPHA3 * h, yt, ft));
+    CDPR_TRY(ros_eval(s, pb, t + ALPHA3 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
         ft[i] = gh * ft[i] + GAMMA * (C31 * u1[i] + C32 * u2[i]);
     }
-    CDPR_TRY(solve(s, pb, ft, u3));
+    CDPR_TRY(ros_solve(s, pb, ft, u3));
     /* Stage 4. */
     for (int i = 0; i < n; ++i) {
         yt[i] = y[i] + (A41 * u1[i] + A42 * u2[i] + A43 * u3[i]);
     }
-    CDPR_TRY(eval(s, pb, t + ALPHA4 * h, yt, ft));
+    CDPR_TRY(ros_eval(s, pb, t + ALPHA4 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
         ft[i] = gh * ft[i] + GAMMA * (C41 * u1[i] + C42 * u2[i] + C43 * u3[i]);
     }
-    CDPR_TRY(solve(s, pb, ft, u4));
+    CDPR_TRY(ros_solve(s, pb, ft, u4));
 
     /* New state, error estimate, weighted max-norm and finiteness in one pass. */
     const cdpr_real_t rtol = s->p.rtol;
@@ -301,10 +309,10 @@ cdpr_status_t cdpr_ros_trial(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
                              const cdpr_real_t *y, cdpr_real_t h, cdpr_real_t *y_out,
                              cdpr_real_t *err)
 {
-    return trial(s, pb, t, y, h, y_out, err, 0);
+    return ros_try(s, pb, t, y, h, y_out, err, 0);
 }
 
-static int all_finite(const cdpr_real_t *v, int n)
+static int ros_all_finite(const cdpr_real_t *v, int n)
 {
     for (int i = 0; i < n; ++i) {
         if (!isfinite(v[i])) {
@@ -314,42 +322,42 @@ static int all_finite(const cdpr_real_t *v, int n)
     return 1;
 }
 
-static cdpr_real_t clamp(cdpr_real_t x, cdpr_real_t lo, cdpr_real_t hi)
+static cdpr_real_t ros_clamp(cdpr_real_t x, cdpr_real_t lo, cdpr_real_t hi)
 {
     return (x < lo) ? lo : ((x > hi) ? hi : x);
 }
 
 /* Step-size factor from the error norm (error ~ h^3 for the embedded order-2 estimate). */
-static cdpr_real_t step_factor(const cdpr_ros_t *s, cdpr_real_t err)
+static cdpr_real_t ros_step_factor(const cdpr_ros_t *s, cdpr_real_t err)
 {
     if (!(err > CDPR_R(0.0))) {
         return s->p.grow_max;
     }
     const cdpr_real_t fac = s->p.safety * CDPR_POW(err, CDPR_R(-1.0) / CDPR_R(3.0));
-    return clamp(fac, s->p.shrink_min, s->p.grow_max);
+    return ros_clamp(fac, s->p.shrink_min, s->p.grow_max);
 }
 
 /* A trial that produced NaN/Inf from a non-finite start (y or f(t, y)): no smaller step can
  * help. */
-static int start_is_bad(const cdpr_ros_t *s, const cdpr_real_t *y)
+static int ros_start_is_bad(const cdpr_ros_t *s, const cdpr_real_t *y)
 {
-    return (all_finite(y, s->dim) == 0) || (all_finite(slot(s, F1), s->dim) == 0);
+    return (ros_all_finite(y, s->dim) == 0) || (ros_all_finite(ros_slot(s, F1), s->dim) == 0);
 }
 
-static void copy(cdpr_real_t *dst, const cdpr_real_t *src, int n)
+static void ros_copy(cdpr_real_t *dst, const cdpr_real_t *src, int n)
 {
     for (int i = 0; i < n; ++i) {
         dst[i] = src[i];
     }
 }
 
-static int problem_ok(const cdpr_ros_problem_t *pb)
+static int ros_problem_ok(const cdpr_ros_problem_t *pb)
 {
     return (pb != NULL && pb->f != NULL && pb->factor != NULL && pb->solve != NULL) ? 1 : 0;
 }
 
 /* Count a failed call and return its status. */
-static cdpr_status_t failed(cdpr_ros_t *s, cdpr_status_t st)
+static cdpr_status_t ros_failed(cdpr_ros_t *s, cdpr_status_t st)
 {
     s->stats.failures++;
     if (st == CDPR_E_SINGULAR) {
@@ -361,52 +369,53 @@ static cdpr_status_t failed(cdpr_ros_t *s, cdpr_status_t st)
 cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
                             cdpr_real_t *y, cdpr_real_t t_end)
 {
-    if (s == NULL || problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
+    if (s == NULL || ros_problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
         !isfinite(t_end) || !(t_end > *t)) {
         return CDPR_E_INVALID_ARG;
     }
-    if (all_finite(y, s->dim) == 0) {
-        return failed(s, CDPR_E_STATE_NOT_FINITE);
+    if (ros_all_finite(y, s->dim) == 0) {
+        return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
     }
-    cdpr_real_t *yn = slot(s, YNEW);
+    cdpr_real_t *yn = ros_slot(s, YNEW);
     int have_f1 = 0;
     /* Bounded: every rejection multiplies h by at most max(safety, shrink_min) < 1, and h_min
      * ends it. */
     for (;;) {
         const cdpr_real_t remaining = t_end - *t;
-        cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        cdpr_real_t h = ros_clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
         const int last = (h >= remaining) ? 1 : 0;
         if (last != 0) {
             h = remaining;
         }
         cdpr_real_t err = CDPR_R(0.0);
-        const cdpr_status_t ts = trial(s, pb, *t, y, h, yn, &err, have_f1);
+        const cdpr_status_t ts = ros_try(s, pb, *t, y, h, yn, &err, have_f1);
         if (ts != CDPR_OK) {
-            return failed(s, ts);
+            return ros_failed(s, ts);
         }
         have_f1 = 1; /* a retry starts from the same (t, y) */
         if (!isfinite(err)) {
-            if (start_is_bad(s, y) != 0) {
-                return failed(s, CDPR_E_STATE_NOT_FINITE);
+            if (ros_start_is_bad(s, y) != 0) {
+                return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
             }
             s->stats.nonfinite_rejected++;
             s->h_s = h * s->p.shrink_min;
         } else if (err <= CDPR_R(1.0)) {
-            copy(y, yn, s->dim);
+            ros_copy(y, yn, s->dim);
             *t = (last != 0) ? t_end : *t + h;
             s->stats.steps_accepted++;
-            const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            const cdpr_real_t h_next =
+                ros_clamp(h * ros_step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
             /* A step clipped to reach t_end says little about the natural step size. */
             s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
             return CDPR_OK;
         } else {
             s->stats.steps_rejected++;
-            s->h_s = h * step_factor(s, err);
+            s->h_s = h * ros_step_factor(s, err);
         }
         if (s->h_s < s->p.h_min_s) {
             s->h_s = s->p.h_min_s;
             if (h <= s->p.h_min_s) {
-                return failed(s, CDPR_E_STEP_TOO_SMALL);
+                return ros_failed(s, CDPR_E_STEP_TOO_SMALL);
             }
         }
     }
@@ -414,7 +423,7 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
 
 /* 1 if `budget` accepted steps starting at h, each growing by grow_max (capped at h_max),
  * could cover `remaining`. O(budget), no RHS calls. */
-static int can_reach(const cdpr_ros_t *s, cdpr_real_t h, int budget, cdpr_real_t remaining)
+static int ros_can_reach(const cdpr_ros_t *s, cdpr_real_t h, int budget, cdpr_real_t remaining)
 {
     cdpr_real_t sum = CDPR_R(0.0);
     cdpr_real_t hi = (h < s->p.h_max_s) ? h : s->p.h_max_s;
@@ -432,15 +441,15 @@ static int can_reach(const cdpr_ros_t *s, cdpr_real_t h, int budget, cdpr_real_t
 cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
                                cdpr_real_t *y, cdpr_real_t dt, int max_trials)
 {
-    if (s == NULL || problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
+    if (s == NULL || ros_problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
         !isfinite(dt) || !(dt > CDPR_R(0.0)) || max_trials < 1) {
         return CDPR_E_INVALID_ARG;
     }
-    if (all_finite(y, s->dim) == 0) {
-        return failed(s, CDPR_E_STATE_NOT_FINITE);
+    if (ros_all_finite(y, s->dim) == 0) {
+        return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
     }
-    cdpr_real_t *yn = slot(s, YNEW);
-    cdpr_real_t *yb = slot(s, YBAK);
+    cdpr_real_t *yn = ros_slot(s, YNEW);
+    cdpr_real_t *yb = ros_slot(s, YBAK);
     const cdpr_real_t t0 = *t;
     const cdpr_real_t t_end = t0 + dt;
     const cdpr_real_t h_saved = s->h_s;
@@ -448,7 +457,7 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
     int have_f1 = 0;
     int equal = 0;
     int forced = 0;
-    copy(yb, y, s->dim);
+    ros_copy(yb, y, s->dim);
 
     cdpr_status_t st = CDPR_OK;
     for (int trials = 0; (st == CDPR_OK) && (tc < t_end); ++trials) {
@@ -458,8 +467,8 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
             st = CDPR_E_SUBSTEP_LIMIT; /* not reached: the last trial is an equal step */
             break;
         }
-        cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
-        if (equal == 0 && (budget == 1 || can_reach(s, h, budget, remaining) == 0)) {
+        cdpr_real_t h = ros_clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        if (equal == 0 && (budget == 1 || ros_can_reach(s, h, budget, remaining) == 0)) {
             equal = 1;
         }
         if (equal != 0) {
@@ -471,13 +480,13 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
             h = remaining;
         }
         cdpr_real_t err = CDPR_R(0.0);
-        st = trial(s, pb, tc, y, h, yn, &err, have_f1);
+        st = ros_try(s, pb, tc, y, h, yn, &err, have_f1);
         if (st != CDPR_OK) {
             break;
         }
         have_f1 = 1; /* until a step is accepted, the next trial starts from here */
         if (!isfinite(err)) {
-            if (start_is_bad(s, y) != 0) {
+            if (ros_start_is_bad(s, y) != 0) {
                 st = CDPR_E_STATE_NOT_FINITE;
             } else if (equal != 0) {
                 st = CDPR_E_SUBSTEP_LIMIT; /* an equal step cannot shrink */
@@ -486,7 +495,7 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
                 s->h_s = h * s->p.shrink_min;
             }
         } else if (err <= CDPR_R(1.0) || (equal != 0 && err <= s->p.force_err_max)) {
-            copy(y, yn, s->dim);
+            ros_copy(y, yn, s->dim);
             have_f1 = 0;
             tc = (last != 0) ? t_end : tc + h;
             s->stats.steps_accepted++;
@@ -494,11 +503,12 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
                 s->stats.forced_steps++;
                 forced++;
             }
-            const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            const cdpr_real_t h_next =
+                ros_clamp(h * ros_step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
             s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
         } else {
             s->stats.steps_rejected++;
-            const cdpr_real_t h_next = h * step_factor(s, err);
+            const cdpr_real_t h_next = h * ros_step_factor(s, err);
             /* An equal step was not the controller's choice: its rejection never raises h_s. */
             s->h_s = (equal != 0 && s->h_s < h_next) ? s->h_s : h_next;
             if (equal != 0) {
@@ -514,14 +524,14 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
         }
     }
     if (st < 0) {
-        copy(y, yb, s->dim);
+        ros_copy(y, yb, s->dim);
         *t = t0;
         if (st == CDPR_E_SUBSTEP_LIMIT) {
             s->stats.substep_limit_failures++;
         } else {
             s->h_s = (s->h_s < h_saved) ? s->h_s : h_saved;
         }
-        return failed(s, st);
+        return ros_failed(s, st);
     }
     *t = t_end;
     if (forced != 0) {

@@ -106,10 +106,11 @@ typedef struct {
                                         ///< [1, CDPR_PLANT_MAX_ATTEMPTS]; default 1
 } cdpr_plant_params_t;
 
-/// Workspace reals per state component: the larger of the two integrators' needs.
-#define CDPR_PLANT_WORK_PER_DIM                                                                    \
-    ((CDPR_RKF45_WORK_PER_DIM > CDPR_ROS_WORK_PER_DIM) ? CDPR_RKF45_WORK_PER_DIM                   \
-                                                       : CDPR_ROS_WORK_PER_DIM)
+/// Workspace reals per state component: the larger of the two integrators' needs (both 9).
+#define CDPR_PLANT_WORK_PER_DIM CDPR_RKF45_WORK_PER_DIM
+#if CDPR_ROS_WORK_PER_DIM > CDPR_PLANT_WORK_PER_DIM
+#error "CDPR_PLANT_WORK_PER_DIM must cover CDPR_ROS_WORK_PER_DIM"
+#endif
 
 /// Largest max_attempts (the work bound of a period is max_attempts x max_trials trials).
 #define CDPR_PLANT_MAX_ATTEMPTS 16
