@@ -9,7 +9,9 @@
 ///       node velocities (every branch of the segment model is taken);
 ///   (b) one fixed-h RKF45 step: cdpr_rkf45_trial vs gsl_odeiv2_step_apply (both 6 RHS calls);
 ///   (c) adaptive stepping as users call it: cdpr_rkf45_step vs gsl_odeiv2_evolve_apply, per
-///       accepted step, with the RHS calls per step each one made.
+///       accepted step, with the RHS calls per step each one made;
+///   (d) the implicit ROS34PW2 trial (robot_w.h): factorisation, solve and the whole trial
+///       (1 factorisation, 4 solves, 4 RHS), in us and in RHS evaluations.
 /// Times are the best of N runs, each repeating the operation for at least T seconds
 /// (CLOCK_MONOTONIC). Our timed loops make no heap allocation; GSL's objects are allocated
 /// before timing (cdpr_gsl_stepper_init).
@@ -35,6 +37,8 @@
 #include "cdpr/host/clock.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
+#include "cdpr/robot_w.h"
+#include "cdpr/ros34pw2.h"
 
 #define DEG_TO_RAD (CDPR_PI / 180.0)
 
@@ -387,6 +391,93 @@ static int table_adaptive(const options_t *o)
 /* ------------------------------------------------------------------------------------------ */
 /* Machine                                                                                     */
 
+/* (d) the implicit trial and its parts. */
+typedef struct {
+    cdpr_ros_t ros;
+    cdpr_robot_w_t w;
+    cdpr_ros_problem_t pb;
+    double h_s;
+} ros_ctx_t;
+
+static double bench_w_factor(void *ctx, long reps)
+{
+    ros_ctx_t *c = (ros_ctx_t *)ctx;
+    for (long k = 0; k < reps; ++k) {
+        (void)cdpr_robot_w_factor(&c->w, 0.0, y0s, 0.435866521508459 * c->h_s);
+    }
+    sink = c->w.dinv[0][0][0];
+    return (double)reps;
+}
+
+static double bench_w_solve(void *ctx, long reps)
+{
+    ros_ctx_t *c = (ros_ctx_t *)ctx;
+    double acc = 0.0;
+    for (long k = 0; k < reps; ++k) {
+        (void)cdpr_robot_w_solve(&c->w, dydt, yout);
+        acc += yout[robot.dim - 1];
+    }
+    sink = acc;
+    return (double)reps;
+}
+
+static double bench_ros_trial(void *ctx, long reps)
+{
+    ros_ctx_t *c = (ros_ctx_t *)ctx;
+    double err = 0.0;
+    double acc = 0.0;
+    for (long k = 0; k < reps; ++k) {
+        restore(robot.dim);
+        (void)cdpr_ros_trial(&c->ros, &c->pb, 0.0, ys, c->h_s, yout, &err);
+        acc += err;
+    }
+    sink = acc + yout[robot.dim - 1];
+    return (double)reps;
+}
+
+static int table_ros(const options_t *o)
+{
+    static const int segs[3] = {16, 32, 64};
+    static ros_ctx_t c;
+    printf("(d) one ROS34PW2 trial (ros34pw2.h + robot_w.h), h = 1 ms, same RHS and state;\n"
+           "    RHS-eq = time / one cdpr_robot_rhs evaluation\n");
+    printf("    %6s %10s %8s %9s %11s %8s %10s %8s %10s %8s\n", "cables", "segs/cable", "dim",
+           "RHS us", "factor us", "RHS-eq", "solve us", "RHS-eq", "trial us", "RHS-eq");
+    for (int b = 0; b < 3; ++b) {
+        if (make_robot(6, segs[b]) != 0) {
+            return -1;
+        }
+        cdpr_ros_params_t p;
+        cdpr_ros_params_default(&p);
+        cdpr_diag_t diag;
+        if (cdpr_ros_init(&c.ros, &p, work, (int)(sizeof work / sizeof work[0]),
+                          CDPR_ROBOT_STATE_MAX, robot.dim, &diag) != CDPR_OK ||
+            cdpr_robot_w_init(&c.w, &robot) != CDPR_OK ||
+            cdpr_robot_w_factor(&c.w, 0.0, y0s, 0.435866521508459e-3) != CDPR_OK) {
+            fprintf(stderr, "cdpr-bench: implicit integrator init failed\n");
+            return -1;
+        }
+        c.pb.f = cdpr_robot_rhs;
+        c.pb.f_ctx = &robot;
+        c.pb.factor = cdpr_robot_w_factor;
+        c.pb.solve = cdpr_robot_w_solve;
+        c.pb.lin_ctx = &c.w;
+        c.h_s = 1e-3;
+        (void)cdpr_robot_rhs(0.0, y0s, dydt, &robot);
+        const timing_t tr = measure(bench_rhs, NULL, o);
+        const timing_t tf = measure(bench_w_factor, &c, o);
+        const timing_t ts = measure(bench_w_solve, &c, o);
+        const timing_t tt = measure(bench_ros_trial, &c, o);
+        printf("    %6d %10d %8d %9.2f %11.2f %8.2f %10.2f %8.2f %10.2f %8.2f\n", 6, segs[b],
+               robot.dim, 1e-3 * tr.ns_per_unit, 1e-3 * tf.ns_per_unit,
+               tf.ns_per_unit / tr.ns_per_unit, 1e-3 * ts.ns_per_unit,
+               ts.ns_per_unit / tr.ns_per_unit, 1e-3 * tt.ns_per_unit,
+               tt.ns_per_unit / tr.ns_per_unit);
+    }
+    printf("\n");
+    return 0;
+}
+
 static void print_machine(const options_t *o)
 {
     char model[256] = "unknown";
@@ -509,7 +600,8 @@ int main(int argc, char **argv)
 
     printf("cdpr-bench: the cdpr core's RHS and RKF45 step vs GSL rkf45 on the same RHS\n");
     print_machine(&o);
-    if (table_rhs(&o) != 0 || table_step(&o) != 0 || table_adaptive(&o) != 0) {
+    if (table_rhs(&o) != 0 || table_step(&o) != 0 || table_adaptive(&o) != 0 ||
+        table_ros(&o) != 0) {
         /* A benchmark robot or integrator the core refused (the message says which). */
         return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }

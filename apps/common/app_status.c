@@ -17,6 +17,7 @@ int cdpr_app_exit_code(cdpr_status_t st)
     case CDPR_E_STEP_TOO_SMALL:
     case CDPR_E_RHS:
     case CDPR_E_SUBSTEP_LIMIT:
+    case CDPR_E_SINGULAR:
         return CDPR_EXIT_STOPPED;
     case CDPR_E_INVALID_ARG:
     case CDPR_E_NOT_FINITE:

@@ -27,10 +27,18 @@
 
 /* ---- Compiled-in configuration -------------------------------------------------------- */
 
-#define N_CABLES       6
-#define N_SEGMENTS     16
-#define N_PERIODS      200 /* 0.2 s of simulated time */
-#define MAX_TRIALS     40  /* work bound per period: 6 x 40 RHS evaluations */
+#define N_CABLES 6
+#ifndef N_SEGMENTS
+#define N_SEGMENTS 16 /* -DN_SEGMENTS=32: the variants of CMakeLists.txt */
+#endif
+#define N_PERIODS 200 /* 0.2 s of simulated time */
+#ifdef FW_ROS34PW2
+/* -DFW_ROS34PW2: the implicit integrator (ros34pw2.h), at most 3 trials of 1 factorisation,
+ * 4 solves and 4 RHS evaluations per period, node tolerances as in docs/model.md §7. */
+#define MAX_TRIALS 3
+#else
+#define MAX_TRIALS 40 /* work bound per period: 6 x 40 RHS evaluations */
+#endif
 #define SYSTICK_HZ     1000
 #define CPU_CLOCK_HZ   25000000u /* QEMU's MPS2 boards clock SysTick at 25 MHz */
 #define SYSTICK_RELOAD (CPU_CLOCK_HZ / SYSTICK_HZ)
@@ -146,6 +154,15 @@ static int init_model(void)
     params.atol.velocity_m_per_s = ATOL;
     params.atol.quaternion = ATOL;
     params.atol.rate_rad_per_s = ATOL;
+#ifdef FW_ROS34PW2
+    params.integrator = CDPR_PLANT_ROS34PW2;
+    params.ros.rtol = CDPR_R(1e-3);
+    params.ros.h_init_s = DT_S;
+    params.atol.position_m = CDPR_R(1e-4);
+    params.atol.velocity_m_per_s = CDPR_R(1e-2);
+    params.atol.quaternion = CDPR_R(1e-6);
+    params.atol.rate_rad_per_s = CDPR_R(1e-4);
+#endif
     params.period_s = DT_S;
     params.max_trials = MAX_TRIALS;
     params.max_attempts = 1; /* the real-time work bound: MAX_TRIALS trials per period */
@@ -223,7 +240,11 @@ int main(void)
            N_SEGMENTS, (sizeof(cdpr_real_t) == 4u) ? "float" : "double", N_PERIODS);
     printf("cabin z: %ld mm, state dim %d, rhs evals %lu, substep-limit periods %lu\n",
            (long)lroundf((float)(plant.y[CDPR_CABIN_P + 2] * CDPR_R(1000.0))), robot->dim,
-           plant.rk.stats.rhs_evals, (unsigned long)warnings);
+           (params.integrator == CDPR_PLANT_ROS34PW2) ? plant.ros.stats.rhs_evals
+                                                      : plant.rk.stats.rhs_evals,
+           (unsigned long)warnings);
+    printf("per period, max: rhs evals %lu, factorisations %lu, solves %lu\n",
+           plant.stats.max_rhs_evals, plant.stats.max_factorisations, plant.stats.max_solves);
     for (int j = 0; j < N_CABLES; ++j) {
         const long tc = (long)lroundf((float)out.tension_cabin_N[j]);
         const long tw = (long)lroundf((float)out.tension_winch_N[j]);

@@ -11,6 +11,8 @@
 #include "cdpr/plant.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
+#include "cdpr/robot_w.h"
+#include "cdpr/ros34pw2.h"
 #include "cdpr/settle.h"
 #include "cdpr/statics.h"
 #include "cdpr/winch.h"
@@ -28,6 +30,8 @@ int main(void)
     ROW("cdpr_cable_t", sizeof(cdpr_cable_t));
     ROW("cdpr_cabin_t", sizeof(cdpr_cabin_t));
     ROW("cdpr_rkf45_t", sizeof(cdpr_rkf45_t));
+    ROW("cdpr_ros_t", sizeof(cdpr_ros_t));
+    ROW("cdpr_robot_w_t", sizeof(cdpr_robot_w_t));
     ROW("cdpr_winch_t", sizeof(cdpr_winch_t));
     ROW("cdpr_node_stats_t", sizeof(cdpr_node_stats_t));
     ROW("cdpr_statics_result_t", sizeof(cdpr_statics_result_t));

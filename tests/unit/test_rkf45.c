@@ -14,6 +14,7 @@
 #include "test_real.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -209,6 +210,50 @@ static void test_oscillator_error_shrinks_with_tolerance(void)
         TEST_ASSERT_TRUE_MESSAGE(e < GLOBAL_FACTOR * tols[i] * 1.0, "error above 100 tol |y|max");
         prev = e;
     }
+}
+
+/* The PI controller (pi_beta > 0): the same global bound on the oscillator at every tolerance,
+ * and fewer rejections than the elementary controller where the step size oscillates (a fast
+ * decay y' = -50 y followed over 2 s near its stability limit). pi_beta outside [0, 0.2] is
+ * refused. pi_beta = 0 is every other test of this file (and the scenario bit checks). */
+static void test_pi_controller(void)
+{
+    for (int i = 0; i < N_TOLS; ++i) {
+        osc_t ctx = {2.0 * PI_D};
+        cdpr_rkf45_params_t p = params_tol(tols[i]);
+        p.pi_beta = 0.04;
+        init_solver(&p, 2);
+        cdpr_real_t t = 0.0, y[2] = {1.0, 0.0};
+        double emax = 0.0;
+        while (t < 5.0) {
+            TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_step(&solver, rhs_osc, &ctx, &t, y, 5.0));
+            emax = fmax(emax, fabs((double)y[0] - cos(2.0 * PI_D * (double)t)));
+        }
+        TEST_ASSERT_TRUE(emax < GLOBAL_FACTOR * tols[i]);
+    }
+    unsigned long rejected[2];
+    for (int k = 0; k < 2; ++k) {
+        decay_t ctx = {50.0};
+        cdpr_rkf45_params_t p = params_tol(TOL(1e-3, 1e-3));
+        p.pi_beta = (k == 0) ? 0.0 : 0.08;
+        init_solver(&p, 1);
+        cdpr_real_t t = 0.0, y[1] = {1.0};
+        while (t < 2.0) {
+            TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_step(&solver, rhs_decay, &ctx, &t, y, 2.0));
+        }
+        rejected[k] = solver.stats.steps_rejected;
+    }
+    char msg[64];
+    (void)snprintf(msg, sizeof msg, "rejections %lu elementary, %lu PI", rejected[0], rejected[1]);
+    TEST_ASSERT_TRUE_MESSAGE(rejected[1] < rejected[0], msg);
+    cdpr_rkf45_params_t p;
+    cdpr_rkf45_params_default(&p);
+    cdpr_diag_t d;
+    p.pi_beta = -0.01;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_rkf45_params_validate(&p, 1, &d));
+    TEST_ASSERT_EQUAL_STRING("pi_beta", d.field);
+    p.pi_beta = 0.25;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_rkf45_params_validate(&p, 1, &d));
 }
 
 static void test_huge_first_step_is_rejected_and_result_accurate(void)
@@ -1063,6 +1108,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_decay_error_shrinks_with_tolerance);
     RUN_TEST(test_oscillator_error_shrinks_with_tolerance);
+    RUN_TEST(test_pi_controller);
     RUN_TEST(test_huge_first_step_is_rejected_and_result_accurate);
     RUN_TEST(test_trial_exact_for_quartic_quadrature);
     RUN_TEST(test_advance_substep_limit);

@@ -455,7 +455,8 @@ static const cdpr_status_t all_status[] = {CDPR_OK,
                                            CDPR_E_RHS,
                                            CDPR_E_NO_CONVERGENCE,
                                            CDPR_E_INFEASIBLE,
-                                           CDPR_E_SUBSTEP_LIMIT};
+                                           CDPR_E_SUBSTEP_LIMIT,
+                                           CDPR_E_SINGULAR};
 #define N_STATUS ((int)(sizeof all_status / sizeof all_status[0]))
 
 static void test_status_str_never_null_and_distinct(void)

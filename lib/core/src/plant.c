@@ -30,6 +30,8 @@ void cdpr_plant_params_default(cdpr_plant_params_t *pp)
     pp->settle_rkf45.atol = CDPR_R(1e-10);
     pp->integrator = CDPR_PLANT_RKF45;
     cdpr_rkf45_params_default(&pp->rkf45);
+    cdpr_ros_params_default(&pp->ros);
+    pp->ros.jac_reuse_max = 4; /* one factorisation per 5 equal steps (docs/model.md §7) */
     pp->atol.position_m = CDPR_R(1e-6);
     pp->atol.velocity_m_per_s = CDPR_R(1e-5);
     pp->atol.quaternion = CDPR_R(1e-8);
@@ -44,7 +46,7 @@ cdpr_status_t cdpr_plant_params_validate(const cdpr_plant_params_t *pp, cdpr_dia
     if (pp == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "params", -1);
     }
-    if (pp->integrator != CDPR_PLANT_RKF45) {
+    if (pp->integrator != CDPR_PLANT_RKF45 && pp->integrator != CDPR_PLANT_ROS34PW2) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "integrator", -1);
     }
     if (pp->start != CDPR_PLANT_START_SETTLED && pp->start != CDPR_PLANT_START_CATENARY) {
@@ -87,6 +89,7 @@ cdpr_status_t cdpr_plant_init_model(cdpr_plant_t *p, const cdpr_plant_params_t *
     CDPR_TRY(cdpr_plant_params_validate(pp, diag));
     p->pp = *pp;
     p->pp.rkf45.atol_vec = NULL;
+    p->pp.ros.atol_vec = NULL;
     p->params = pp->robot;
     CDPR_TRY(cdpr_robot_init(&p->robot, &p->params, diag));
     const cdpr_status_t st = cdpr_statics_ik(&p->robot, &pp->initial, &pp->ik, &p->initial);
@@ -124,7 +127,7 @@ static cdpr_status_t place_and_settle(cdpr_plant_t *p, cdpr_diag_t *diag)
     }
     cdpr_diag_t d;
     st = cdpr_rkf45_init(&p->rk, &p->pp.settle_rkf45, p->work,
-                         CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX, CDPR_ROBOT_STATE_MAX,
+                         CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX, CDPR_ROBOT_STATE_MAX,
                          p->robot.dim, &d);
     if (st != CDPR_OK) {
         return cdpr_diag_set(diag, st, "settle_rkf45", -1);
@@ -143,11 +146,23 @@ static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
         CDPR_TRY(cdpr_winch_init(&p->winch[j], &p->pp.winch[j], diag));
     }
     p->robot.in.wind_m_per_s = p->pp.wind_m_per_s;
-    cdpr_rkf45_params_t ip = p->pp.rkf45;
     fill_atol(p);
+    if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
+        cdpr_ros_params_t rp = p->pp.ros;
+        rp.atol_vec = p->atol;
+        (void)cdpr_robot_w_init(&p->w, &p->robot); /* cannot fail: both pointers are valid */
+        const cdpr_status_t st =
+            cdpr_ros_init(&p->ros, &rp, p->work, CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX,
+                          CDPR_ROBOT_STATE_MAX, p->robot.dim, diag);
+        if (st != CDPR_OK) {
+            return cdpr_diag_set(diag, st, "ros", (diag != NULL) ? diag->index : -1);
+        }
+        return CDPR_OK;
+    }
+    cdpr_rkf45_params_t ip = p->pp.rkf45;
     ip.atol_vec = p->atol;
     const cdpr_status_t st =
-        cdpr_rkf45_init(&p->rk, &ip, p->work, CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX,
+        cdpr_rkf45_init(&p->rk, &ip, p->work, CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX,
                         CDPR_ROBOT_STATE_MAX, p->robot.dim, diag);
     if (st != CDPR_OK) {
         return cdpr_diag_set(diag, st, "rkf45", (diag != NULL) ? diag->index : -1);
@@ -167,6 +182,12 @@ cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cd
     p->stats.capacity_periods = 0U;
     p->stats.budget_refusals = 0U;
     p->stats.last_failure = CDPR_OK;
+    p->stats.last_rhs_evals = 0U;
+    p->stats.max_rhs_evals = 0U;
+    p->stats.last_factorisations = 0U;
+    p->stats.max_factorisations = 0U;
+    p->stats.last_solves = 0U;
+    p->stats.max_solves = 0U;
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
         p->nodes.insertions[j] = 0U;
         p->nodes.removals[j] = 0U;
@@ -242,18 +263,71 @@ int cdpr_plant_command(cdpr_plant_t *p, cdpr_winch_mode_t mode, const cdpr_real_
 /* The scheme's advance over exactly one period from t: up to max_attempts calls while the
  * budget is refused (CDPR_E_SUBSTEP_LIMIT keeps y, t and what the steps learned, so another
  * attempt over the same interval usually passes). */
+static cdpr_status_t advance_once(cdpr_plant_t *p, cdpr_real_t t)
+{
+    cdpr_real_t tt = t;
+    switch (p->pp.integrator) {
+    case CDPR_PLANT_ROS34PW2: {
+        cdpr_ros_problem_t pb;
+        pb.f = cdpr_robot_rhs;
+        pb.f_ctx = &p->robot;
+        pb.factor = cdpr_robot_w_factor;
+        pb.solve = cdpr_robot_w_solve;
+        pb.lin_ctx = &p->w;
+        return cdpr_ros_advance(&p->ros, &pb, &tt, p->y, p->pp.period_s, p->pp.max_trials);
+    }
+    case CDPR_PLANT_RKF45:
+    default:
+        return cdpr_rkf45_advance(&p->rk, cdpr_robot_rhs, &p->robot, &tt, p->y, p->pp.period_s,
+                                  p->pp.max_trials);
+    }
+}
+
+/* Work counters of the run's integrator: RHS evaluations, factorisations, solves. */
+static void work_counts(const cdpr_plant_t *p, unsigned long *rhs, unsigned long *fac,
+                        unsigned long *sol)
+{
+    if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
+        *rhs = p->ros.stats.rhs_evals;
+        *fac = p->ros.stats.factorisations;
+        *sol = p->ros.stats.solves;
+    } else {
+        *rhs = p->rk.stats.rhs_evals;
+        *fac = 0U;
+        *sol = 0U;
+    }
+}
+
+static unsigned long umax(unsigned long a, unsigned long b)
+{
+    return (a > b) ? a : b;
+}
+
 static cdpr_status_t integrate_period(cdpr_plant_t *p, cdpr_real_t t)
 {
+    unsigned long rhs0;
+    unsigned long fac0;
+    unsigned long sol0;
+    work_counts(p, &rhs0, &fac0, &sol0);
     cdpr_status_t as = CDPR_E_INVALID_ARG;
     for (int attempt = 0; attempt < p->pp.max_attempts; ++attempt) {
-        cdpr_real_t tt = t;
-        as = cdpr_rkf45_advance(&p->rk, cdpr_robot_rhs, &p->robot, &tt, p->y, p->pp.period_s,
-                                p->pp.max_trials);
+        as = advance_once(p, t);
         if (as != CDPR_E_SUBSTEP_LIMIT) {
             break;
         }
         p->stats.budget_refusals++;
     }
+    unsigned long rhs1;
+    unsigned long fac1;
+    unsigned long sol1;
+    work_counts(p, &rhs1, &fac1, &sol1);
+    cdpr_plant_stats_t *s = &p->stats;
+    s->last_rhs_evals = rhs1 - rhs0;
+    s->last_factorisations = fac1 - fac0;
+    s->last_solves = sol1 - sol0;
+    s->max_rhs_evals = umax(s->max_rhs_evals, s->last_rhs_evals);
+    s->max_factorisations = umax(s->max_factorisations, s->last_factorisations);
+    s->max_solves = umax(s->max_solves, s->last_solves);
     return as;
 }
 
@@ -303,7 +377,11 @@ cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags)
         ret = (ret == CDPR_OK) ? ns : ret;
     }
     if (changed != 0) {
-        (void)cdpr_rkf45_set_dim(&p->rk, r->dim);
+        if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
+            (void)cdpr_ros_set_dim(&p->ros, r->dim);
+        } else {
+            (void)cdpr_rkf45_set_dim(&p->rk, r->dim);
+        }
         fill_atol(p);
     }
     *flags = fl;

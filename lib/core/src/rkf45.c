@@ -64,6 +64,7 @@ void cdpr_rkf45_params_default(cdpr_rkf45_params_t *p)
     p->shrink_min = CDPR_R(0.2);
     p->grow_max = CDPR_R(5.0);
     p->force_err_max = CDPR_R(1845.28125); /* (safety / shrink_min)^5 = 4.5^5 */
+    p->pi_beta = CDPR_R(0.0);
 }
 
 cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, cdpr_diag_t *diag)
@@ -100,6 +101,10 @@ cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, 
     if (!(p->force_err_max >= CDPR_R(1.0))) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "force_err_max", -1);
     }
+    CDPR_TRY(check_nonnegative(p->pi_beta, "pi_beta", -1, diag));
+    if (p->pi_beta > CDPR_R(0.2)) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "pi_beta", -1);
+    }
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -127,6 +132,7 @@ cdpr_status_t cdpr_rkf45_init(cdpr_rkf45_t *s, const cdpr_rkf45_params_t *p, cdp
     s->h_ok_s = CDPR_R(0.0);
     s->retry = 0;
     s->last_err = CDPR_R(0.0);
+    s->err_prev = CDPR_R(1e-4);
     s->stats.steps_accepted = 0;
     s->stats.steps_rejected = 0;
     s->stats.nonfinite_rejected = 0;
@@ -148,6 +154,7 @@ cdpr_status_t cdpr_rkf45_set_dim(cdpr_rkf45_t *s, int dim)
         s->h_s = s->p.h_init_s;
     }
     s->h_ok_s = CDPR_R(0.0);
+    s->err_prev = CDPR_R(1e-4);
     return CDPR_OK;
 }
 
@@ -260,6 +267,26 @@ static cdpr_real_t step_factor(const cdpr_rkf45_t *s, cdpr_real_t err)
     return clamp(fac, s->p.shrink_min, s->p.grow_max);
 }
 
+/* Step-size factor after an accepted step. Elementary controller (the same bits as
+ * step_factor) unless pi_beta > 0: then Gustafsson's PI controller in the form of Hairer's
+ * DOPRI5, fac = safety err^-(1/5 - 0.75 beta) err_prev^beta, with err_prev the error norm of
+ * the previous accepted step (at least 1e-4); err_prev is updated here. */
+static cdpr_real_t accept_factor(cdpr_rkf45_t *s, cdpr_real_t err)
+{
+    cdpr_real_t fac;
+    if (!(s->p.pi_beta > CDPR_R(0.0))) {
+        fac = step_factor(s, err);
+    } else {
+        const cdpr_real_t beta = s->p.pi_beta;
+        const cdpr_real_t e = (err > CDPR_R(1e-4)) ? err : CDPR_R(1e-4);
+        const cdpr_real_t expo = CDPR_R(0.2) - (CDPR_R(0.75) * beta);
+        const cdpr_real_t raw = (s->p.safety * CDPR_POW(e, -expo)) * CDPR_POW(s->err_prev, beta);
+        s->err_prev = e;
+        fac = clamp(raw, s->p.shrink_min, s->p.grow_max);
+    }
+    return fac;
+}
+
 /* Classify a trial that produced NaN/Inf: if the starting point itself is not finite (or
  * f(t, y) is not), no smaller step can help. */
 static int start_is_bad(const cdpr_rkf45_t *s, const cdpr_real_t *y)
@@ -318,7 +345,7 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
             *t = (last != 0) ? t_end : *t + h;
             s->stats.steps_accepted++;
             note_accepted(s, h, !last); /* a step shortened to reach t_end only raises it */
-            const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            const cdpr_real_t h_next = clamp(h * accept_factor(s, err), s->p.h_min_s, s->p.h_max_s);
             /* A step clipped to reach t_end says little about the natural step size. */
             s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
             return CDPR_OK;
@@ -428,7 +455,7 @@ static void advance_accept(cdpr_rkf45_t *s, advance_t *a, cdpr_real_t *y, const 
         note_accepted(s, h, a->fresh & own);
         a->fresh &= !own;
     }
-    const cdpr_real_t h_next = clamp(h * step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+    const cdpr_real_t h_next = clamp(h * accept_factor(s, err), s->p.h_min_s, s->p.h_max_s);
     s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
 }
 

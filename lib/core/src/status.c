@@ -48,6 +48,8 @@ const char *cdpr_status_str(cdpr_status_t st)
         return "CDPR_E_INTERRUPTED";
     case CDPR_E_MISMATCH:
         return "CDPR_E_MISMATCH";
+    case CDPR_E_SINGULAR:
+        return "CDPR_E_SINGULAR";
     default:
         return "CDPR_UNKNOWN";
     }

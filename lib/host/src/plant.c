@@ -66,6 +66,9 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
     const cdpr_scenario_integrator_t *in = &sc->integrator;
     pp->rkf45.rtol = in->rtol;
     pp->rkf45.h_max_s = in->h_max_s;
+    pp->integrator = in->method;
+    pp->ros.rtol = in->rtol;
+    pp->ros.h_max_s = in->h_max_s;
     pp->atol.position_m = in->atol_position_m;
     pp->atol.velocity_m_per_s = in->atol_velocity_m_per_s;
     pp->atol.quaternion = in->atol_quaternion;
@@ -111,7 +114,8 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
         return fail(sc, (f[4] == 't') ? "integrator.max_trials" : "integrator.max_attempts",
                     "work bound", d, err);
     }
-    if (strcmp(f, "rkf45") == 0 || strcmp(f, "settle_rkf45") == 0 || strcmp(f, "atol") == 0) {
+    if (strcmp(f, "rkf45") == 0 || strcmp(f, "ros") == 0 || strcmp(f, "settle_rkf45") == 0 ||
+        strcmp(f, "atol") == 0) {
         return fail(sc, "integrator", "integrator", d, err);
     }
     if (strncmp(f, "u_max", 5) == 0 || strncmp(f, "a_max", 5) == 0 || strncmp(f, "kp", 2) == 0 ||

@@ -125,6 +125,7 @@ typedef struct {
     double *h_max_s;
     double *max_trials;   /* whole number, see segments */
     double *max_attempts; /* whole number */
+    cdpr_plant_integrator_t *method;
 } raw_integrator_t;
 
 typedef struct {
@@ -277,7 +278,13 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("damping_rot_N_m_s", raw_controller_t, damping_rot_N_m_s),
     CYAML_FIELD_END,
 };
+static const cyaml_strval_t method_names[] = {
+    {"rkf45", CDPR_PLANT_RKF45},
+    {"ros34pw2", CDPR_PLANT_ROS34PW2},
+};
 static const cyaml_schema_field_t integrator_fields[] = {
+    CYAML_FIELD_ENUM_PTR("method", OPT | CYAML_FLAG_STRICT, raw_integrator_t, method, method_names,
+                         CYAML_ARRAY_LEN(method_names)),
     OPT_NUMP("rtol", raw_integrator_t, rtol),
     OPT_NUMP("atol_position_m", raw_integrator_t, atol_position_m),
     OPT_NUMP("atol_velocity_m_per_s", raw_integrator_t, atol_velocity_m_per_s),
@@ -389,6 +396,7 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->integrator.h_max_s = 0.01;
     sc->integrator.max_trials = 100;
     sc->integrator.max_attempts = 1;
+    sc->integrator.method = CDPR_PLANT_RKF45;
     sc->output_rate_hz = 0.0; /* 0: one row per control period */
 }
 
@@ -520,6 +528,9 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
         }
         if (in->max_attempts != NULL) {
             sc->integrator.max_attempts = (int)*in->max_attempts;
+        }
+        if (in->method != NULL) {
+            sc->integrator.method = *in->method;
         }
     }
     sc->duration_s = r->run.duration_s;

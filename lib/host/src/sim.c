@@ -213,9 +213,15 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
     sum->ik_failures = s->tracker.ik_failures;
     sum->substep_limit_hits = p->stats.substep_limit_hits;
     sum->min_length_periods = p->stats.min_length_periods;
-    sum->steps_accepted = p->rk.stats.steps_accepted;
-    sum->steps_rejected = p->rk.stats.steps_rejected;
-    sum->rhs_evals = p->rk.stats.rhs_evals;
+    if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
+        sum->steps_accepted = p->ros.stats.steps_accepted;
+        sum->steps_rejected = p->ros.stats.steps_rejected;
+        sum->rhs_evals = p->ros.stats.rhs_evals;
+    } else {
+        sum->steps_accepted = p->rk.stats.steps_accepted;
+        sum->steps_rejected = p->rk.stats.steps_rejected;
+        sum->rhs_evals = p->rk.stats.rhs_evals;
+    }
     return rc;
 }
 

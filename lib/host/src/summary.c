@@ -64,6 +64,8 @@ const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator)
     switch (integrator) {
     case CDPR_PLANT_RKF45:
         return "rkf45";
+    case CDPR_PLANT_ROS34PW2:
+        return "ros34pw2";
     }
     return NULL;
 }

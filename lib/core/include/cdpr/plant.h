@@ -24,17 +24,19 @@
 /// plant exactly as it was before the call -- state, time, winches, payout rates -- except for
 /// the failure counters, and says so: the caller keeps the last good state and tries again.
 ///
-/// Integrators: `params.integrator` selects the scheme behind the one advance call; today
-/// CDPR_PLANT_RKF45 (cdpr_rkf45_advance). Adding a scheme adds a value here and a case in
+/// Integrators: `params.integrator` selects the scheme behind the one advance call:
+/// CDPR_PLANT_RKF45 (cdpr_rkf45_advance, the default) or CDPR_PLANT_ROS34PW2 (cdpr_ros_advance
+/// with the robot's W-matrix of robot_w.h). Adding a scheme adds a value here and a case in
 /// plant.c; the contract of the period (exactly Δt, bounded work, transactional) is the
 /// plant's, whatever the scheme.
 ///
-/// Memory: caller-owned (sizeof(cdpr_plant_t) is in docs/api.md; about 230 kB at the default
+/// Memory: caller-owned (sizeof(cdpr_plant_t) is in docs/api.md; about 300 kB at the default
 /// capacities in double: declare it static). The plant's integrator points into the plant's own
 /// arrays, so a plant must not be copied by assignment or memcpy (the copy would integrate
 /// the original's arrays): initialise a second plant instead. No function allocates, keeps a
 /// pointer it was not given, or performs I/O. Work of one period: at most max_attempts x max_trials
-/// integrator trials (RKF45: 6 robot RHS evaluations each, O(total segments) per evaluation) plus
+/// integrator trials (RKF45: 6 robot RHS evaluations each, O(total segments) per evaluation;
+/// ROS34PW2: 4 RHS evaluations, 1 factorisation and 4 solves of W, each O(total segments)) plus
 /// O(state dimension) for the rollback copy and the node events.
 #ifndef CDPR_PLANT_H
 #define CDPR_PLANT_H
@@ -43,6 +45,8 @@
 #include "cdpr/config.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/robot.h"
+#include "cdpr/robot_w.h"
+#include "cdpr/ros34pw2.h"
 #include "cdpr/settle.h"
 #include "cdpr/statics.h"
 #include "cdpr/status.h"
@@ -56,7 +60,8 @@
 
 /// Integration scheme of the plant.
 typedef enum {
-    CDPR_PLANT_RKF45 = 0 ///< adaptive Runge-Kutta-Fehlberg 4(5) (rkf45.h), the reference
+    CDPR_PLANT_RKF45 = 0,   ///< adaptive Runge-Kutta-Fehlberg 4(5) (rkf45.h), the reference
+    CDPR_PLANT_ROS34PW2 = 1 ///< L-stable Rosenbrock-W 3(2) (ros34pw2.h) with robot_w.h
 } cdpr_plant_integrator_t;
 
 /// How the plant starts.
@@ -93,12 +98,19 @@ typedef struct {
     cdpr_rkf45_params_t settle_rkf45;   ///< settling integrator (default rtol 1e-9, atol 1e-10)
     cdpr_plant_integrator_t integrator; ///< scheme of the run; default CDPR_PLANT_RKF45
     cdpr_rkf45_params_t rkf45;          ///< RKF45 settings of the run (atol_vec: set by the plant)
+    cdpr_ros_params_t ros;              ///< ROS34PW2 settings of the run (atol_vec: by the plant)
     cdpr_plant_atol_t atol;             ///< per-component absolute tolerances of the run
     cdpr_real_t period_s;               ///< control period Δt [s], in (0, 10]; default 0.01
     int max_trials;                     ///< integrator trials per attempt, >= 1; default 50
     int max_attempts;                   ///< attempts per period while the budget is refused, in
                                         ///< [1, CDPR_PLANT_MAX_ATTEMPTS]; default 1
 } cdpr_plant_params_t;
+
+/// Workspace reals per state component: the larger of the two integrators' needs (both 9).
+#define CDPR_PLANT_WORK_PER_DIM CDPR_RKF45_WORK_PER_DIM
+#if CDPR_ROS_WORK_PER_DIM > CDPR_PLANT_WORK_PER_DIM
+#error "CDPR_PLANT_WORK_PER_DIM must cover CDPR_ROS_WORK_PER_DIM"
+#endif
 
 /// Largest max_attempts (the work bound of a period is max_attempts x max_trials trials).
 #define CDPR_PLANT_MAX_ATTEMPTS 16
@@ -113,6 +125,14 @@ typedef struct {
     unsigned long budget_refusals;    ///< attempts refused for their trial budget
                                       ///< (CDPR_E_SUBSTEP_LIMIT; retried or failed)
     cdpr_status_t last_failure;       ///< status of the last failed period (CDPR_OK: none)
+    /// Work of the last period (every attempt, failed or not) and the largest since init:
+    /// robot RHS evaluations, factorisations and solves of W (0 with RKF45).
+    unsigned long last_rhs_evals;
+    unsigned long max_rhs_evals;       ///< largest last_rhs_evals since init
+    unsigned long last_factorisations; ///< factorisations of W in the last period
+    unsigned long max_factorisations;  ///< largest last_factorisations since init
+    unsigned long last_solves;         ///< solves with W in the last period
+    unsigned long max_solves;          ///< largest last_solves since init
 } cdpr_plant_stats_t;
 
 /// Measurements at t_k for a controller: what cdpr-rt publishes for state k.
@@ -129,6 +149,8 @@ typedef struct {
     cdpr_real_t y[CDPR_ROBOT_STATE_MAX];       ///< state at t_k (layout: robot.h)
     cdpr_winch_t winch[CDPR_MAX_CABLES];       ///< winches
     cdpr_rkf45_t rk;                           ///< RKF45 of the run (integrator = RKF45)
+    cdpr_ros_t ros;                            ///< ROS34PW2 of the run (integrator = ROS34PW2)
+    cdpr_robot_w_t w;                          ///< its W-matrix (integrator = ROS34PW2)
     cdpr_node_stats_t nodes;                   ///< node insertions/removals per cable
     cdpr_plant_stats_t stats;                  ///< counters
     cdpr_robot_params_t params;                ///< robot parameters with the IK lengths
@@ -140,7 +162,7 @@ typedef struct {
     int commanded;                             ///< command applied, advance pending (internal)
     cdpr_real_t atol[CDPR_ROBOT_STATE_MAX];    ///< per-component tolerances (internal)
     cdpr_real_t scratch[CDPR_ROBOT_STATE_MAX]; ///< settling scratch (internal)
-    cdpr_real_t work[CDPR_RKF45_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX]; ///< (internal)
+    cdpr_real_t work[CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX]; ///< (internal)
     cdpr_winch_t winch_before[CDPR_MAX_CABLES]; ///< winches before the period (internal)
     cdpr_real_t payout_before[CDPR_MAX_CABLES]; ///< payout rates before it (internal)
 } cdpr_plant_t;
@@ -148,8 +170,9 @@ typedef struct {
 /// Defaults: the robot of cdpr_robot_params_default (one cable: set six for the IK), default
 /// winch limits, cabin at the origin, level, no wind, IK defaults, settled start in double
 /// (catenary start in float), settling defaults with rtol 1e-9 / atol 1e-10, RKF45 with its
-/// defaults, absolute tolerances 1e-6 m, 1e-5 m/s, 1e-8, 1e-6 rad/s, Δt = 0.01 s, 50 trials,
-/// 1 attempt. O(cables); cannot fail.
+/// defaults (the run's integrator), ROS34PW2 with its defaults but jac_reuse_max 4, absolute
+/// tolerances 1e-6 m, 1e-5 m/s, 1e-8, 1e-6 rad/s, Δt = 0.01 s, 50 trials, 1 attempt. O(cables);
+/// cannot fail.
 void cdpr_plant_params_default(cdpr_plant_params_t *pp);
 
 /// Validate the plant's own fields of `pp` (not the robot, winch, IK and integrator settings,
@@ -176,7 +199,7 @@ cdpr_status_t cdpr_plant_init_model(cdpr_plant_t *p, const cdpr_plant_params_t *
 /// cdpr_statics_place_catenary's (diag.field "initial"); settling: CDPR_E_NO_CONVERGENCE or
 /// an integrator error (diag.field "settle"; p->settle holds steps and residual);
 /// cdpr_winch_init's (diag names the winch field); cdpr_rkf45_init's for the settling
-/// ("settle_rkf45") or the run ("rkf45").
+/// ("settle_rkf45") or the run ("rkf45"); cdpr_ros_init's for the run ("ros").
 cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cdpr_diag_t *diag);
 
 /// Plant time t_k = k Δt [s]. O(1); cannot fail.
@@ -209,7 +232,8 @@ cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags);
 /// or an error with the plant as before the call, CDPR_PLANT_STEP_FAILED in *flags and the
 /// failure counted (stats.step_failures, stats.last_failure): CDPR_E_INVALID_ARG (plant not
 /// ready, NULL), or the integrator's CDPR_E_SUBSTEP_LIMIT (budget refused on every attempt),
-/// CDPR_E_STATE_NOT_FINITE, CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS. Work: see the file comment.
+/// CDPR_E_STATE_NOT_FINITE, CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS, CDPR_E_SINGULAR (ROS34PW2).
+/// Work: see the file comment.
 /// No allocation. Real-time safe.
 cdpr_status_t cdpr_plant_step(cdpr_plant_t *p, cdpr_winch_mode_t mode, const cdpr_real_t *value,
                               int *flags);

@@ -40,6 +40,12 @@ typedef struct {
     /// them). Default 1845.28125 = (safety / shrink_min)^5 of the defaults: the largest error
     /// that the step-size formula corrects with a single rejection.
     cdpr_real_t force_err_max;
+    /// Step-size controller after an accepted step: 0 (default) the elementary
+    /// h * clamp(safety err^-1/5, shrink_min, grow_max); in (0, 0.2] Gustafsson's PI controller
+    /// h * clamp(safety err^-(1/5 - 0.75 pi_beta) err_prev^pi_beta, ...) (Hairer's DOPRI5 form;
+    /// 0.04 there), err_prev the previous accepted step's error norm (>= 1e-4). Rejections use
+    /// the elementary factor either way. 0 gives the same bits as before the option existed.
+    cdpr_real_t pi_beta;
 } cdpr_rkf45_params_t;
 
 /// Counters (plain fields, read-only for users; reset by cdpr_rkf45_init).
@@ -70,6 +76,7 @@ typedef struct {
     cdpr_real_t h_ok_s;
     int retry; ///< 1 after advance returned CDPR_E_SUBSTEP_LIMIT, until an advance call succeeds
     cdpr_real_t last_err; ///< error norm of the last trial (<= 1: it passed the error test)
+    cdpr_real_t err_prev; ///< error norm of the last accepted step (PI controller; >= 1e-4)
     cdpr_rkf45_stats_t stats;
 } cdpr_rkf45_t;
 
@@ -84,7 +91,7 @@ void cdpr_rkf45_params_default(cdpr_rkf45_params_t *p);
 /// - CDPR_E_NOT_POSITIVE: atol, an atol_vec entry, h_init_s, h_min_s, h_max_s, safety or
 ///   shrink_min <= 0.
 /// - CDPR_E_OUT_OF_RANGE: rtol < 0, h_max_s < h_min_s, safety >= 1, shrink_min >= 1,
-///   grow_max <= 1, or force_err_max < 1.
+///   grow_max <= 1, force_err_max < 1, or pi_beta outside [0, 0.2].
 /// CDPR_OK (diag: status OK, field "", index -1) otherwise.
 cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, cdpr_diag_t *diag);
 

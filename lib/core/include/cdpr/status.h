@@ -8,9 +8,9 @@
 /// call (cdpr_rkf45_advance, cdpr_plant_step, every *_init's output object) leaves the state it
 /// integrates as it was; what a call does leave behind on error (counters, a learned step
 /// size, an iteration count) is stated in its header. The core
-/// returns CDPR_OK .. CDPR_E_SUBSTEP_LIMIT; the host layers (files, LCM, threads) add
-/// CDPR_E_IO, CDPR_E_PARSE, CDPR_E_INTERRUPTED and CDPR_E_MISMATCH. Libraries return these; only
-/// the apps map them to process exit codes (one table, docs/api.md).
+/// returns CDPR_OK .. CDPR_E_SUBSTEP_LIMIT and CDPR_E_SINGULAR; the host layers (files, LCM,
+/// threads) add CDPR_E_IO, CDPR_E_PARSE, CDPR_E_INTERRUPTED and CDPR_E_MISMATCH. Libraries return
+/// these; only the apps map them to process exit codes (one table, docs/api.md).
 #ifndef CDPR_STATUS_H
 #define CDPR_STATUS_H
 
@@ -34,7 +34,8 @@ typedef enum {
     CDPR_E_IO = -13,              ///< host: a file, socket, thread or LCM provider failed
     CDPR_E_PARSE = -14,           ///< host: an input file is malformed (syntax, key, type)
     CDPR_E_INTERRUPTED = -15,     ///< host: stopped early on request (a signal); work kept
-    CDPR_E_MISMATCH = -16         ///< host: a result differs from its reference (replay check)
+    CDPR_E_MISMATCH = -16,        ///< host: a result differs from its reference (replay check)
+    CDPR_E_SINGULAR = -17         ///< a linear system (W of ros34pw2.h) is singular or not finite
 } cdpr_status_t;
 
 /// Name of a status ("CDPR_E_GEOMETRY"). Never NULL (unknown values give "CDPR_UNKNOWN").

@@ -23,6 +23,7 @@
 #include <stdio.h>
 
 #include "cdpr/plant.h"
+#include "cdpr/plant.h"
 #include "cdpr/status.h"
 #include "cdpr/host/presets.h"
 #include "cdpr/host/rig.h"
@@ -34,14 +35,15 @@
 
 /// Integrator settings of a scenario (inputs).
 typedef struct {
-    double rtol;                  ///< relative tolerance
-    double atol_position_m;       ///< absolute tolerance of positions and lengths [m]
-    double atol_velocity_m_per_s; ///< of velocities [m/s]
-    double atol_quaternion;       ///< of quaternion components [-]
-    double atol_rate_rad_per_s;   ///< of body rates [rad/s]
-    double h_max_s;               ///< largest step [s]
-    int max_trials;               ///< integrator trials per attempt (bounded work)
-    int max_attempts;             ///< attempts per period while the budget is refused (>= 1)
+    double rtol;                    ///< relative tolerance
+    double atol_position_m;         ///< absolute tolerance of positions and lengths [m]
+    double atol_velocity_m_per_s;   ///< of velocities [m/s]
+    double atol_quaternion;         ///< of quaternion components [-]
+    double atol_rate_rad_per_s;     ///< of body rates [rad/s]
+    double h_max_s;                 ///< largest step [s]
+    int max_trials;                 ///< integrator trials per attempt (bounded work)
+    int max_attempts;               ///< attempts per period while the budget is refused (>= 1)
+    cdpr_plant_integrator_t method; ///< integrator.method: rkf45 (default) or ros34pw2
 } cdpr_scenario_integrator_t;
 
 /// Where a scenario's robot comes from.

@@ -1,0 +1,542 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/// @file ros34pw2.c
+/// Rosenbrock-W method ROS34PW2 with step control (docs/model.md "Time integration").
+///
+/// Coefficients: J. Rang and L. Angermann, "New Rosenbrock W-methods of order 3 for partial
+/// differential algebraic equations of index 1", BIT 45 (2005) 761-787, method ROS34PW2, in
+/// the (alpha, Gamma, b, bhat) form of Hairer & Wanner IV.7:
+///   gamma = 0.435866521508459
+///   alpha21 = 0.87173304301691801, alpha31 = 0.84457060015369423,
+///   alpha32 = -0.11299064236484185, alpha41 = alpha42 = 0, alpha43 = 1
+///   gamma21 = -0.87173304301691801, gamma31 = -0.90338057013044082,
+///   gamma32 = 0.054180672388095326, gamma41 = 0.24212380706095346,
+///   gamma42 = -1.2232505839045147, gamma43 = 0.54526025533510214
+///   b    = (0.24212380706095346, -1.2232505839045147, 1.5452602553351020, gamma)
+///   bhat = (0.37810903145819369, -0.096042292212423178, 0.5, 0.2179332607542295)
+/// and transformed here (30-digit arithmetic) to a = alpha Gamma^-1, c = diag(1/gamma) -
+/// Gamma^-1, m = b Gamma^-1, mhat = bhat Gamma^-1, so that no product with J is needed. The
+/// order conditions (order 3, embedded 2) hold for these values to 2e-16; tests/unit/
+/// test_ros34pw2.c measures the order and the stability function.
+#include "cdpr/ros34pw2.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "check.h"
+
+#define GAMMA CDPR_R(0.435866521508459)
+/* Stage times alpha_i = sum_j alpha_ij. */
+#define ALPHA2 CDPR_R(0.87173304301691801)
+#define ALPHA3 CDPR_R(0.73157995778885238)
+#define ALPHA4 CDPR_R(1.0)
+/* a_ij (stage states). */
+#define A21 CDPR_R(2.0000000000000000229)
+#define A31 CDPR_R(1.4192173174557646500)
+#define A32 CDPR_R(-0.25923221167296971378)
+#define A41 CDPR_R(4.1847604823191607312)
+#define A42 CDPR_R(-0.28519201735549591370)
+#define A43 CDPR_R(2.2942803602790417167)
+/* c_ij (stage right-hand sides). */
+#define C21 CDPR_R(-4.5885607205580834861)
+#define C31 CDPR_R(-4.1847604823191607312)
+#define C32 CDPR_R(0.28519201735549591370)
+#define C41 CDPR_R(-6.3681792001283577635)
+#define C42 CDPR_R(-6.7956209444668361844)
+#define C43 CDPR_R(2.8700986043310560892)
+/* m_i (propagated solution; stiffly accurate: m_i = a_4i, m_4 = 1). */
+#define M1 CDPR_R(4.1847604823191601453)
+#define M2 CDPR_R(-0.28519201735549587377)
+#define M3 CDPR_R(2.2942803602790413955)
+#define M4 CDPR_R(1.0)
+/* e_i = m_i - mhat_i (error estimate). */
+#define E1 CDPR_R(0.27774994764796811038)
+#define E2 CDPR_R(-1.4032398951759990242)
+#define E3 CDPR_R(1.7726301276675507452)
+#define E4 CDPR_R(0.5)
+
+/* Workspace slots. */
+#define U1   0
+#define U2   1
+#define U3   2
+#define U4   3
+#define YTMP 4
+#define F1   5
+#define FT   6
+#define YNEW 7
+#define YBAK 8
+
+static cdpr_real_t *ros_slot(const cdpr_ros_t *s, int k)
+{
+    return s->work + (size_t)k * (size_t)s->dim_max;
+}
+
+void cdpr_ros_params_default(cdpr_ros_params_t *p)
+{
+    p->rtol = CDPR_R(1e-6);
+    p->atol = CDPR_R(1e-8);
+    p->atol_vec = NULL;
+    p->h_init_s = CDPR_R(1e-4);
+    p->h_min_s = CDPR_R(1e-12);
+    p->h_max_s = CDPR_R(1.0);
+    p->safety = CDPR_R(0.9);
+    p->shrink_min = CDPR_R(0.2);
+    p->grow_max = CDPR_R(5.0);
+    p->force_err_max = CDPR_R(91.125); /* (safety / shrink_min)^3 = 4.5^3 */
+    p->jac_reuse_max = 0;
+}
+
+cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr_diag_t *diag)
+{
+    if (p == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "ros", -1);
+    }
+    CDPR_TRY(check_nonnegative(p->rtol, "rtol", -1, diag));
+    CDPR_TRY(check_positive(p->atol, "atol", -1, diag));
+    if (p->atol_vec != NULL) {
+        for (int i = 0; i < dim; ++i) {
+            CDPR_TRY(check_positive(p->atol_vec[i], "atol_vec", i, diag));
+        }
+    }
+    CDPR_TRY(check_positive(p->h_init_s, "h_init_s", -1, diag));
+    CDPR_TRY(check_positive(p->h_min_s, "h_min_s", -1, diag));
+    CDPR_TRY(check_positive(p->h_max_s, "h_max_s", -1, diag));
+    if (p->h_max_s < p->h_min_s) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "h_max_s", -1);
+    }
+    CDPR_TRY(check_positive(p->safety, "safety", -1, diag));
+    if (!(p->safety < CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "safety", -1);
+    }
+    CDPR_TRY(check_positive(p->shrink_min, "shrink_min", -1, diag));
+    if (!(p->shrink_min < CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "shrink_min", -1);
+    }
+    CDPR_TRY(check_finite(p->grow_max, "grow_max", -1, diag));
+    if (!(p->grow_max > CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "grow_max", -1);
+    }
+    CDPR_TRY(check_finite(p->force_err_max, "force_err_max", -1, diag));
+    if (!(p->force_err_max >= CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "force_err_max", -1);
+    }
+    if (p->jac_reuse_max < 0) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "jac_reuse_max", -1);
+    }
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_status_t cdpr_ros_init(cdpr_ros_t *s, const cdpr_ros_params_t *p, cdpr_real_t *work,
+                            int work_len, int dim_max, int dim, cdpr_diag_t *diag)
+{
+    if (s == NULL || work == NULL) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, (s == NULL) ? "solver" : "work", -1);
+    }
+    if (dim_max < 1) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "dim_max", dim_max);
+    }
+    if (dim < 1 || dim > dim_max) {
+        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "dim", dim);
+    }
+    if ((long)work_len < (long)CDPR_ROS_WORK_PER_DIM * (long)dim_max) {
+        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "work_len", work_len);
+    }
+    CDPR_TRY(cdpr_ros_params_validate(p, dim, diag));
+    s->p = *p;
+    s->work = work;
+    s->dim_max = dim_max;
+    s->dim = dim;
+    s->h_s = (p->h_init_s < p->h_max_s) ? p->h_init_s : p->h_max_s;
+    s->last_err = CDPR_R(0.0);
+    s->w_gh = CDPR_R(0.0);
+    s->w_valid = 0;
+    s->w_uses = 0;
+    s->stats.steps_accepted = 0;
+    s->stats.steps_rejected = 0;
+    s->stats.nonfinite_rejected = 0;
+    s->stats.rhs_evals = 0;
+    s->stats.factorisations = 0;
+    s->stats.solves = 0;
+    s->stats.forced_steps = 0;
+    s->stats.substep_limit_hits = 0;
+    s->stats.substep_limit_failures = 0;
+    s->stats.singular_failures = 0;
+    s->stats.failures = 0;
+    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+}
+
+cdpr_status_t cdpr_ros_set_dim(cdpr_ros_t *s, int dim)
+{
+    if (s == NULL || dim < 1 || dim > s->dim_max) {
+        return CDPR_E_CAPACITY;
+    }
+    s->dim = dim;
+    s->w_valid = 0;
+    return CDPR_OK;
+}
+
+void cdpr_ros_invalidate(cdpr_ros_t *s)
+{
+    if (s != NULL) {
+        s->w_valid = 0;
+    }
+}
+
+/* One counted call of f. */
+static cdpr_status_t ros_eval(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                              const cdpr_real_t *y, cdpr_real_t *dydt)
+{
+    s->stats.rhs_evals++;
+    return (pb->f(t, y, dydt, pb->f_ctx) < 0) ? CDPR_E_RHS : CDPR_OK;
+}
+
+/* One counted solve; a refused solve forgets the factorisation. */
+static cdpr_status_t ros_solve(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, const cdpr_real_t *b,
+                               cdpr_real_t *x)
+{
+    s->stats.solves++;
+    if (pb->solve(pb->lin_ctx, b, x) < 0) {
+        s->w_valid = 0;
+        return CDPR_E_SINGULAR;
+    }
+    return CDPR_OK;
+}
+
+/* W for gamma h: the one in force while it may be reused, else a counted factorisation. A W
+ * made for gamma h' is I - gamma h (h'/h) J: still a W-method matrix (order kept), close to the
+ * exact one while h'/h is within 1e-3 of 1 (equal steps of advance differ by rounding). */
+static cdpr_status_t ros_prepare_w(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                                   const cdpr_real_t *y, cdpr_real_t gh)
+{
+    const cdpr_real_t d = gh - s->w_gh;
+    if (s->w_valid != 0 && !(CDPR_FABS(d) > CDPR_R(1e-3) * gh) && s->w_uses < s->p.jac_reuse_max) {
+        s->w_uses++;
+        return CDPR_OK;
+    }
+    s->stats.factorisations++;
+    s->w_valid = 0;
+    if (pb->factor(pb->lin_ctx, t, y, gh) < 0) {
+        return CDPR_E_SINGULAR;
+    }
+    s->w_gh = gh;
+    s->w_uses = 0;
+    s->w_valid = (s->p.jac_reuse_max > 0) ? 1 : 0;
+    return CDPR_OK;
+}
+
+/* One trial; `have_f1` says slot F1 already holds f(t, y). The slots never alias each other
+ * or y/y_out. */
+static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                             const cdpr_real_t *restrict y, cdpr_real_t h,
+                             cdpr_real_t *restrict y_out, cdpr_real_t *err, int have_f1)
+{
+    const int n = s->dim;
+    cdpr_real_t *restrict u1 = ros_slot(s, U1);
+    cdpr_real_t *restrict u2 = ros_slot(s, U2);
+    cdpr_real_t *restrict u3 = ros_slot(s, U3);
+    cdpr_real_t *restrict u4 = ros_slot(s, U4);
+    cdpr_real_t *restrict yt = ros_slot(s, YTMP);
+    cdpr_real_t *restrict f1 = ros_slot(s, F1);
+    cdpr_real_t *restrict ft = ros_slot(s, FT);
+    const cdpr_real_t gh = GAMMA * h;
+
+    if (have_f1 == 0) {
+        CDPR_TRY(ros_eval(s, pb, t, y, f1));
+    }
+    CDPR_TRY(ros_prepare_w(s, pb, t, y, gh));
+    /* Stage 1: W u1 = gamma h f(t, y). */
+    for (int i = 0; i < n; ++i) {
+        ft[i] = gh * f1[i];
+    }
+    CDPR_TRY(ros_solve(s, pb, ft, u1));
+    /* Stage 2. */
+    for (int i = 0; i < n; ++i) {
+        yt[i] = y[i] + A21 * u1[i];
+    }
+    CDPR_TRY(ros_eval(s, pb, t + ALPHA2 * h, yt, ft));
+    for (int i = 0; i < n; ++i) {
+        ft[i] = gh * ft[i] + GAMMA * (C21 * u1[i]);
+    }
+    CDPR_TRY(ros_solve(s, pb, ft, u2));
+    /* Stage 3. */
+    for (int i = 0; i < n; ++i) {
+        yt[i] = y[i] + (A31 * u1[i] + A32 * u2[i]);
+    }
+    CDPR_TRY(ros_eval(s, pb, t + ALPHA3 * h, yt, ft));
+    for (int i = 0; i < n; ++i) {
+        ft[i] = gh * ft[i] + GAMMA * (C31 * u1[i] + C32 * u2[i]);
+    }
+    CDPR_TRY(ros_solve(s, pb, ft, u3));
+    /* Stage 4. */
+    for (int i = 0; i < n; ++i) {
+        yt[i] = y[i] + (A41 * u1[i] + A42 * u2[i] + A43 * u3[i]);
+    }
+    CDPR_TRY(ros_eval(s, pb, t + ALPHA4 * h, yt, ft));
+    for (int i = 0; i < n; ++i) {
+        ft[i] = gh * ft[i] + GAMMA * (C41 * u1[i] + C42 * u2[i] + C43 * u3[i]);
+    }
+    CDPR_TRY(ros_solve(s, pb, ft, u4));
+
+    /* New state, error estimate, weighted max-norm and finiteness in one pass. */
+    const cdpr_real_t rtol = s->p.rtol;
+    const cdpr_real_t *av = s->p.atol_vec;
+    const cdpr_real_t atol = s->p.atol;
+    cdpr_real_t emax = CDPR_R(0.0);
+    int bad = 0;
+    for (int i = 0; i < n; ++i) {
+        const cdpr_real_t yn = y[i] + (M1 * u1[i] + M2 * u2[i] + M3 * u3[i] + M4 * u4[i]);
+        const cdpr_real_t e = E1 * u1[i] + E2 * u2[i] + E3 * u3[i] + E4 * u4[i];
+        const cdpr_real_t ay = CDPR_FABS(y[i]);
+        const cdpr_real_t an = CDPR_FABS(yn);
+        const cdpr_real_t sc = ((av != NULL) ? av[i] : atol) + rtol * ((ay > an) ? ay : an);
+        const cdpr_real_t r = CDPR_FABS(e) / sc;
+        bad |= !isfinite(yn);
+        if (!(r <= emax)) {
+            emax = r; /* also propagates NaN */
+        }
+        y_out[i] = yn;
+    }
+    if (bad != 0 || !isfinite(emax)) {
+        emax = (cdpr_real_t)INFINITY;
+    }
+    s->last_err = emax;
+    if (err != NULL) {
+        *err = emax;
+    }
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_ros_trial(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                             const cdpr_real_t *y, cdpr_real_t h, cdpr_real_t *y_out,
+                             cdpr_real_t *err)
+{
+    return ros_try(s, pb, t, y, h, y_out, err, 0);
+}
+
+static int ros_all_finite(const cdpr_real_t *v, int n)
+{
+    for (int i = 0; i < n; ++i) {
+        if (!isfinite(v[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static cdpr_real_t ros_clamp(cdpr_real_t x, cdpr_real_t lo, cdpr_real_t hi)
+{
+    return (x < lo) ? lo : ((x > hi) ? hi : x);
+}
+
+/* Step-size factor from the error norm (error ~ h^3 for the embedded order-2 estimate). */
+static cdpr_real_t ros_step_factor(const cdpr_ros_t *s, cdpr_real_t err)
+{
+    if (!(err > CDPR_R(0.0))) {
+        return s->p.grow_max;
+    }
+    const cdpr_real_t fac = s->p.safety * CDPR_POW(err, CDPR_R(-1.0) / CDPR_R(3.0));
+    return ros_clamp(fac, s->p.shrink_min, s->p.grow_max);
+}
+
+/* A trial that produced NaN/Inf from a non-finite start (y or f(t, y)): no smaller step can
+ * help. */
+static int ros_start_is_bad(const cdpr_ros_t *s, const cdpr_real_t *y)
+{
+    return (ros_all_finite(y, s->dim) == 0) || (ros_all_finite(ros_slot(s, F1), s->dim) == 0);
+}
+
+static void ros_copy(cdpr_real_t *dst, const cdpr_real_t *src, int n)
+{
+    for (int i = 0; i < n; ++i) {
+        dst[i] = src[i];
+    }
+}
+
+static int ros_problem_ok(const cdpr_ros_problem_t *pb)
+{
+    return (pb != NULL && pb->f != NULL && pb->factor != NULL && pb->solve != NULL) ? 1 : 0;
+}
+
+/* Count a failed call and return its status. */
+static cdpr_status_t ros_failed(cdpr_ros_t *s, cdpr_status_t st)
+{
+    s->stats.failures++;
+    if (st == CDPR_E_SINGULAR) {
+        s->stats.singular_failures++;
+    }
+    return st;
+}
+
+cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
+                            cdpr_real_t *y, cdpr_real_t t_end)
+{
+    if (s == NULL || ros_problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
+        !isfinite(t_end) || !(t_end > *t)) {
+        return CDPR_E_INVALID_ARG;
+    }
+    if (ros_all_finite(y, s->dim) == 0) {
+        return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
+    }
+    cdpr_real_t *yn = ros_slot(s, YNEW);
+    int have_f1 = 0;
+    /* Bounded: every rejection multiplies h by at most max(safety, shrink_min) < 1, and h_min
+     * ends it. */
+    for (;;) {
+        const cdpr_real_t remaining = t_end - *t;
+        cdpr_real_t h = ros_clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        const int last = (h >= remaining) ? 1 : 0;
+        if (last != 0) {
+            h = remaining;
+        }
+        cdpr_real_t err = CDPR_R(0.0);
+        const cdpr_status_t ts = ros_try(s, pb, *t, y, h, yn, &err, have_f1);
+        if (ts != CDPR_OK) {
+            return ros_failed(s, ts);
+        }
+        have_f1 = 1; /* a retry starts from the same (t, y) */
+        if (!isfinite(err)) {
+            if (ros_start_is_bad(s, y) != 0) {
+                return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
+            }
+            s->stats.nonfinite_rejected++;
+            s->h_s = h * s->p.shrink_min;
+        } else if (err <= CDPR_R(1.0)) {
+            ros_copy(y, yn, s->dim);
+            *t = (last != 0) ? t_end : *t + h;
+            s->stats.steps_accepted++;
+            const cdpr_real_t h_next =
+                ros_clamp(h * ros_step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            /* A step clipped to reach t_end says little about the natural step size. */
+            s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
+            return CDPR_OK;
+        } else {
+            s->stats.steps_rejected++;
+            s->h_s = h * ros_step_factor(s, err);
+        }
+        if (s->h_s < s->p.h_min_s) {
+            s->h_s = s->p.h_min_s;
+            if (h <= s->p.h_min_s) {
+                return ros_failed(s, CDPR_E_STEP_TOO_SMALL);
+            }
+        }
+    }
+}
+
+/* 1 if `budget` accepted steps starting at h, each growing by grow_max (capped at h_max),
+ * could cover `remaining`. O(budget), no RHS calls. */
+static int ros_can_reach(const cdpr_ros_t *s, cdpr_real_t h, int budget, cdpr_real_t remaining)
+{
+    cdpr_real_t sum = CDPR_R(0.0);
+    cdpr_real_t hi = (h < s->p.h_max_s) ? h : s->p.h_max_s;
+    for (int i = 0; i < budget; ++i) {
+        sum += hi;
+        if (sum >= remaining) {
+            return 1;
+        }
+        hi *= s->p.grow_max;
+        hi = (hi < s->p.h_max_s) ? hi : s->p.h_max_s;
+    }
+    return 0;
+}
+
+cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
+                               cdpr_real_t *y, cdpr_real_t dt, int max_trials)
+{
+    if (s == NULL || ros_problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
+        !isfinite(dt) || !(dt > CDPR_R(0.0)) || max_trials < 1) {
+        return CDPR_E_INVALID_ARG;
+    }
+    if (ros_all_finite(y, s->dim) == 0) {
+        return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
+    }
+    cdpr_real_t *yn = ros_slot(s, YNEW);
+    cdpr_real_t *yb = ros_slot(s, YBAK);
+    const cdpr_real_t t0 = *t;
+    const cdpr_real_t t_end = t0 + dt;
+    const cdpr_real_t h_saved = s->h_s;
+    cdpr_real_t tc = t0;
+    int have_f1 = 0;
+    int equal = 0;
+    int forced = 0;
+    ros_copy(yb, y, s->dim);
+
+    cdpr_status_t st = CDPR_OK;
+    for (int trials = 0; (st == CDPR_OK) && (tc < t_end); ++trials) {
+        const cdpr_real_t remaining = t_end - tc;
+        const int budget = max_trials - trials;
+        if (budget < 1) {
+            st = CDPR_E_SUBSTEP_LIMIT; /* not reached: the last trial is an equal step */
+            break;
+        }
+        cdpr_real_t h = ros_clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        if (equal == 0 && (budget == 1 || ros_can_reach(s, h, budget, remaining) == 0)) {
+            equal = 1;
+        }
+        if (equal != 0) {
+            h = remaining / (cdpr_real_t)budget;
+        }
+        /* Do not leave a sliver much shorter than the step: take the rest now. */
+        const int last = (h >= remaining * CDPR_R(0.999)) ? 1 : 0;
+        if (last != 0) {
+            h = remaining;
+        }
+        cdpr_real_t err = CDPR_R(0.0);
+        st = ros_try(s, pb, tc, y, h, yn, &err, have_f1);
+        if (st != CDPR_OK) {
+            break;
+        }
+        have_f1 = 1; /* until a step is accepted, the next trial starts from here */
+        if (!isfinite(err)) {
+            if (ros_start_is_bad(s, y) != 0) {
+                st = CDPR_E_STATE_NOT_FINITE;
+            } else if (equal != 0) {
+                st = CDPR_E_SUBSTEP_LIMIT; /* an equal step cannot shrink */
+            } else {
+                s->stats.nonfinite_rejected++;
+                s->h_s = h * s->p.shrink_min;
+            }
+        } else if (err <= CDPR_R(1.0) || (equal != 0 && err <= s->p.force_err_max)) {
+            ros_copy(y, yn, s->dim);
+            have_f1 = 0;
+            tc = (last != 0) ? t_end : tc + h;
+            s->stats.steps_accepted++;
+            if (err > CDPR_R(1.0)) {
+                s->stats.forced_steps++;
+                forced++;
+            }
+            const cdpr_real_t h_next =
+                ros_clamp(h * ros_step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
+        } else {
+            s->stats.steps_rejected++;
+            const cdpr_real_t h_next = h * ros_step_factor(s, err);
+            /* An equal step was not the controller's choice: its rejection never raises h_s. */
+            s->h_s = (equal != 0 && s->h_s < h_next) ? s->h_s : h_next;
+            if (equal != 0) {
+                st = CDPR_E_SUBSTEP_LIMIT; /* the rest no longer fits in the budget */
+            }
+        }
+        if ((st == CDPR_OK) && (s->h_s < s->p.h_min_s)) {
+            if (h <= s->p.h_min_s) {
+                st = CDPR_E_STEP_TOO_SMALL;
+            } else {
+                s->h_s = s->p.h_min_s;
+            }
+        }
+    }
+    if (st < 0) {
+        ros_copy(y, yb, s->dim);
+        *t = t0;
+        if (st == CDPR_E_SUBSTEP_LIMIT) {
+            s->stats.substep_limit_failures++;
+        } else {
+            s->h_s = (s->h_s < h_saved) ? s->h_s : h_saved;
+        }
+        return ros_failed(s, st);
+    }
+    *t = t_end;
+    if (forced != 0) {
+        s->stats.substep_limit_hits++;
+        return CDPR_WARN_SUBSTEP_LIMIT;
+    }
+    return CDPR_OK;
+}
