@@ -14,6 +14,7 @@
 #include "cdpr/plant.h"
 #include "cdpr/robot_w.h"
 #include "cdpr/ros34pw2.h"
+#include "paper_plant.h"
 #include "test_real.h"
 #include "unity.h"
 
@@ -22,54 +23,12 @@ void tearDown(void) {}
 
 /* The paper's 50 m model (docs/robots.md) as in test_plant.c, 8 segments per cable. */
 #define SEGMENTS 8
-static const double EXIT_AZ_DEG[6] = {0.0, 60.0, 120.0, 180.0, 240.0, 300.0};
-static const double ATTACH_AZ_DEG[6] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
-static const double HOME_Z_M = 9.135;
 
 static cdpr_plant_t plant;
 
 static void robot_params(cdpr_plant_params_t *pp)
 {
-    cdpr_plant_params_default(pp);
-    cdpr_robot_params_t *r = &pp->robot;
-    r->n_cables = 6;
-    r->cabin.mass_kg = CDPR_R(40.0);
-    r->cabin.inertia_com_kg_m2.m[0][0] = CDPR_R(45.0);
-    r->cabin.inertia_com_kg_m2.m[1][1] = CDPR_R(45.0);
-    r->cabin.inertia_com_kg_m2.m[2][2] = CDPR_R(90.0);
-    for (int j = 0; j < 6; ++j) {
-        cdpr_robot_cable_params_t *c = &r->cables[j];
-        const double th = EXIT_AZ_DEG[j] * CDPR_PI / 180.0;
-        const double ph = ATTACH_AZ_DEG[j] * CDPR_PI / 180.0;
-        c->exit_point_m =
-            cdpr_v3((cdpr_real_t)(25.0 * cos(th)), (cdpr_real_t)(25.0 * sin(th)), CDPR_R(30.0));
-        c->attach_body_m =
-            cdpr_v3((cdpr_real_t)(2.0 * cos(ph)), (cdpr_real_t)(2.0 * sin(ph)), CDPR_R(-0.5));
-        c->n_segments = SEGMENTS;
-        c->length_m = CDPR_R(31.5); /* replaced by the IK */
-        c->cable.d0_m = CDPR_R(0.006);
-        c->cable.rho_kg_per_m = CDPR_R(0.14);
-        c->cable.ea_N = CDPR_R(2.0e6);
-        c->cable.damping_Ns = CDPR_R(170.0);
-        c->cable.cd = CDPR_R(1.2);
-        c->cable.cm = CDPR_R(0.03);
-        c->cable.rho_air_kg_per_m3 = CDPR_R(1.225);
-    }
-    const cdpr_real_t pose[6] = {CDPR_R(0.0), CDPR_R(0.0), (cdpr_real_t)HOME_Z_M,
-                                 CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
-    pp->initial = cdpr_cabin_motion_at_pose(pose);
-#ifdef CDPR_REAL_IS_FLOAT
-    /* float resolves the strain of EA = 2 MN ropes to ~1e-7 (0.24 N per segment): ask the
-     * integrator for what float can honour (docs/firmware.md). */
-    pp->rkf45.rtol = CDPR_R(1e-4);
-    pp->atol.position_m = CDPR_R(1e-4);
-    pp->atol.velocity_m_per_s = CDPR_R(1e-4);
-    pp->atol.quaternion = CDPR_R(1e-4);
-    pp->atol.rate_rad_per_s = CDPR_R(1e-4);
-#endif
-    pp->rkf45.h_max_s = CDPR_R(0.01);
-    pp->period_s = CDPR_R(0.01);
-    pp->max_trials = 400;
+    test_paper_plant_params(pp, SEGMENTS);
 }
 
 static void init_plant(cdpr_plant_t *p, const cdpr_plant_params_t *pp)

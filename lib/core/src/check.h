@@ -64,4 +64,54 @@ static inline cdpr_status_t check_finite_v3(cdpr_vec3_t v, const char *field, in
         }                                                                                          \
     } while (0)
 
+/// Step-control settings shared by the adaptive integrators (rkf45.h, ros34pw2.h).
+typedef struct {
+    cdpr_real_t rtol;
+    cdpr_real_t atol;
+    const cdpr_real_t *atol_vec;
+    cdpr_real_t h_init_s;
+    cdpr_real_t h_min_s;
+    cdpr_real_t h_max_s;
+    cdpr_real_t safety;
+    cdpr_real_t shrink_min;
+    cdpr_real_t grow_max;
+    cdpr_real_t force_err_max;
+} check_step_t;
+
+/// Validate step-control settings (the integrators' documented ranges; `diag` names the field,
+/// index = component for atol_vec).
+static inline cdpr_status_t check_step_control(const check_step_t *p, int dim, cdpr_diag_t *diag)
+{
+    CDPR_TRY(check_nonnegative(p->rtol, "rtol", -1, diag));
+    CDPR_TRY(check_positive(p->atol, "atol", -1, diag));
+    if (p->atol_vec != NULL) {
+        for (int i = 0; i < dim; ++i) {
+            CDPR_TRY(check_positive(p->atol_vec[i], "atol_vec", i, diag));
+        }
+    }
+    CDPR_TRY(check_positive(p->h_init_s, "h_init_s", -1, diag));
+    CDPR_TRY(check_positive(p->h_min_s, "h_min_s", -1, diag));
+    CDPR_TRY(check_positive(p->h_max_s, "h_max_s", -1, diag));
+    if (p->h_max_s < p->h_min_s) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "h_max_s", -1);
+    }
+    CDPR_TRY(check_positive(p->safety, "safety", -1, diag));
+    if (!(p->safety < CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "safety", -1);
+    }
+    CDPR_TRY(check_positive(p->shrink_min, "shrink_min", -1, diag));
+    if (!(p->shrink_min < CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "shrink_min", -1);
+    }
+    CDPR_TRY(check_finite(p->grow_max, "grow_max", -1, diag));
+    if (!(p->grow_max > CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "grow_max", -1);
+    }
+    CDPR_TRY(check_finite(p->force_err_max, "force_err_max", -1, diag));
+    if (!(p->force_err_max >= CDPR_R(1.0))) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "force_err_max", -1);
+    }
+    return CDPR_OK;
+}
+
 #endif /* CDPR_CHECK_H */

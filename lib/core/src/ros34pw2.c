@@ -90,35 +90,9 @@ cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr
     if (p == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "ros", -1);
     }
-    CDPR_TRY(check_nonnegative(p->rtol, "rtol", -1, diag));
-    CDPR_TRY(check_positive(p->atol, "atol", -1, diag));
-    if (p->atol_vec != NULL) {
-        for (int i = 0; i < dim; ++i) {
-            CDPR_TRY(check_positive(p->atol_vec[i], "atol_vec", i, diag));
-        }
-    }
-    CDPR_TRY(check_positive(p->h_init_s, "h_init_s", -1, diag));
-    CDPR_TRY(check_positive(p->h_min_s, "h_min_s", -1, diag));
-    CDPR_TRY(check_positive(p->h_max_s, "h_max_s", -1, diag));
-    if (p->h_max_s < p->h_min_s) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "h_max_s", -1);
-    }
-    CDPR_TRY(check_positive(p->safety, "safety", -1, diag));
-    if (!(p->safety < CDPR_R(1.0))) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "safety", -1);
-    }
-    CDPR_TRY(check_positive(p->shrink_min, "shrink_min", -1, diag));
-    if (!(p->shrink_min < CDPR_R(1.0))) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "shrink_min", -1);
-    }
-    CDPR_TRY(check_finite(p->grow_max, "grow_max", -1, diag));
-    if (!(p->grow_max > CDPR_R(1.0))) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "grow_max", -1);
-    }
-    CDPR_TRY(check_finite(p->force_err_max, "force_err_max", -1, diag));
-    if (!(p->force_err_max >= CDPR_R(1.0))) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "force_err_max", -1);
-    }
+    const check_step_t sc = {p->rtol,    p->atol,   p->atol_vec,   p->h_init_s, p->h_min_s,
+                             p->h_max_s, p->safety, p->shrink_min, p->grow_max, p->force_err_max};
+    CDPR_TRY(check_step_control(&sc, dim, diag));
     if (p->jac_reuse_max < 0) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "jac_reuse_max", -1);
     }
