@@ -129,6 +129,8 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
     rec->duration_s = sc->duration_s;
     rec->sum = sum;
     sum->min_tension_N = (double)INFINITY;
+    /* Known only if state 0 is recorded (a tracker over LCM may miss it): else null. */
+    sum->initial_error_m = (double)NAN;
     sum->nodes_min = CDPR_MAX_SEGMENTS;
     sum->nodes_max = 0;
     if (out_dir == NULL) {

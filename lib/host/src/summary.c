@@ -330,11 +330,17 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
 {
     fprintf(f, "%s: %s%s%s\n", title, cdpr_sim_status_name(s->status),
             (s->message[0] != '\0') ? " - " : "", s->message);
+    char initial[32];
+    if (isfinite(s->initial_error_m)) {
+        snprintf(initial, sizeof initial, "%.4g m", s->initial_error_m);
+    } else {
+        snprintf(initial, sizeof initial, "unknown: state 0 not seen");
+    }
     fprintf(f,
-            "  tracking error  rms %.4g m, max %.4g m, final %.4g m (initial %.4g m); "
+            "  tracking error  rms %.4g m, max %.4g m, final %.4g m (initial %s); "
             "attitude rms %.1f mrad, max %.1f mrad\n",
-            s->rms_error_m, s->max_error_m, s->final_error_m, s->initial_error_m,
-            1e3 * s->rms_error_rad, 1e3 * s->max_error_rad);
+            s->rms_error_m, s->max_error_m, s->final_error_m, initial, 1e3 * s->rms_error_rad,
+            1e3 * s->max_error_rad);
     fprintf(f, "  tensions        %.4g .. %.4g N;  payout |u| <= %.3g m/s\n", s->min_tension_N,
             s->max_tension_N, s->max_payout_m_per_s);
     if (s->node_insertions != CDPR_SIM_UNKNOWN && s->node_removals != CDPR_SIM_UNKNOWN) {
