@@ -15,6 +15,7 @@
 
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sim.h"
+#include "text_files.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -104,48 +105,6 @@ static const char MINIMAL[] = "robot:\n"
                               "run:\n"
                               "  duration_s: 1.0\n"
                               "  period_s: 0.01\n";
-
-static char tmp_dir[512];
-
-static void make_tmp(void)
-{
-    snprintf(tmp_dir, sizeof tmp_dir, "%s", CDPR_TEST_TMP);
-    mkdir(tmp_dir, 0775); /* parent (the build directory) exists; EEXIST is fine */
-}
-
-static void write_text(const char *path, const char *text)
-{
-    FILE *f = fopen(path, "w");
-    TEST_ASSERT_NOT_NULL_MESSAGE(f, path);
-    TEST_ASSERT_TRUE(fputs(text, f) >= 0);
-    TEST_ASSERT_EQUAL_INT(0, fclose(f));
-}
-
-/* text with the first occurrence of `from` replaced by `to` (into out). */
-static void replace(const char *text, const char *from, const char *to, char *out, size_t cap)
-{
-    const char *at = strstr(text, from);
-    TEST_ASSERT_NOT_NULL_MESSAGE(at, from);
-    const size_t head = (size_t)(at - text);
-    TEST_ASSERT_TRUE(head + strlen(to) + strlen(at + strlen(from)) < cap);
-    memcpy(out, text, head);
-    strcpy(out + head, to);
-    strcat(out, at + strlen(from));
-}
-
-/* 1-based line of the first line containing `marker`, or 0. */
-static int line_of(const char *text, const char *marker)
-{
-    const char *at = strstr(text, marker);
-    if (at == NULL) {
-        return 0;
-    }
-    int line = 1;
-    for (const char *p = text; p < at; ++p) {
-        line += (*p == '\n') ? 1 : 0;
-    }
-    return line;
-}
 
 /* Run cdpr-sim with `args`; stdout+stderr into out; returns the exit status. */
 static int run_sim(const char *args, char *out, size_t cap)
