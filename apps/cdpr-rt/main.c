@@ -43,8 +43,9 @@ static void usage(FILE *f)
             "by a periodic thread; publishes <prefix>CABIN_STATE, CABLE_TENSIONS, CABLE_SHAPE,\n"
             "DIAGNOSTICS and takes <prefix>WINCH_COMMAND (docs/realtime.md).\n\n"
             "  --rate HZ              control rate (default: 1 / the scenario's run.period_s)\n"
-            "  --duration S           plant time to run, a whole number of periods (default:\n"
-            "                         the scenario's run.duration_s)\n"
+            "  --duration S           plant time to run, a whole number of periods; failed\n"
+            "                         periods do not count (default: the scenario's\n"
+            "                         run.duration_s)\n"
             "  --lockstep             step only when the command answering the last state came\n"
             "                         (deterministic: bit-identical to the in-process loop)\n"
             "  --lockstep-timeout S   lockstep: hold after waiting S for an answer (default 2)\n"
@@ -68,8 +69,9 @@ static void usage(FILE *f)
             "  --quiet                no telemetry summary\n"
             "  --help                 this text\n"
             "  --version              version and git description\n\n"
-            "exit codes: 0 completed, 1 stopped by a signal, 2 bad command line or scenario,\n"
-            "            3 LCM/thread start-up or output failure, unreadable scenario\n");
+            "exit codes: 0 completed, 1 stopped by a signal or a plant that cannot advance,\n"
+            "            2 bad command line or scenario, 3 LCM/thread start-up or output\n"
+            "            failure, unreadable scenario, 5 another plant on the channels\n");
 }
 
 static int parse(int argc, char **argv, options_t *o)
@@ -155,6 +157,25 @@ static int parse(int argc, char **argv, options_t *o)
         return -1;
     }
     return 0;
+}
+
+/* Reports from the node's threads: one line each on stderr. */
+static void on_other_plant(int64_t session, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-rt: warning: another plant (session %lld) publishes on this plant's channels: "
+            "one plant per channel prefix (the run will end with exit code 5)\n",
+            (long long)session);
+}
+
+static void on_overload(long periods, long misses, double rate_hz, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-rt: warning: %ld of the first %ld periods missed their deadline: this machine "
+            "does not hold %.0f Hz (plant time falls behind wall time)\n",
+            misses, periods, rate_hz);
 }
 
 /* Everything big is static. */
@@ -251,6 +272,8 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(st);
     }
     o.rt.stop = cdpr_app_stop_on_signals();
+    o.rt.lcm.on_other_plant = on_other_plant;
+    o.rt.on_overload = on_overload;
     if (o.with_tracker != 0) {
         o.rt.lcm.on_open = tracker_open;
         o.rt.lcm.on_open_ctx = &g_tracker;
@@ -274,8 +297,10 @@ int main(int argc, char **argv)
                 (o.rt.lcm.url != NULL) ? o.rt.lcm.url : "liblcm's default URL");
     }
     st = cdpr_rt_run(&g_rt, &err);
-    if (st == CDPR_E_IO) {
+    if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
+    }
+    if (st == CDPR_E_IO) {
         return cdpr_app_exit_code(st);
     }
     if (o.quiet == 0) {

@@ -270,7 +270,10 @@ static void replay_on_state(const lcm_recv_buf_t *rbuf, const char *channel, voi
     }
     if (r->have_cmd[st.seq] != 0) {
         unsigned char buf[256];
-        const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &r->cmd[st.seq]);
+        /* The fresh plant is a new plant session: answer it, with the recorded values. */
+        cdpr_winch_command_t c = r->cmd[st.seq];
+        c.plant_session = st.plant_session;
+        const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &c);
         if (len > 0 && lcm_publish(r->lcm, r->ch_command, buf, (unsigned int)len) == 0) {
             r->answered++;
         }
@@ -332,6 +335,25 @@ static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_record_t g_record;
 static cdpr_sim_summary_t g_sum;
 
+/* Session events of the node (docs/realtime.md, "Sessions"): one line each on stderr. */
+static void on_plant_restart(int64_t old_session, int64_t new_session, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-tracker: plant restarted (session %lld -> %lld): following the new plant from "
+            "t = 0\n",
+            (long long)old_session, (long long)new_session);
+}
+
+static void on_other_plant(int64_t followed, int64_t other, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-tracker: warning: another plant (session %lld) publishes on the channels of "
+            "plant %lld: its states are ignored; one plant per channel prefix\n",
+            (long long)other, (long long)followed);
+}
+
 /* The scenario (with the overrides), the controller's model, the node and its recorder. */
 static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
 {
@@ -364,6 +386,8 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     }
     g_tracker.on_step = cdpr_rt_tracker_record_step;
     g_tracker.on_step_ctx = &g_record;
+    g_tracker.on_plant_restart = on_plant_restart;
+    g_tracker.on_other_plant = on_other_plant;
     return CDPR_OK;
 }
 
@@ -500,6 +524,9 @@ int main(int argc, char **argv)
     }
     const double wall0 = cdpr_clock_now_s();
     st = serve(&o, &sc, lcm);
+    if (st == CDPR_OK && g_tracker.stats.other_plant_states > 0) {
+        st = CDPR_E_CONFLICT; /* completed, but next to another plant */
+    }
     cdpr_rt_tracker_detach(&g_tracker);
     lcm_destroy(lcm);
     return cdpr_app_exit_code(finish(&o, &sc, st, wall0));

@@ -35,12 +35,13 @@
 typedef struct {
     lcm_t *lcm;
     char command_channel[CDPR_LCM_CHANNEL_MAX];
-    int silent;           // 1: do not answer
-    int stall_ms;         // >0: sleep that long in the next state handler, then reset to 0
-    int stalling;         // 1 while sleeping
-    int bad_batch;        // 1: publish every kind of bad command before the answer; 2: no answer
-    int64_t next_seq;     // command seq (bridge thread only)
-    uint64_t states_seen; // atomic
+    int silent;            // 1: do not answer
+    int stall_ms;          // >0: sleep that long in the next state handler, then reset to 0
+    int stalling;          // 1 while sleeping
+    int bad_batch;         // 1: publish every kind of bad command before the answer; 2: no answer
+    int64_t next_seq;      // command seq (bridge thread only)
+    int64_t plant_session; // of the last state seen (bridge thread only)
+    uint64_t states_seen;  // atomic
     uint64_t tensions_seen;
 } controller_t;
 
@@ -74,6 +75,8 @@ static cdpr_winch_command_t answer(controller_t *c, int64_t state_seq)
     m.utime_us = state_seq * 1000;
     m.seq = c->next_seq;
     m.state_seq = state_seq;
+    m.controller_session = 1;
+    m.plant_session = c->plant_session;
     m.mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
     m.n_cables = 6;
     for (j = 0; j < 6; j++) {
@@ -136,6 +139,7 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         return;
     }
     __atomic_fetch_add(&c->states_seen, 1u, __ATOMIC_RELAXED);
+    c->plant_session = st.plant_session;
     stall = __atomic_exchange_n(&c->stall_ms, 0, __ATOMIC_ACQ_REL);
     if (stall > 0) {
         __atomic_store_n(&c->stalling, 1, __ATOMIC_RELEASE);
@@ -217,6 +221,7 @@ static cdpr_status_t push_state(int64_t k, int32_t flags)
     s.utime_us = k * 1000;
     s.seq = k;
     s.command_seq = -1;
+    s.plant_session = cdpr_lcm_bridge_session(&bridge);
     s.orientation[0] = 1.0;
     s.position_m[2] = 2.0 + 1e-6 * (double)k;
     s.flags = flags;
@@ -229,6 +234,7 @@ static cdpr_status_t push_tensions(int64_t k)
     memset(&t, 0, sizeof t);
     t.utime_us = k * 1000;
     t.seq = k;
+    t.plant_session = cdpr_lcm_bridge_session(&bridge);
     t.n_cables = 6;
     return cdpr_lcm_bridge_push_tensions(&bridge, &t);
 }
