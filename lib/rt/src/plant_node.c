@@ -400,29 +400,38 @@ static void *periodic(void *arg)
     return NULL;
 }
 
+/* The overload report: more than CDPR_RT_OVERLOAD_RATIO of the periods so far missed. */
+static void check_overload(cdpr_rt_t *rt)
+{
+    const long n = __atomic_load_n(&rt->mon_periods, __ATOMIC_RELAXED);
+    const long m = __atomic_load_n(&rt->mon_misses, __ATOMIC_RELAXED);
+    if (n > 0 && (double)m > CDPR_RT_OVERLOAD_RATIO * (double)n) {
+        rt->tel.overloaded = 1;
+        rt->tel.overload_periods = n;
+        rt->tel.overload_misses = m;
+        if (rt->o.on_overload != NULL) {
+            rt->o.on_overload(n, m, 1e9 / (double)rt->period_ns, rt->o.on_overload_ctx);
+        }
+    }
+}
+
 /* The caller's thread while the periodic thread runs: one look at the deadline misses after
- * the first second of a free-running run (the overload report), then wait for the end. */
+ * the first second of a free-running run (or at its end, when shorter), then wait. */
 static void watch(cdpr_rt_t *rt)
 {
     const struct timespec tick = {0, 20000000}; /* 20 ms */
-    const int64_t t_start = cdpr_lcm_now_ns();
-    const int64_t t_check = t_start + (int64_t)llround((rt->o.start_delay_s + 1.0) * 1e9);
+    const int64_t t_check =
+        cdpr_lcm_now_ns() + (int64_t)llround((rt->o.start_delay_s + 1.0) * 1e9);
     int checked = (rt->o.lockstep != 0) ? 1 : 0;
     while (__atomic_load_n(&rt->done, __ATOMIC_ACQUIRE) == 0) {
         (void)nanosleep(&tick, NULL);
         if (checked == 0 && cdpr_lcm_now_ns() >= t_check) {
             checked = 1;
-            const long n = __atomic_load_n(&rt->mon_periods, __ATOMIC_RELAXED);
-            const long m = __atomic_load_n(&rt->mon_misses, __ATOMIC_RELAXED);
-            if (n > 0 && (double)m > CDPR_RT_OVERLOAD_RATIO * (double)n) {
-                rt->tel.overloaded = 1;
-                rt->tel.overload_periods = n;
-                rt->tel.overload_misses = m;
-                if (rt->o.on_overload != NULL) {
-                    rt->o.on_overload(n, m, 1e9 / (double)rt->period_ns, rt->o.on_overload_ctx);
-                }
-            }
+            check_overload(rt);
         }
+    }
+    if (checked == 0) {
+        check_overload(rt);
     }
 }
 

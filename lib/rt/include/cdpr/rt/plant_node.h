@@ -42,9 +42,9 @@
 /// with CDPR_E_CONFLICT (it ran to its end, but its commands may have been meant for the other
 /// plant).
 ///
-/// Overload: when, one second into a free-running run, more than CDPR_RT_OVERLOAD_RATIO of
-/// the periods have missed their deadline, the node calls on_overload once (the machine does
-/// not hold this rate) and says so in the telemetry.
+/// Overload: when, one second into a free-running run (or at its end, if shorter), more than
+/// CDPR_RT_OVERLOAD_RATIO of the periods have missed their deadline, the node calls
+/// on_overload once (the machine does not hold this rate) and says so in the telemetry.
 #ifndef CDPR_RT_PLANT_NODE_H
 #define CDPR_RT_PLANT_NODE_H
 
@@ -84,7 +84,8 @@ typedef struct {
     void (*on_rt_thread)(int phase, void *ctx);
     void *on_rt_thread_ctx;
     /// Optional: called once on the caller's thread (inside cdpr_rt_run) when the first second
-    /// of a free-running run missed more than CDPR_RT_OVERLOAD_RATIO of its deadlines.
+    /// of a free-running run (or the whole run, if shorter) missed more than
+    /// CDPR_RT_OVERLOAD_RATIO of its deadlines.
     void (*on_overload)(long periods, long misses, double rate_hz, void *ctx);
     void *on_overload_ctx;
 } cdpr_rt_opts_t;
