@@ -69,10 +69,13 @@ const volatile int *cdpr_app_stop_on_signals(void)
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
     /* No SA_RESTART: a blocking wait (poll, select in lcm_handle) returns EINTR and the
-     * app looks at the flag. */
+     * app looks at the flag. SIGHUP ignored at start (nohup) stays ignored. */
     (void)sigaction(SIGINT, &sa, NULL);
     (void)sigaction(SIGTERM, &sa, NULL);
-    (void)sigaction(SIGHUP, &sa, NULL);
+    struct sigaction hup;
+    if (sigaction(SIGHUP, NULL, &hup) != 0 || hup.sa_handler != SIG_IGN) {
+        (void)sigaction(SIGHUP, &sa, NULL);
+    }
     return &g_stop;
 }
 
