@@ -128,7 +128,10 @@ static void note(cdpr_sim_summary_t *sum, const char *what)
     }
 }
 
-/* The control loop. Returns CDPR_OK (reached the end) or the error that stopped it. */
+static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum);
+
+/* The control loop. Returns CDPR_OK (reached the end) or the error that stopped it (a signal:
+ * CDPR_E_INTERRUPTED; the CSV: CDPR_E_IO). */
 static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
                           double duration, cdpr_sim_summary_t *sum, double wall0)
 {
@@ -216,7 +219,15 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
     if (shown != 0) {
         progress(o, sum->sim_time_s, duration, cdpr_clock_now_s() - wall0, 1);
     }
-    for (int j = 0; j < nc; ++j) {
+    collect_counts(s, sum);
+    return rc;
+}
+
+/* The plant's and the controller's counts of the run into the summary. */
+static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum)
+{
+    const cdpr_plant_t *p = &s->plant;
+    for (int j = 0; j < p->robot.p.n_cables; ++j) {
         sum->node_insertions += p->nodes.insertions[j];
         sum->node_removals += p->nodes.removals[j];
         sum->capacity_hits += p->nodes.capacity_hits[j];
@@ -233,7 +244,6 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
         sum->steps_rejected = p->rk.stats.steps_rejected;
         sum->rhs_evals = p->rk.stats.rhs_evals;
     }
-    return rc;
 }
 
 /* Status of a run that reached its end or stopped (rc), with the first warning as message. */

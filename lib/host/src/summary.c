@@ -111,6 +111,31 @@ void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_
     }
 }
 
+/* Close a written summary. Every fprintf/fputc into it left its failure in the stream's error
+ * flag; a full device shows at the flush: check the flag, the flush and the close, keep the
+ * first errno. A regular file that could not be written whole is emptied (the reader then says
+ * "empty file"), never left as torn JSON; the directory entry is left alone (the path may be a
+ * device or a link). CDPR_OK or CDPR_E_IO with errno set. */
+static cdpr_status_t close_summary(FILE *f)
+{
+    int e = 0;
+    if (fflush(f) != 0 || ferror(f) != 0) {
+        e = (errno != 0) ? errno : EIO;
+        struct stat sb;
+        if (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode)) {
+            (void)ftruncate(fileno(f), 0);
+        }
+    }
+    if (fclose(f) != 0 && e == 0) {
+        e = (errno != 0) ? errno : EIO;
+    }
+    if (e != 0) {
+        errno = e;
+        return CDPR_E_IO;
+    }
+    return CDPR_OK;
+}
+
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum)
 {
@@ -196,27 +221,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         }
     }
     fprintf(f, "\n}\n");
-    /* Every fprintf/fputc above leaves its failure in the stream's error flag; a full device
-     * shows at the flush: check the flag, the flush and the close, keep the first errno. A
-     * regular file that could not be written whole is emptied (the reader then says "empty
-     * file"), never left as torn JSON; the directory entry is left alone (the path may be a
-     * device or a link). */
-    int e = 0;
-    if (fflush(f) != 0 || ferror(f) != 0) {
-        e = (errno != 0) ? errno : EIO;
-        struct stat sb;
-        if (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode)) {
-            (void)ftruncate(fileno(f), 0);
-        }
-    }
-    if (fclose(f) != 0 && e == 0) {
-        e = (errno != 0) ? errno : EIO;
-    }
-    if (e != 0) {
-        errno = e;
-        return CDPR_E_IO;
-    }
-    return CDPR_OK;
+    return close_summary(f);
 }
 
 /* ---------------------------------------------------------------- reading summary.json */
