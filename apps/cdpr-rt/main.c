@@ -9,8 +9,9 @@
 /// them, each with a note on stderr when it changes the file's value.
 ///
 /// Exit codes (the apps' one table, app_status.h): 0 run completed, 1 stopped early
-/// (SIGINT/SIGTERM), 2 bad command line or scenario, 3 LCM, thread or output failure (also:
-/// the scenario file cannot be read).
+/// (SIGINT/SIGTERM/SIGHUP: telemetry printed, --tracker-out written with status
+/// "interrupted"), 2 bad command line or scenario, 3 LCM, thread or output failure (the file
+/// and strerror on stderr; it outranks 1; also: the scenario file cannot be read).
 #include <getopt.h>
 #include <limits.h>
 #include <math.h>
@@ -71,7 +72,8 @@ static void usage(FILE *f)
             "  --version              version and git description\n\n"
             "exit codes: 0 completed, 1 stopped by a signal or a plant that cannot advance,\n"
             "            2 bad command line or scenario, 3 LCM/thread start-up or output\n"
-            "            failure, unreadable scenario, 5 another plant on the channels\n");
+            "            failure, unreadable scenario, 5 another plant on the channels\n"
+            "            SIGINT/SIGTERM/SIGHUP: telemetry, --tracker-out \"interrupted\", exit 1\n");
 }
 
 static int parse(int argc, char **argv, options_t *o)
@@ -218,12 +220,18 @@ static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc
     return CDPR_OK;
 }
 
-/* The in-process tracker's summary and outputs. CDPR_OK or CDPR_E_IO. */
-static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *sc)
+/* The in-process tracker's summary (status: `run` of the plant, or io_error when its CSV
+ * failed) and outputs: the CSV's whole rows, summary.json even after a CSV failure (another
+ * file: it may fit), the figures only when both were written. CDPR_OK or CDPR_E_IO after
+ * printing "cdpr-rt: FILE: why". */
+static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *sc,
+                                    cdpr_status_t run)
 {
     cdpr_status_t st = cdpr_sim_rec_close(&g_record.rec);
+    cdpr_scenario_error_t err;
     if (st != CDPR_OK) {
-        fprintf(stderr, "cdpr-rt: %s/timeseries.csv: write error\n", o->tracker_out);
+        cdpr_sim_rec_io_error(&g_record.rec, &err);
+        fprintf(stderr, "cdpr-rt: %s\n", err.msg);
     }
     g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
@@ -244,15 +252,31 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
     g_tracker_sum.settle_wall_time_s = (double)NAN; /* not measured by cdpr_rt_init */
     g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
     g_tracker_sum.status = CDPR_SIM_OK;
-    snprintf(g_tracker_sum.message, sizeof g_tracker_sum.message, "%llu commands",
+    const char *why = "";
+    if (st != CDPR_OK) {
+        g_tracker_sum.status = CDPR_SIM_IO_ERROR;
+        why = "timeseries.csv write failed; ";
+    } else if (run == CDPR_E_INTERRUPTED) {
+        g_tracker_sum.status = CDPR_SIM_INTERRUPTED;
+        why = "interrupted by a signal; ";
+    } else if (run == CDPR_E_CONFLICT) {
+        g_tracker_sum.status = CDPR_SIM_WARNINGS;
+        why = "another plant shared the channels; ";
+    } else if (run != CDPR_OK) {
+        g_tracker_sum.status = CDPR_SIM_FAILED;
+        why = "the plant could not advance; ";
+    }
+    snprintf(g_tracker_sum.message, sizeof g_tracker_sum.message, "%s%llu commands", why,
              (unsigned long long)g_tracker.stats.answered);
     if (o->quiet == 0) {
         cdpr_sim_print_summary(stdout, "in-process tracker", &g_tracker_sum);
     }
-    if (o->tracker_out != NULL && st == CDPR_OK) {
+    if (o->tracker_out != NULL) {
         char script[1200];
         (void)cdpr_app_data_file("scripts/plot_sim.gp", script, sizeof script);
-        st = cdpr_app_write_outputs("cdpr-rt", sc, o->tracker_out, &g_tracker_sum, script);
+        const cdpr_status_t ws = cdpr_app_write_outputs(
+            "cdpr-rt", sc, o->tracker_out, &g_tracker_sum, (st == CDPR_OK) ? script : NULL);
+        st = (st == CDPR_OK) ? ws : st;
     }
     return st;
 }
@@ -307,8 +331,9 @@ int main(int argc, char **argv)
         cdpr_rt_print_summary(&g_rt, stdout);
     }
     if (o.with_tracker != 0) {
-        const cdpr_status_t ts = tracker_finish(&o, &sc);
-        st = (st == CDPR_OK) ? ts : st;
+        /* An output failure (exit 3) outranks a stop by a signal (exit 1). */
+        const cdpr_status_t ts = tracker_finish(&o, &sc, st);
+        st = (ts != CDPR_OK) ? ts : st;
     }
     return cdpr_app_exit_code(st);
 }

@@ -4,8 +4,10 @@
 /// robot) and write DIR/timeseries.csv, DIR/summary.json and PNG figures (gnuplot).
 ///
 /// Exit codes (the apps' one table, app_status.h): 0 run completed (also with warnings, see
-/// summary.json "status"), 1 the simulation stopped early, 2 bad command line or bad
-/// scenario, 3 output error (also: the scenario file cannot be read).
+/// summary.json "status"), 1 the simulation stopped early (integrator; or SIGINT/SIGTERM/SIGHUP:
+/// status "interrupted", whole rows, summary written), 2 bad command line or bad scenario,
+/// 3 output error, with the file and strerror (summary status "io_error" where it can still be
+/// written; also: the scenario file cannot be read).
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -54,7 +56,8 @@ static void usage(FILE *f)
             "  --help              this text\n"
             "  --version           version and git description\n\n"
             "exit codes: 0 run completed (status ok or warnings), 1 simulation stopped early,\n"
-            "            2 bad command line or scenario, 3 output error or unreadable scenario\n",
+            "            2 bad command line or scenario, 3 output error or unreadable scenario\n"
+            "            SIGINT/SIGTERM/SIGHUP: whole rows, summary.json \"interrupted\", exit 1\n",
             g_default_script);
 }
 
@@ -142,6 +145,7 @@ int main(int argc, char **argv)
     cdpr_sim_opts_default(&so);
     so.out_dir = o.out_dir;
     so.progress_stream = stderr;
+    so.stop = cdpr_app_stop_on_signals();
     if (o.quiet == 0) {
         const int tty = isatty(STDERR_FILENO);
         /* A rewritten line on a terminal; plain lines when forced into a file or pipe. */
@@ -155,7 +159,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "cdpr-sim: %s\n", err.msg);
         return cdpr_app_exit_code(st);
     }
-    if (st != CDPR_OK) {
+    if (st == CDPR_E_INTERRUPTED) {
+        fprintf(stderr, "cdpr-sim: %s: %s\n", o.scenario, sum.message);
+    } else if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-sim: %s: simulation stopped early: %s\n", o.scenario, sum.message);
     }
     cdpr_status_t plotted = CDPR_E_IO;

@@ -68,8 +68,14 @@ const volatile int *cdpr_app_stop_on_signals(void)
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
+    /* No SA_RESTART: a blocking wait (poll, select in lcm_handle) returns EINTR and the
+     * app looks at the flag. SIGHUP ignored at start (nohup) stays ignored. */
     (void)sigaction(SIGINT, &sa, NULL);
     (void)sigaction(SIGTERM, &sa, NULL);
+    struct sigaction hup;
+    if (sigaction(SIGHUP, NULL, &hup) != 0 || hup.sa_handler != SIG_IGN) {
+        (void)sigaction(SIGHUP, &sa, NULL);
+    }
     return &g_stop;
 }
 
@@ -83,8 +89,11 @@ cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc
                                      const char *plot_script)
 {
     char path[1100];
-    if (cdpr_fs_path(path, sizeof path, out_dir, "summary.json") != CDPR_OK ||
-        cdpr_sim_write_summary(path, sc, sum) != CDPR_OK) {
+    if (cdpr_fs_path(path, sizeof path, out_dir, "summary.json") != CDPR_OK) {
+        fprintf(stderr, "%s: %s/summary.json: path too long\n", prog, out_dir);
+        return CDPR_E_IO;
+    }
+    if (cdpr_sim_write_summary(path, sc, sum) != CDPR_OK) {
         fprintf(stderr, "%s: %s: cannot write: %s\n", prog, path, strerror(errno));
         return CDPR_E_IO;
     }

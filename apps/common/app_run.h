@@ -38,8 +38,11 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
                                 const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc);
 
-/// Install SIGINT/SIGTERM handlers that set the returned flag (0 until a signal came; the
-/// apps' loops and the plant node's periodic thread check it). Same flag on every call.
+/// Install SIGINT, SIGTERM and SIGHUP handlers (alike, without SA_RESTART) that set the
+/// returned flag (0 until a signal came; the apps' loops, cdpr_sim_run and the plant node's
+/// periodic thread check it). Same flag on every call. The apps then end as for a stop: whole
+/// CSV rows, summary.json with status "interrupted", exit 1 (CDPR_E_INTERRUPTED). A SIGHUP
+/// that was ignored when the app started (nohup) stays ignored.
 const volatile int *cdpr_app_stop_on_signals(void);
 
 /// Title of a run's figures: the scenario's description, else its file.

@@ -123,6 +123,7 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
 {
     memset(rec, 0, sizeof *rec);
     rec->prev_k = -1;
+    rec->last_row_k = -1;
     cdpr_sim_provenance_init(&sum->prov, sc->path, pp);
     rec->n_cables = n_cables;
     rec->every = cdpr_scenario_output_every(sc);
@@ -141,9 +142,12 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
                  strerror(errno));
         return CDPR_E_IO;
     }
-    char path[1100];
-    if (cdpr_fs_path(path, sizeof path, out_dir, "timeseries.csv") != CDPR_OK ||
-        cdpr_csv_open(&rec->csv, path) != CDPR_OK) {
+    char *path = rec->csv_path;
+    if (cdpr_fs_path(path, sizeof rec->csv_path, out_dir, "timeseries.csv") != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "%s/timeseries.csv: path too long", out_dir);
+        return CDPR_E_IO;
+    }
+    if (cdpr_csv_open(&rec->csv, path) != CDPR_OK) {
         snprintf(err->msg, sizeof err->msg, "%s: cannot write: %s", path, strerror(errno));
         return CDPR_E_IO;
     }
@@ -153,7 +157,7 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
     return CDPR_OK;
 }
 
-void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row)
+cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row)
 {
     cdpr_sim_summary_t *sum = rec->sum;
     const int nc = rec->n_cables;
@@ -202,9 +206,16 @@ void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_r
     }
     sum->periods = k;
     sum->sim_time_s = row->t_s;
-    if (rec->csv_open != 0 && (k % rec->every == 0 || last != 0)) {
-        csv_row(rec, row, &smp);
+    if (rec->csv_open == 0) {
+        return CDPR_OK;
     }
+    /* A row when t_k reaches the next output instant (not k % every: a period may be unseen). */
+    if (k > rec->last_row_k && (k >= rec->next_row_k || last != 0)) {
+        csv_row(rec, row, &smp);
+        rec->last_row_k = k;
+        rec->next_row_k = (k / rec->every + 1) * rec->every;
+    }
+    return (rec->csv.failed != 0) ? CDPR_E_IO : CDPR_OK;
 }
 
 void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
@@ -227,10 +238,22 @@ cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec)
     if (!isfinite(sum->min_tension_N)) {
         sum->min_tension_N = 0.0;
     }
-    cdpr_status_t st = CDPR_OK;
     if (rec->csv_open != 0) {
-        st = cdpr_csv_close(&rec->csv);
+        (void)cdpr_csv_close(&rec->csv);
         rec->csv_open = 0;
     }
-    return st;
+    return (rec->csv.failed != 0) ? CDPR_E_IO : CDPR_OK;
+}
+
+int cdpr_sim_rec_errno(const cdpr_sim_rec_t *rec)
+{
+    return (rec->csv.failed != 0) ? rec->csv.error : 0;
+}
+
+void cdpr_sim_rec_io_error(const cdpr_sim_rec_t *rec, cdpr_scenario_error_t *err)
+{
+    const int e = cdpr_sim_rec_errno(rec);
+    snprintf(err->msg, sizeof err->msg, "%s: write failed: %s",
+             (rec->csv_path[0] != '\0') ? rec->csv_path : "timeseries.csv",
+             (e != 0) ? strerror(e) : "unknown error");
 }

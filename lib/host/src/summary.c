@@ -3,8 +3,11 @@
 /// summary.json writer and reader, and the end-of-run block (summary.h).
 #include "cdpr/host/summary.h"
 
+#include <errno.h>
 #include <math.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "cdpr/version.h"
 #include "cdpr/host/yaml.h"
@@ -24,9 +27,26 @@ const char *cdpr_sim_status_name(cdpr_sim_status_t st)
         return "ok";
     case CDPR_SIM_WARNINGS:
         return "warnings";
+    case CDPR_SIM_INTERRUPTED:
+        return "interrupted";
+    case CDPR_SIM_IO_ERROR:
+        return "io_error";
     default:
         return "failed";
     }
+}
+
+/* The status of a name written by cdpr_sim_status_name (unknown names: failed). */
+static cdpr_sim_status_t status_of_name(const char *name)
+{
+    static const cdpr_sim_status_t all[] = {CDPR_SIM_OK, CDPR_SIM_WARNINGS, CDPR_SIM_INTERRUPTED,
+                                            CDPR_SIM_IO_ERROR};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) {
+        if (strcmp(name, cdpr_sim_status_name(all[i])) == 0) {
+            return all[i];
+        }
+    }
+    return CDPR_SIM_FAILED;
 }
 
 /* ---------------------------------------------------------------- writing summary.json */
@@ -91,6 +111,31 @@ void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_
     }
 }
 
+/* Close a written summary. Every fprintf/fputc into it left its failure in the stream's error
+ * flag; a full device shows at the flush: check the flag, the flush and the close, keep the
+ * first errno. A regular file that could not be written whole is emptied (the reader then says
+ * "empty file"), never left as torn JSON; the directory entry is left alone (the path may be a
+ * device or a link). CDPR_OK or CDPR_E_IO with errno set. */
+static cdpr_status_t close_summary(FILE *f)
+{
+    int e = 0;
+    if (fflush(f) != 0 || ferror(f) != 0) {
+        e = (errno != 0) ? errno : EIO;
+        struct stat sb;
+        if (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode)) {
+            (void)ftruncate(fileno(f), 0);
+        }
+    }
+    if (fclose(f) != 0 && e == 0) {
+        e = (errno != 0) ? errno : EIO;
+    }
+    if (e != 0) {
+        errno = e;
+        return CDPR_E_IO;
+    }
+    return CDPR_OK;
+}
+
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum)
 {
@@ -98,6 +143,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
     if (f == NULL) {
         return CDPR_E_IO;
     }
+    errno = 0;
     const cdpr_sim_provenance_t *pv = &sum->prov;
     fprintf(f, "{\n  \"version\": ");
     json_string_or_null(f, pv->version);
@@ -175,9 +221,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         }
     }
     fprintf(f, "\n}\n");
-    /* A full device shows at the flush: check the stream as well as the close. */
-    const int failed = (fflush(f) != 0 || ferror(f) != 0) ? 1 : 0;
-    return (fclose(f) == 0 && failed == 0) ? CDPR_OK : CDPR_E_IO;
+    return close_summary(f);
 }
 
 /* ---------------------------------------------------------------- reading summary.json */
@@ -267,10 +311,7 @@ static void string_or_empty(char *dst, size_t cap, const char *v)
 static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
 {
     memset(sum, 0, sizeof *sum);
-    sum->status =
-        (strcmp(r->status, "ok") == 0)
-            ? CDPR_SIM_OK
-            : ((strcmp(r->status, "warnings") == 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_FAILED);
+    sum->status = status_of_name(r->status);
     cdpr_sim_provenance_t *pv = &sum->prov;
     string_or_empty(pv->version, sizeof pv->version, r->version);
     string_or_empty(pv->git_describe, sizeof pv->git_describe, r->git_describe);

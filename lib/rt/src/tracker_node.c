@@ -286,7 +286,10 @@ void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracke
                                 ten->payout_m_per_s,
                                 segments};
     const long k = (long)llround(m->t_s / r->period_s);
-    cdpr_sim_rec_period(&r->rec, k, 0, &row);
+    /* The state at the end of the run gets its row, as in cdpr-sim; a CSV failure is kept in
+     * the recorder (cdpr_sim_rec_close reports it) and the controller keeps controlling. */
+    const int last = (m->t_s >= r->rec.duration_s - 0.5 * r->period_s) ? 1 : 0;
+    (void)cdpr_sim_rec_period(&r->rec, k, last, &row);
     r->last_t_s = m->t_s;
     r->periods++;
 }

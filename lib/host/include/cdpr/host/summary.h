@@ -42,11 +42,16 @@ const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator);
 void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_path,
                               const cdpr_plant_params_t *pp);
 
-/// Run status.
+/// Run status (summary.json "status": the name of cdpr_sim_status_name).
 typedef enum {
-    CDPR_SIM_OK = 0,       ///< ran to the end, no warning
-    CDPR_SIM_WARNINGS = 1, ///< ran to the end; substep limit, IK failure, capacity or min length
-    CDPR_SIM_FAILED = 2    ///< stopped early (integrator error); outputs hold what was done
+    CDPR_SIM_OK = 0,          ///< "ok": ran to the end, no warning
+    CDPR_SIM_WARNINGS = 1,    ///< "warnings": ran to the end; substep limit, IK failure, ...
+    CDPR_SIM_FAILED = 2,      ///< "failed": stopped early (integrator error); outputs hold what
+                              ///< was done
+    CDPR_SIM_INTERRUPTED = 3, ///< "interrupted": stopped by a signal (SIGINT, SIGTERM, SIGHUP);
+                              ///< outputs hold what was done
+    CDPR_SIM_IO_ERROR = 4     ///< "io_error": writing timeseries.csv failed; it holds the whole
+                              ///< rows written before, `message` says why
 } cdpr_sim_status_t;
 
 /// Summary of a run (outputs). Errors are |p - p_d| and the angle of q_d q^-1 over every
@@ -84,16 +89,19 @@ typedef struct {
     cdpr_sim_provenance_t prov;       ///< where the outputs come from
 } cdpr_sim_summary_t;
 
-/// Name of a status as written in summary.json ("ok", "warnings", "failed").
+/// Name of a status as written in summary.json ("ok", "warnings", "failed", "interrupted",
+/// "io_error"; "failed" for a value not in the enum).
 const char *cdpr_sim_status_name(cdpr_sim_status_t st);
 
 /// Write summary.json for `sum` of scenario `sc` to `path`. Returns CDPR_OK, or CDPR_E_IO
-/// (cannot create, or a write or the close failed; errno set).
+/// (cannot create, or a write or the close failed; errno set: the first failure's). A regular
+/// file that could not be written whole is emptied (no torn JSON is left behind).
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum);
 
 /// Read a summary.json written by cdpr_sim_write_summary (JSON is YAML, so libcyaml reads it;
-/// keys it does not know are ignored). Fills the numeric fields, the status and the
+/// keys it does not know are ignored). Fills the numeric fields, the status (a name this
+/// library does not know reads as CDPR_SIM_FAILED) and the
 /// provenance (optional keys: files written before they existed have none); a null reads as
 /// unknown (CDPR_SIM_UNKNOWN, settle_steps -1, NaN, ""). Returns CDPR_OK, or with `err` naming
 /// the file (and libcyaml's reason): CDPR_E_IO (cannot open), CDPR_E_PARSE (malformed, a key

@@ -155,6 +155,9 @@ typedef struct {
 
 /// on_step callback: record one period into ((cdpr_rt_record_t *)ctx)->rec. Tensions, payout
 /// rates and node counts come from the tensions message (the plant's values at that state).
+/// Rows at run.output_rate_hz by plant time (record.h: a row when the state's time reaches the
+/// next output instant, so states the node skipped do not cost rows) and at the run's end. A
+/// CSV write failure stops the rows, not the controller; cdpr_sim_rec_close reports it.
 void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracker_cmd_t *c,
                                  const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
                                  void *ctx);
