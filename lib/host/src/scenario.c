@@ -1066,6 +1066,17 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
         }
         sc->period_s = period;
         snprintf(opts, sizeof opts, "--rate %g Hz", ov->rate_hz);
+        /* Outputs faster than the new control rate: every period (a row per period is all
+         * there is), said by its own name. */
+        if (sc->output_rate_hz > ov->rate_hz) {
+            if (notes != NULL) {
+                fprintf(notes,
+                        "%s: --rate %g Hz: run.output_rate_hz = %g Hz of %s is above it: a row "
+                        "every period (%g Hz)\n",
+                        prog, ov->rate_hz, sc->output_rate_hz, of, ov->rate_hz);
+            }
+            sc->output_rate_hz = ov->rate_hz;
+        }
     }
     if (given(ov->duration_s) != 0) {
         if (notes != NULL && differs(ov->duration_s, sc->duration_s) != 0) {
