@@ -420,8 +420,7 @@ static void check_overload(cdpr_rt_t *rt)
 static void watch(cdpr_rt_t *rt)
 {
     const struct timespec tick = {0, 20000000}; /* 20 ms */
-    const int64_t t_check =
-        cdpr_lcm_now_ns() + (int64_t)llround((rt->o.start_delay_s + 1.0) * 1e9);
+    const int64_t t_check = cdpr_lcm_now_ns() + (int64_t)llround((rt->o.start_delay_s + 1.0) * 1e9);
     int checked = (rt->o.lockstep != 0) ? 1 : 0;
     while (__atomic_load_n(&rt->done, __ATOMIC_ACQUIRE) == 0) {
         (void)nanosleep(&tick, NULL);
