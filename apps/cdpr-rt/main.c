@@ -58,6 +58,8 @@ static void usage(FILE *f)
            "  --max-attempts N       attempts per period; the work bound of a period is\n"
            "                         max-attempts x max-trials (default: the scenario's\n"
            "                         integrator.max_attempts)\n"
+           "  --integrator NAME      rkf45 or ros34pw2 (default: the scenario's\n"
+           "                         integrator.method)\n"
            "  --watchdog S           no valid command for S -> winches hold (default 0.1)\n"
            "  --start-delay S        free-running: wait S before the first period (default 0)\n"
            "  --lcm-url URL          LCM provider (default: liblcm's, i.e. $LCM_DEFAULT_URL or\n"

@@ -47,6 +47,7 @@ static void usage(FILE *f)
             "  --out DIR           output directory (created if missing; required)\n"
             "  --duration S        simulate S seconds instead of run.duration_s (tests and\n"
             "                      quick looks; S must be a whole number of run.period_s)\n"
+            "  --integrator NAME   rkf45 or ros34pw2 instead of integrator.method\n"
             "  --no-plot           do not run gnuplot\n"
             "  --plot-script FILE  gnuplot script; default: share/cdpr/scripts/plot_sim.gp of\n"
             "                      the installation (the source tree's from a build tree):\n"
@@ -66,6 +67,7 @@ static int parse(int argc, char **argv, options_t *o)
     static const struct option longopts[] = {
         {"out", required_argument, NULL, 'o'},
         {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},
+        {"integrator", required_argument, NULL, CDPR_APP_OPT_INTEGRATOR},
         {"no-plot", no_argument, NULL, 'n'},
         {"plot-script", required_argument, NULL, 's'},
         {"progress", no_argument, NULL, 'p'},

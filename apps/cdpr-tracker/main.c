@@ -59,7 +59,7 @@ static void usage(FILE *f)
            "                   run.period_s)\n"
            "  --duration S     run length, a whole number of periods; exits after answering\n"
            "                   the state at S (default: the scenario's run.duration_s)\n"
-           "  --max-trials N   --max-attempts N: the plant's work bound (cdpr-rt's); only\n"
+           "  --max-trials N   --max-attempts N  --integrator NAME: the plant's (cdpr-rt's); only\n"
            "                   checked here, so both processes can take the same overrides\n"
            "  --idle-exit S    exit when no state came for S seconds after the first (default 5)\n"
            "  --lcm-url URL    LCM provider (default: liblcm's)\n"

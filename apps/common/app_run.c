@@ -17,6 +17,17 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
 {
     double *field = NULL;
     const char *name = NULL;
+    if (c == CDPR_APP_OPT_INTEGRATOR) {
+        if (strcmp(arg, "rkf45") == 0) {
+            ov->method = (int)CDPR_PLANT_RKF45;
+        } else if (strcmp(arg, "ros34pw2") == 0) {
+            ov->method = (int)CDPR_PLANT_ROS34PW2;
+        } else {
+            fprintf(stderr, "%s: option --integrator: '%s': not rkf45 or ros34pw2\n", prog, arg);
+            return -1;
+        }
+        return 1;
+    }
     switch (c) {
     case CDPR_APP_OPT_RATE:
         field = &ov->rate_hz;

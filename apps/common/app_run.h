@@ -15,22 +15,24 @@ enum {
     CDPR_APP_OPT_RATE = 'r',        ///< --rate HZ         run.period_s = 1 / HZ
     CDPR_APP_OPT_DURATION = 'd',    ///< --duration S      run.duration_s (plant time)
     CDPR_APP_OPT_MAX_TRIALS = 'm',  ///< --max-trials N    integrator.max_trials
-    CDPR_APP_OPT_MAX_ATTEMPTS = 'M' ///< --max-attempts N  integrator.max_attempts
+    CDPR_APP_OPT_MAX_ATTEMPTS = 'M', ///< --max-attempts N  integrator.max_attempts
+    CDPR_APP_OPT_INTEGRATOR = 'I'    ///< --integrator NAME integrator.method (rkf45, ros34pw2)
 };
 
-/// The four override options, for the apps' getopt_long tables.
+/// The five override options, for the apps' getopt_long tables.
 // clang-format off
 #define CDPR_APP_OVERRIDE_OPTIONS                                                                  \
     {"rate", required_argument, NULL, CDPR_APP_OPT_RATE},                                          \
     {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},                                  \
     {"max-trials", required_argument, NULL, CDPR_APP_OPT_MAX_TRIALS},                              \
-    {"max-attempts", required_argument, NULL, CDPR_APP_OPT_MAX_ATTEMPTS}
+    {"max-attempts", required_argument, NULL, CDPR_APP_OPT_MAX_ATTEMPTS},                          \
+    {"integrator", required_argument, NULL, CDPR_APP_OPT_INTEGRATOR}
 // clang-format on
 
 /// If getopt code `c` is an override option, parse its argument into `ov` (any finite number:
-/// the ranges are the scenario's, checked by cdpr_app_scenario). Returns 1 when it was one
-/// and parsed, 0 when `c` is not an override option, -1 after printing why the argument is not
-/// a number.
+/// the ranges are the scenario's, checked by cdpr_app_scenario; --integrator: rkf45 or
+/// ros34pw2). Returns 1 when it was one and parsed, 0 when `c` is not an override option, -1
+/// after printing why the argument is not a number (or not an integrator).
 int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov);
 
 /// Load scenario file `path` and apply the overrides `ov` (a note on stderr for each value

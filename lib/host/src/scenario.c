@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "cdpr/config.h"
+#include "cdpr/host/summary.h"
 #include "cdpr/host/yaml.h"
 #include "rig_raw.h"
 
@@ -1019,6 +1020,7 @@ void cdpr_scenario_overrides_none(cdpr_scenario_overrides_t *ov)
     ov->duration_s = (double)NAN;
     ov->max_trials = (double)NAN;
     ov->max_attempts = (double)NAN;
+    ov->method = -1;
 }
 
 static int given(double v)
@@ -1068,7 +1070,7 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
         snprintf(opts, sizeof opts, "--rate %g Hz", ov->rate_hz);
         /* Outputs faster than the new control rate: every period (a row per period is all
          * there is), said by its own name. */
-        if (sc->output_rate_hz > ov->rate_hz) {
+        if (isfinite(ov->rate_hz) && ov->rate_hz > 0.0 && sc->output_rate_hz > ov->rate_hz) {
             if (notes != NULL) {
                 fprintf(notes,
                         "%s: --rate %g Hz: run.output_rate_hz = %g Hz of %s is above it: a row "
@@ -1087,6 +1089,18 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
         const size_t n = strlen(opts);
         snprintf(opts + n, sizeof opts - n, "%s--duration %g s", (n > 0) ? ", " : "",
                  ov->duration_s);
+    }
+    if (ov->method >= 0) {
+        const cdpr_plant_integrator_t m = (cdpr_plant_integrator_t)ov->method;
+        if (notes != NULL && m != sc->integrator.method) {
+            fprintf(notes, "%s: --integrator %s overrides integrator.method = %s of %s\n", prog,
+                    cdpr_sim_integrator_name(m), cdpr_sim_integrator_name(sc->integrator.method),
+                    of);
+        }
+        sc->integrator.method = m;
+        const size_t n = strlen(opts);
+        snprintf(opts + n, sizeof opts - n, "%s--integrator %s", (n > 0) ? ", " : "",
+                 cdpr_sim_integrator_name(m));
     }
     const struct {
         const char *opt;
