@@ -12,9 +12,9 @@
 
 /// getopt_long codes of the override options (use them in the apps' option tables).
 enum {
-    CDPR_APP_OPT_RATE = 'r',        ///< --rate HZ         run.period_s = 1 / HZ
-    CDPR_APP_OPT_DURATION = 'd',    ///< --duration S      run.duration_s (plant time)
-    CDPR_APP_OPT_MAX_TRIALS = 'm',  ///< --max-trials N    integrator.max_trials
+    CDPR_APP_OPT_RATE = 'r',         ///< --rate HZ         run.period_s = 1 / HZ
+    CDPR_APP_OPT_DURATION = 'd',     ///< --duration S      run.duration_s (plant time)
+    CDPR_APP_OPT_MAX_TRIALS = 'm',   ///< --max-trials N    integrator.max_trials
     CDPR_APP_OPT_MAX_ATTEMPTS = 'M', ///< --max-attempts N  integrator.max_attempts
     CDPR_APP_OPT_INTEGRATOR = 'I'    ///< --integrator NAME integrator.method (rkf45, ros34pw2)
 };
