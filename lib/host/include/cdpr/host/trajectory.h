@@ -68,4 +68,46 @@ cdpr_vec3_t cdpr_euler_accel_to_body(const double euler[3], const double rates[3
 /// Time at which the trajectory stops moving [s] (circle: never, returns +Inf).
 double cdpr_traj_end_time(const cdpr_traj_t *tr);
 
+/// Planned transfer from a measured start onto a trajectory (issue 14; controller.transfer_s).
+///
+/// Over [t0, t0 + T] the reference blends the start, held at its measured position and moving
+/// on at its measured velocity (p_h(t) = p0 + v0 (t - t0)), into the trajectory:
+///   p_r(t) = p_h(t) + s(τ) (p_traj(t) - p_h(t)),  τ = (t - t0) / T,
+///   v_r = v_h + s (v_traj - v_h) + ṡ (p_traj - p_h),
+///   a_r = s a_traj + 2 ṡ (v_traj - v_h) + s̈ (p_traj - p_h),
+/// with the septic blend s(τ) = 35 τ^4 - 84 τ^5 + 70 τ^6 - 20 τ^7 (s, ṡ, s̈ and the jerk vanish
+/// at τ = 0; s = 1 and ṡ, s̈, jerk vanish at τ = 1), ṡ = ds/dτ / T, s̈ = d²s/dτ² / T². So the
+/// reference starts at the measured position and velocity with zero acceleration and joins the
+/// trajectory at t0 + T with its position, velocity and acceleration (C3 in position).
+/// Attitude: the rotation-vector offset θ0 = rotvec(q0 q_traj(t0)^-1) (world axes) decays,
+///   q_r(t) = exp((1 - s) θ0) q_traj(t),
+///   ω_r,world = -ṡ θ0 + E ω_traj,world,  ω̇_r,world = -s̈ θ0 + (-ṡ θ0) x (E ω_traj,world)
+///                + E ω̇_traj,world,  E = rotation of exp((1 - s) θ0),
+/// so the attitude starts at the measured one but with the trajectory's angular rate (zero for
+/// the circle; the measured rate is not blended), and joins the trajectory at t0 + T.
+/// From t0 + T on the sample is exactly cdpr_traj_eval's (before t0, τ is clamped to 0).
+/// T = 0 means no transfer.
+typedef struct {
+    double t0_s;            ///< start of the transfer [s]
+    double duration_s;      ///< T [s] (>= 0; 0 = no transfer)
+    cdpr_vec3_t p0_m;       ///< measured start position [m]
+    cdpr_vec3_t v0_m_per_s; ///< measured start velocity, world [m/s]
+    cdpr_vec3_t theta0_rad; ///< rotvec(q0 q_traj(t0)^-1), world [rad]
+} cdpr_transfer_t;
+
+/// Septic blend s(τ) and its first two derivatives with respect to τ (τ clamped to [0, 1]).
+void cdpr_transfer_blend(double tau, double *s, double *ds_dtau, double *d2s_dtau2);
+
+/// The transfer that starts at t0_s from the measured motion m0 (pose and world velocity)
+/// onto `traj`, over duration_s (>= 0).
+void cdpr_transfer_init(cdpr_transfer_t *x, const cdpr_traj_t *traj, double t0_s, double duration_s,
+                        const cdpr_cabin_motion_t *m0);
+
+/// Reference at t: the transfer blended into `traj` (see cdpr_transfer_t). `pose`, `motion`,
+/// `a_m_per_s2` and `dw_rad_per_s2` are the reference's; `rate`/`accel` hold the position
+/// derivatives exactly and, for the angles, the trajectory's Euler rates (not used by the
+/// controller).
+void cdpr_transfer_eval(const cdpr_transfer_t *x, const cdpr_traj_t *traj, double t_s,
+                        cdpr_traj_sample_t *out);
+
 #endif /* CDPR_HOST_TRAJECTORY_H */
