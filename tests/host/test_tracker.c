@@ -213,7 +213,8 @@ static void test_step_makes_no_heap_allocation(void)
     cdpr_robot_params_t p;
     model_params(&p);
     const cdpr_traj_t tr = test_paper_circle();
-    const cdpr_tracker_gains_t g = {0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    const cdpr_tracker_gains_t g = {0.5,  0.05, 5.0, 0.1, 1.0,
+                                    40.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_alloc_reset();
     for (int k = 0; k < 100; ++k) {

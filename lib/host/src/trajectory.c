@@ -160,10 +160,9 @@ void cdpr_transfer_init(cdpr_transfer_t *x, const cdpr_traj_t *traj, double t0_s
     memset(x, 0, sizeof *x);
     x->t0_s = t0_s;
     x->duration_s = duration_s;
-    x->p0_m = m0->p_m;
-    x->v0_m_per_s = m0->v_m_per_s;
     cdpr_traj_sample_t d;
     cdpr_traj_eval(traj, t0_s, &d);
+    x->offset_m = cdpr_v3_sub(m0->p_m, d.motion.p_m);
     const cdpr_quat_t q0 = cdpr_quat_normalize(m0->q);
     const cdpr_quat_t qd_inv = {d.motion.q.w, -d.motion.q.x, -d.motion.q.y, -d.motion.q.z};
     x->theta0_rad = cdpr_quat_to_rotvec(cdpr_quat_mul(q0, qd_inv));
@@ -222,17 +221,11 @@ void cdpr_transfer_eval(const cdpr_transfer_t *x, const cdpr_traj_t *traj, doubl
     cdpr_transfer_blend((t_s - x->t0_s) / T, &s, &sd, &sdd);
     sd /= T;
     sdd /= T * T;
-    /* Position: the held start p_h = p0 + v0 (t - t0) blended into the trajectory. */
-    const double dt = (t_s > x->t0_s) ? t_s - x->t0_s : 0.0;
-    const cdpr_vec3_t ph = cdpr_v3_add(x->p0_m, cdpr_v3_scale(x->v0_m_per_s, dt));
-    const cdpr_vec3_t dp = cdpr_v3_sub(out->motion.p_m, ph);
-    const cdpr_vec3_t dv = cdpr_v3_sub(out->motion.v_m_per_s, x->v0_m_per_s);
-    const cdpr_vec3_t p = cdpr_v3_add(ph, cdpr_v3_scale(dp, s));
-    const cdpr_vec3_t v =
-        cdpr_v3_add(cdpr_v3_add(x->v0_m_per_s, cdpr_v3_scale(dv, s)), cdpr_v3_scale(dp, sd));
-    const cdpr_vec3_t a =
-        cdpr_v3_add(cdpr_v3_add(cdpr_v3_scale(out->a_m_per_s2, s), cdpr_v3_scale(dv, 2.0 * sd)),
-                    cdpr_v3_scale(dp, sdd));
+    /* Position: the start offset decays, p_r = p_traj + (1 - s) (p0 - p_traj(t0)). */
+    const cdpr_vec3_t off = x->offset_m;
+    const cdpr_vec3_t p = cdpr_v3_add(out->motion.p_m, cdpr_v3_scale(off, 1.0 - s));
+    const cdpr_vec3_t v = cdpr_v3_sub(out->motion.v_m_per_s, cdpr_v3_scale(off, sd));
+    const cdpr_vec3_t a = cdpr_v3_sub(out->a_m_per_s2, cdpr_v3_scale(off, sdd));
     out->motion.p_m = p;
     out->motion.v_m_per_s = v;
     out->a_m_per_s2 = a;

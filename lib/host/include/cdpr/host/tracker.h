@@ -41,8 +41,8 @@
 ///  4. payout-rate command u_j = u_ff,j + k_L (L_ff,j(t) + δL_j - L_j). The plant's winch
 ///     (cdpr_winch_update) applies its speed and acceleration limits.
 ///  5. (before step 1) the reference: the desired trajectory, or with transfer_s = T > 0 the
-///     planned transfer (trajectory.h, cdpr_transfer_t) from the first measurement (pose and
-///     velocity at the first step: in process and over LCM, where a plant restart re-inits the
+///     planned transfer (trajectory.h, cdpr_transfer_t) from the first measurement (the pose
+///     at the first step: in process and over LCM, where a plant restart re-inits the
 ///     tracker) onto the trajectory over T; every step above (feed-forward with its d'Alembert
 ///     load, errors, damping) uses the reference. With T = 0 the tracker is bit-identical to
 ///     one without the transfer.
