@@ -197,7 +197,8 @@ static int tracker_open(lcm_t *lcm, void *ctx)
 /* The in-process tracker on the bridge thread, recording what it sees. */
 static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc)
 {
-    const cdpr_tracker_gains_t g = sc->gains;
+    cdpr_tracker_gains_t g = sc->gains;
+    g.wind_m_per_s = g_rt.plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
     const double period_s = g_rt.plant.pp.period_s;
     cdpr_diag_t d;
     const cdpr_status_t st =
@@ -237,6 +238,7 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
     }
     g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
+    cdpr_sim_tracker_counts(&g_tracker.tracker, &g_tracker_sum);
     /* The plant runs in this process: its own counts (as cdpr-sim's summary has them). */
     const cdpr_plant_t *p = &g_rt.plant;
     g_tracker_sum.node_insertions = g_rt.tel.node_insertions;

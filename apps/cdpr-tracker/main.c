@@ -370,7 +370,8 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
         return st;
     }
-    const cdpr_tracker_gains_t g = sc->gains;
+    cdpr_tracker_gains_t g = sc->gains;
+    g.wind_m_per_s = g_model.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
     cdpr_diag_t d;
     st = cdpr_rt_tracker_init(&g_tracker, &g_model.params, g_model.pp.winch, &sc->traj, &g,
                               sc->period_s, o->prefix, &d);
@@ -495,6 +496,7 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     }
     g_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_sum.ik_failures = g_tracker.tracker.ik_failures;
+    cdpr_sim_tracker_counts(&g_tracker.tracker, &g_sum);
     g_sum.wall_time_s = cdpr_clock_now_s() - wall0;
     /* What only the plant knows is unknown here (null in summary.json); the node events are
      * the changes of the segment counts in the tensions messages (cdpr_sim_rec_node_events). */

@@ -128,7 +128,11 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
     rec->n_cables = n_cables;
     rec->every = cdpr_scenario_output_every(sc);
     rec->duration_s = sc->duration_s;
+    rec->transfer_s = sc->gains.transfer_s;
     rec->sum = sum;
+    sum->n_cables = n_cables;
+    sum->first_slack_demand_t_s = (double)NAN;
+    sum->first_slack_demand_N = (double)NAN;
     sum->min_tension_N = (double)INFINITY;
     /* Known only if state 0 is recorded (a tracker over LCM may miss it): else null. */
     sum->initial_error_m = (double)NAN;
@@ -173,6 +177,10 @@ cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const c
         rec->sum2_pos_late += smp.epos_m * smp.epos_m;
         rec->n_late++;
     }
+    if (row->t_s >= rec->transfer_s) {
+        rec->sum2_pos_after += smp.epos_m * smp.epos_m;
+        rec->n_after++;
+    }
     sum->max_error_m = fmax(sum->max_error_m, smp.epos_m);
     sum->max_error_rad = fmax(sum->max_error_rad, smp.erot_rad);
     sum->final_error_m = smp.epos_m;
@@ -201,6 +209,10 @@ cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const c
         }
         for (int j = 0; j < nc; ++j) {
             rec->prev_segments[j] = row->segments[j];
+            /* A slack period: either end of cable j without tension. */
+            if (!(row->tension_cabin_N[j] > 0.0) || !(row->tension_winch_N[j] > 0.0)) {
+                sum->slack_periods[j]++;
+            }
         }
         rec->prev_k = k;
     }
@@ -216,6 +228,17 @@ cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const c
         rec->next_row_k = (k / rec->every + 1) * rec->every;
     }
     return (rec->csv.failed != 0) ? CDPR_E_IO : CDPR_OK;
+}
+
+void cdpr_sim_tracker_counts(const cdpr_tracker_t *tr, cdpr_sim_summary_t *sum)
+{
+    for (int j = 0; j < tr->model.p.n_cables && j < CDPR_MAX_CABLES; ++j) {
+        sum->slack_demand_periods[j] = tr->slack_demand_periods[j];
+    }
+    sum->first_slack_demand_cable = tr->first_slack_cable + 1;
+    sum->first_slack_demand_t_s = (tr->first_slack_cable >= 0) ? tr->first_slack_t_s : (double)NAN;
+    sum->first_slack_demand_N =
+        (tr->first_slack_cable >= 0) ? tr->first_slack_tension_N : (double)NAN;
 }
 
 void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
@@ -235,6 +258,8 @@ cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec)
     sum->rms_error_rad = (rec->n > 0) ? sqrt(rec->sum2_rot / (double)rec->n) : 0.0;
     sum->rms_error_second_half_m =
         (rec->n_late > 0) ? sqrt(rec->sum2_pos_late / (double)rec->n_late) : 0.0;
+    sum->rms_error_after_transfer_m =
+        (rec->n_after > 0) ? sqrt(rec->sum2_pos_after / (double)rec->n_after) : 0.0;
     if (!isfinite(sum->min_tension_N)) {
         sum->min_tension_N = 0.0;
     }

@@ -115,6 +115,8 @@ typedef struct {
     double *inertial_ff;
     double *damping_N_s_per_m;
     double *damping_rot_N_m_s;
+    double *transfer_s; /* issue 14: planned transfer, wind feed-forward */
+    double *wind_ff;
 } raw_controller_t;
 
 typedef struct {
@@ -277,6 +279,8 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("inertial_ff", raw_controller_t, inertial_ff),
     OPT_NUMP("damping_N_s_per_m", raw_controller_t, damping_N_s_per_m),
     OPT_NUMP("damping_rot_N_m_s", raw_controller_t, damping_rot_N_m_s),
+    OPT_NUMP("transfer_s", raw_controller_t, transfer_s),
+    OPT_NUMP("wind_ff", raw_controller_t, wind_ff),
     CYAML_FIELD_END,
 };
 static const cyaml_strval_t method_names[] = {
@@ -516,6 +520,8 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.inertial_ff, r->controller.inertial_ff, 1);
     take(&sc->gains.damping_N_s_per_m, r->controller.damping_N_s_per_m, 1);
     take(&sc->gains.damping_rot_N_m_s, r->controller.damping_rot_N_m_s, 1);
+    take(&sc->gains.transfer_s, r->controller.transfer_s, 1); /* default 0: none */
+    take(&sc->gains.wind_ff, r->controller.wind_ff, 1);       /* default 0: none */
     if (r->integrator != NULL) {
         const raw_integrator_t *in = r->integrator;
         take(&sc->integrator.rtol, in->rtol, 1);
@@ -888,6 +894,8 @@ static void check_run(vctx_t *vp)
     range(&v, "controller.inertial_ff", &sc->gains.inertial_ff, 1, 0.0, 1.0, 0);
     range(&v, "controller.damping_N_s_per_m", &sc->gains.damping_N_s_per_m, 1, 0.0, 1e6, 0);
     range(&v, "controller.damping_rot_N_m_s", &sc->gains.damping_rot_N_m_s, 1, 0.0, 1e6, 0);
+    range(&v, "controller.transfer_s", &sc->gains.transfer_s, 1, 0.0, 1e6, 0);
+    range(&v, "controller.wind_ff", &sc->gains.wind_ff, 1, 0.0, 1.0, 0);
     const cdpr_scenario_integrator_t *in = &sc->integrator;
     range(&v, "integrator.rtol", &in->rtol, 1, 0.0, 0.1, 1);
     range(&v, "integrator.atol_position_m", &in->atol_position_m, 1, 0.0, 1.0, 1);

@@ -109,8 +109,10 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
     }
     /* The controller, with its own model built from the same values. */
     cdpr_diag_t d;
-    const cdpr_status_t st = cdpr_tracker_init(&s->tracker, &s->plant.params, &sc->traj, &sc->gains,
-                                               sc->period_s, 0.0, &d);
+    cdpr_tracker_gains_t g = sc->gains;
+    g.wind_m_per_s = s->plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
+    const cdpr_status_t st =
+        cdpr_tracker_init(&s->tracker, &s->plant.params, &sc->traj, &g, sc->period_s, 0.0, &d);
     if (st != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "controller: field '%s': %s", d.field, cdpr_status_str(st));
@@ -233,6 +235,7 @@ static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum)
         sum->capacity_hits += p->nodes.capacity_hits[j];
     }
     sum->ik_failures = s->tracker.ik_failures;
+    cdpr_sim_tracker_counts(&s->tracker, sum);
     sum->substep_limit_hits = p->stats.substep_limit_hits;
     sum->min_length_periods = p->stats.min_length_periods;
     if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {

@@ -136,6 +136,20 @@ static cdpr_status_t close_summary(FILE *f)
     return CDPR_OK;
 }
 
+/* A per-cable count list ("key": [c1, ...]), or null when the cable count is unknown. */
+static void write_counts(FILE *f, const char *key, int n, const unsigned long *c)
+{
+    fprintf(f, ",\n  \"%s\": ", key);
+    if (n <= 0 || n > CDPR_MAX_CABLES) {
+        fputs("null", f);
+        return;
+    }
+    for (int j = 0; j < n; ++j) {
+        fprintf(f, "%s%lu", (j == 0) ? "[" : ", ", c[j]);
+    }
+    fputc(']', f);
+}
+
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum)
 {
@@ -184,6 +198,9 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"wall_time_s", sum->wall_time_s},
         {"settle_wall_time_s", sum->settle_wall_time_s},
         {"control_period_s", sc->period_s},
+        {"rms_error_after_transfer_m", sum->rms_error_after_transfer_m},
+        {"first_slack_demand_t_s", sum->first_slack_demand_t_s},
+        {"first_slack_demand_N", sum->first_slack_demand_N},
     };
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; ++i) {
         /* JSON has no NaN or infinity: a non-finite value is not known. */
@@ -212,6 +229,8 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"rhs_evals", (long)sum->rhs_evals, KNOWN(sum->rhs_evals)},
         {"settle_steps", sum->settle_steps, (sum->settle_steps >= 0) ? 1 : 0},
         {"segments", (long)cdpr_scenario_segments(sc), 1},
+        {"first_slack_demand_cable", (long)sum->first_slack_demand_cable,
+         (sum->first_slack_demand_cable > 0) ? 1 : 0},
     };
     for (size_t i = 0; i < sizeof ints / sizeof ints[0]; ++i) {
         if (ints[i].known != 0) {
@@ -220,6 +239,8 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
             fprintf(f, ",\n  \"%s\": null", ints[i].k);
         }
     }
+    write_counts(f, "slack_periods", sum->n_cables, sum->slack_periods);
+    write_counts(f, "slack_demand_periods", sum->n_cables, sum->slack_demand_periods);
     fprintf(f, "\n}\n");
     return close_summary(f);
 }
@@ -234,7 +255,8 @@ typedef struct {
     double *rms_error_m, *max_error_m, *final_error_m, *initial_error_m, *rms_error_second_half_m;
     double *rms_error_rad, *max_error_rad, *final_error_rad;
     double *max_tension_N, *min_tension_N, *max_payout_m_per_s, *sim_time_s, *wall_time_s;
-    double *settle_wall_time_s;
+    double *settle_wall_time_s, *rms_error_after_transfer_m, *first_slack_demand_t_s;
+    double *first_slack_demand_N, *first_slack_demand_cable;
     double *node_insertions, *node_removals, *capacity_hits, *substep_limit_hits, *ik_failures;
     double *min_length_periods, *nodes_min, *nodes_max, *periods, *steps_accepted;
     double *steps_rejected, *rhs_evals, *settle_steps;
@@ -271,6 +293,10 @@ static const cyaml_schema_field_t summary_fields[] = {
     SUM_NUM(sim_time_s),
     SUM_NUM(wall_time_s),
     SUM_OPT_NUM(settle_wall_time_s),
+    SUM_OPT_NUM(rms_error_after_transfer_m),
+    SUM_OPT_NUM(first_slack_demand_t_s),
+    SUM_OPT_NUM(first_slack_demand_N),
+    SUM_OPT_NUM(first_slack_demand_cable),
     SUM_NUM(node_insertions),
     SUM_NUM(node_removals),
     SUM_NUM(capacity_hits),
@@ -332,6 +358,11 @@ static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
     sum->sim_time_s = real_or_nan(r->sim_time_s);
     sum->wall_time_s = real_or_nan(r->wall_time_s);
     sum->settle_wall_time_s = real_or_nan(r->settle_wall_time_s);
+    sum->rms_error_after_transfer_m = real_or_nan(r->rms_error_after_transfer_m);
+    sum->first_slack_demand_t_s = real_or_nan(r->first_slack_demand_t_s);
+    sum->first_slack_demand_N = real_or_nan(r->first_slack_demand_N);
+    sum->first_slack_demand_cable =
+        (r->first_slack_demand_cable != NULL) ? (int)*r->first_slack_demand_cable : 0;
     sum->node_insertions = count_or_unknown(r->node_insertions);
     sum->node_removals = count_or_unknown(r->node_removals);
     sum->capacity_hits = count_or_unknown(r->capacity_hits);
@@ -366,6 +397,31 @@ cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
 }
 
 /* ---------------------------------------------------------------- the end-of-run block */
+
+/* The per-cable slack counts of the plant (recorded periods) and of the feed-forward. */
+static void print_slack(FILE *f, const cdpr_sim_summary_t *s)
+{
+    if (fabs(s->rms_error_after_transfer_m - s->rms_error_m) > 0.0) {
+        fprintf(f, "  after transfer  rms %.4g m (t >= controller.transfer_s)\n",
+                s->rms_error_after_transfer_m);
+    }
+    if (s->n_cables <= 0 || s->n_cables > CDPR_MAX_CABLES) {
+        return;
+    }
+    const unsigned long *lists[2] = {s->slack_periods, s->slack_demand_periods};
+    static const char *const names[2] = {"  slack periods  ", "; feed-forward demands"};
+    for (int k = 0; k < 2; ++k) {
+        fputs(names[k], f);
+        for (int j = 0; j < s->n_cables; ++j) {
+            fprintf(f, "%s%lu", (j == 0) ? " " : "/", lists[k][j]);
+        }
+    }
+    fputs(" (cables 1..n)\n", f);
+    if (s->first_slack_demand_cable > 0) {
+        fprintf(f, "  first slack demand: cable %d at t = %.4g s (%.4g N on the chords)\n",
+                s->first_slack_demand_cable, s->first_slack_demand_t_s, s->first_slack_demand_N);
+    }
+}
 
 void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s)
 {
@@ -402,6 +458,7 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
         fprintf(f, "  controller      %lu IK failures (the plant's integrator ran elsewhere)\n",
                 s->ik_failures);
     }
+    print_slack(f, s);
     if (isfinite(s->settle_wall_time_s)) {
         fprintf(f, "  time            %.3g s simulated in %.3g s wall (settling %.3g s)\n",
                 s->sim_time_s, s->wall_time_s, s->settle_wall_time_s);

@@ -44,8 +44,9 @@ typedef struct {
     int n_cables;
     long every;
     double duration_s;
-    double sum2_pos, sum2_rot, sum2_pos_late;
-    long n, n_late;
+    double sum2_pos, sum2_rot, sum2_pos_late, sum2_pos_after;
+    long n, n_late, n_after;
+    double transfer_s; ///< controller.transfer_s: rms_error_after_transfer_m counts t >= it
     cdpr_sim_summary_t *sum;
     long prev_k; ///< period of the last recorded row (-1: none yet)
     int prev_segments[CDPR_MAX_CABLES];
@@ -79,6 +80,9 @@ cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const c
 /// period are not seen.
 void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
                               unsigned long *removals, long *missed);
+
+/// The tracker's tension-awareness counts (slack demands per cable, the first one) into `sum`.
+void cdpr_sim_tracker_counts(const cdpr_tracker_t *tr, cdpr_sim_summary_t *sum);
 
 /// Finish the statistics (RMS values) and close the CSV (its buffered whole rows written).
 /// Returns CDPR_OK, or CDPR_E_IO when a write or the close failed (then and later
