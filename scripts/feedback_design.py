@@ -1,0 +1,295 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""Linear analysis of a scenario's feedback loop about a held pose (docs/validation.md §8,
+"Feedback design").
+
+    scripts/feedback_design.py SCENARIO [key=value ...] [--at T] [--out DIR] [--step-test J]
+
+key=value pairs change the scenario (dotted keys, e.g. controller.kd_s=0.1
+robot.cable.damping_ratio=0.005) in a copy written to OUT/scenario.yaml. cdpr-design (the C
+helper) settles the robot at the trajectory's pose at T (default: where it stops) and writes
+the Jacobians of the plant's RHS (A, B: payout rates) and of one real tracker step (Kx, Kz,
+Zx, Zz); this script then computes:
+  - the plant's modes (eigenvalues of A: frequency, damping ratio) between 0.05 and 20 Hz;
+  - the discrete plant: zero-order hold over the control period T_c (exp of [[A, B], [0, 0]]
+    T_c; the command computed from the measurement at t_k acts over [t_k, t_k+1): cdpr-sim's
+    order), with the tracker's filters and gains as linearised;
+  - the closed-loop eigenvalues (largest modulus: < 1 is stable);
+  - the loop broken at the six rate commands, L(z) = -[Kx Kz] (zI - A_o)^-1 [Γ; 0]:
+    loop-at-a-time gain and phase margins (channel j open, the other five closed), and the
+    minimum over frequency of the smallest singular value α of I + L, with the simultaneous
+    margins it guarantees in every channel at once (gain 1/(1+α) .. 1/(1-α), phase
+    ±2 asin(α/2); Lehtomaki et al. 1981);
+  - with --step-test J: the nonlinear plant's open-loop response to 1 mm/s on cable J over
+    2 s against the linear model's.
+Exit status 0; 1 when the closed loop is unstable or below the goal margins (6 dB, 30°).
+Needs numpy and scipy (Debian python3-numpy python3-scipy).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import scipy.linalg as sla
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gain_sweep import set_key  # noqa: E402
+
+GOAL_GM_DB = 6.0
+GOAL_PM_DEG = 30.0
+
+
+def load(d):
+    meta = {}
+    cables = []
+    for line in open(os.path.join(d, "meta.txt")):
+        w = line.split()
+        if w[0] == "cable":
+            cables.append((int(w[3]), int(w[5])))
+        elif w[0] == "pose":
+            meta["pose"] = [float(v) for v in w[1:]]
+        else:
+            meta[w[0]] = float(w[1])
+    n, nz, nu, nm = (int(meta[k]) for k in ("n", "nz", "nu", "nm"))
+    shapes = {"A": (n, n), "B": (n, nu), "Kx": (nu, n), "Kz": (nu, nz), "Zx": (nz, n),
+              "Zz": (nz, nz), "Cm": (nm, n)}
+    m = {k: np.fromfile(os.path.join(d, k + ".bin"), dtype="<f8").reshape(s)
+         for k, s in shapes.items()}
+    m["T"] = meta["period_s"]
+    m["pose"] = meta["pose"]
+    m["cables"] = cables
+    return m
+
+
+def discretise(A, B, T):
+    n, nu = B.shape
+    M = np.zeros((n + nu, n + nu))
+    M[:n, :n] = A
+    M[:n, n:] = B
+    E = sla.expm(M * T)
+    return E[:n, :n], E[:n, n:]
+
+
+def modes(lam, fmin=0.05, fmax=20.0):
+    out = []
+    for z in lam:
+        if z.imag <= 0.0:
+            continue
+        w = abs(z)
+        f = z.imag / (2 * np.pi)
+        if fmin <= f <= fmax:
+            out.append((f, -z.real / w))
+    return sorted(out)
+
+
+class Loop:
+    """The loop broken at the rate commands, evaluated through the modes of A."""
+
+    def __init__(self, m, Phi, Gam):
+        self.m = m
+        self.T = m["T"]
+        lam, V = sla.eig(m["A"])
+        self.lam = lam
+        self.mu = np.exp(lam * self.T)
+        g = np.where(np.abs(lam * self.T) < 1e-9, self.T,
+                     (self.mu - 1.0) / np.where(lam == 0, 1.0, lam))
+        self.W = g[:, None] * sla.solve(V, m["B"])  # modal ZOH input
+        self.KxV = m["Kx"] @ V
+        self.ZxV = m["Zx"] @ V
+        self.Phi, self.Gam = Phi, Gam
+
+    def H(self, f_hz):
+        """u_out = H u_in (6x6 per frequency)."""
+        z = np.exp(1j * 2 * np.pi * np.atleast_1d(f_hz) * self.T)
+        nz = self.m["Zz"].shape[0]
+        out = np.empty((z.size, 6, 6), dtype=complex)
+        for i, zi in enumerate(z):
+            X = self.W / (zi - self.mu)[:, None]  # modal plant state per input
+            Zp = sla.solve(zi * np.eye(nz) - self.m["Zz"], self.ZxV @ X)
+            out[i] = self.KxV @ X + self.m["Kz"] @ Zp
+        return out
+
+    def H_direct(self, f_hz):
+        z = np.exp(1j * 2 * np.pi * f_hz * self.T)
+        n = self.Phi.shape[0]
+        X = sla.solve(z * np.eye(n) - self.Phi, self.Gam)
+        nz = self.m["Zz"].shape[0]
+        Zp = sla.solve(z * np.eye(nz) - self.m["Zz"], self.m["Zx"] @ X)
+        return self.m["Kx"] @ X + self.m["Kz"] @ Zp
+
+
+def closed_loop(m, Phi, Gam, scale=None):
+    K = np.hstack([m["Kx"], m["Kz"]])
+    if scale is not None:
+        K = scale[:, None] * K
+    n, nz = Phi.shape[0], m["Zz"].shape[0]
+    Acl = np.zeros((n + nz, n + nz))
+    Acl[:n, :n] = Phi
+    Acl[n:, :n] = m["Zx"]
+    Acl[n:, n:] = m["Zz"]
+    Acl[:n, :] += Gam @ K
+    return sla.eigvals(Acl)
+
+
+def channel_loops(H):
+    """Scalar loop gain l_j (negative-feedback convention) with the other loops closed."""
+    F = H.shape[0]
+    l = np.empty((F, 6), dtype=complex)
+    for j in range(6):
+        o = [i for i in range(6) if i != j]
+        for k in range(F):
+            Hk = H[k]
+            Hoo = Hk[np.ix_(o, o)]
+            u_o = sla.solve(np.eye(5) - Hoo, Hk[o, j])
+            l[k, j] = -(Hk[j, j] + Hk[j, o] @ u_o)
+    return l
+
+
+def margins(f, l):
+    """Smallest gain margin [dB] (at a -180° crossing of l; negative: a gain reduction
+    destabilises) and smallest phase margin [deg] (at |l| = 1), with their frequencies."""
+    gm, gm_f, pm, pm_f = np.inf, None, np.inf, None
+    for k in range(len(f) - 1):
+        a, b = l[k], l[k + 1]
+        if a.imag * b.imag < 0.0:  # crossing of the real axis
+            s = a.imag / (a.imag - b.imag)
+            x = a.real + s * (b.real - a.real)
+            if x < 0.0:
+                g = -20 * np.log10(-x)
+                if abs(g) < abs(gm):
+                    gm, gm_f = g, f[k] + s * (f[k + 1] - f[k])
+        if (abs(a) - 1.0) * (abs(b) - 1.0) < 0.0:
+            s = (abs(a) - 1.0) / (abs(a) - abs(b))
+            c = a + s * (b - a)
+            p = 180.0 - abs(np.degrees(np.angle(c)))
+            if p < pm:
+                pm, pm_f = p, f[k] + s * (f[k + 1] - f[k])
+    return gm, gm_f, pm, pm_f
+
+
+def step_check(m, Phi, Gam, path, cable):
+    data = np.loadtxt(path, delimiter=",")
+    u = np.zeros(6)
+    u[cable] = 1e-3
+    x = np.zeros(Phi.shape[0])
+    lin = []
+    for _ in range(data.shape[0]):
+        lin.append(m["Cm"] @ x)
+        x = Phi @ x + Gam @ u
+    lin = np.array(lin)
+    nl = data[:, 1:]
+    res = {}
+    for name, sl in (("position", slice(0, 3)), ("rotation", slice(3, 6)),
+                     ("length", slice(12, 18))):
+        peak = np.max(np.abs(nl[:, sl]))
+        err = np.max(np.abs(nl[:, sl] - lin[:, sl]))
+        res[name] = (peak, err)
+    return res, data[:, 0], nl, lin
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("scenario")
+    ap.add_argument("settings", nargs="*", help="key=value")
+    ap.add_argument("--at", type=float, default=None)
+    ap.add_argument("--out", default="out/design")
+    ap.add_argument("--step-test", type=int, default=None)
+    ap.add_argument("--bin", default=None, help="cdpr-design (default: build/release)")
+    ap.add_argument("--fmax", type=float, default=None, help="top of the grid [Hz]")
+    ap.add_argument("--points", type=int, default=3000)
+    a = ap.parse_args()
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    exe = a.bin or os.path.join(root, "build", "release", "apps", "cdpr-design")
+    os.makedirs(a.out, exist_ok=True)
+    text = open(a.scenario).read()
+    for s in a.settings:
+        k, v = s.split("=", 1)
+        text = set_key(text, k, v)
+    scen = os.path.join(a.out, "scenario.yaml")
+    with open(scen, "w") as fh:
+        fh.write(text)
+    cmd = [exe, scen, a.out]
+    if a.at is not None:
+        cmd += ["--at", repr(a.at)]
+    if a.step_test is not None:
+        cmd += ["--step-test", str(a.step_test)]
+    rc = subprocess.run(cmd, check=False).returncode
+    if rc != 0:
+        raise SystemExit("feedback_design: cdpr-design exited with %d" % rc)
+    m = load(a.out)
+    T = m["T"]
+    Phi, Gam = discretise(m["A"], m["B"], T)
+    loop = Loop(m, Phi, Gam)
+    rep = {"scenario": a.scenario, "settings": a.settings, "pose": m["pose"], "n": int(m["A"].shape[0])}
+    md = modes(loop.lam)
+    rep["modes_hz_zeta"] = [[round(f, 4), float("%.3g" % z)] for f, z in md]
+    rep["max_re_lambda"] = float(np.max(loop.lam.real))
+    ev = closed_loop(m, Phi, Gam)
+    rho = float(np.max(np.abs(ev)))
+    k = int(np.argmax(np.abs(ev)))
+    # the integrators (lengths) and the quaternion norm sit at |z| = 1 without feedback
+    rep["closed_loop_max_abs_eig"] = rho
+    rep["closed_loop_worst_hz"] = float(abs(np.angle(ev[k])) / (2 * np.pi * T))
+    unstable = sorted({round(abs(np.angle(e)) / (2 * np.pi * T), 3)
+                       for e in ev if abs(e) > 1.0 + 1e-9})
+    rep["closed_loop_unstable_hz"] = unstable[:20]
+    fmax = a.fmax or 0.5 / T
+    f = np.logspace(np.log10(0.01), np.log10(fmax * 0.999), a.points)
+    # refine around every plant mode in the band
+    extra = []
+    for fm, _ in modes(loop.lam, 0.01, fmax):
+        extra.extend(fm * (1 + np.linspace(-0.02, 0.02, 41)))
+    f = np.unique(np.concatenate([f, [x for x in extra if 0.01 < x < fmax]]))
+    H = loop.H(f)
+    chk = []
+    for fc in (0.3, 5.0, min(20.0, 0.4 / T)):
+        Hd = loop.H_direct(fc)
+        Hm = loop.H(fc)[0]
+        chk.append(float(np.linalg.norm(Hd - Hm) / max(np.linalg.norm(Hd), 1e-300)))
+    rep["modal_vs_direct_rel_err"] = chk
+    ret = np.eye(6)[None, :, :] - H  # I + L with L = -H
+    smin = np.array([np.linalg.svd(r, compute_uv=False)[-1] for r in ret])
+    i = int(np.argmin(smin))
+    alpha = float(smin[i])
+    rep["sigma_min_I_plus_L"] = alpha
+    rep["sigma_min_at_hz"] = float(f[i])
+    if alpha < 1.0:
+        rep["disk_gain_db"] = [float(20 * np.log10(1 / (1 + alpha))),
+                               float(20 * np.log10(1 / (1 - alpha)))]
+    else:
+        rep["disk_gain_db"] = [float(20 * np.log10(1 / (1 + alpha))), float("inf")]
+    rep["disk_phase_deg"] = float(np.degrees(2 * np.arcsin(min(alpha, 2.0) / 2)))
+    active = np.max(np.abs(H)) > 0.0
+    if active:
+        l = channel_loops(H)
+        rep["channels"] = []
+        for j in range(6):
+            gm, gmf, pm, pmf = margins(f, l[:, j])
+            rep["channels"].append({"cable": j, "gm_db": gm, "gm_hz": gmf, "pm_deg": pm,
+                                    "pm_hz": pmf})
+        np.savetxt(os.path.join(a.out, "loop.csv"),
+                   np.column_stack([f, smin] + [np.abs(l[:, j]) for j in range(6)] +
+                                   [np.degrees(np.angle(l[:, j])) for j in range(6)]),
+                   delimiter=",", header="f_hz,sigma_min,|l1..6|,phase1..6_deg")
+    if a.step_test is not None:
+        res, t, nl, lin = step_check(m, Phi, Gam, os.path.join(a.out, "step.csv"), a.step_test)
+        rep["step_test"] = {k: {"peak": v[0], "max_err": v[1]} for k, v in res.items()}
+        np.savetxt(os.path.join(a.out, "step_lin.csv"), np.column_stack([t, lin]), delimiter=",")
+    ok = rho < 1.0 - 1e-9 or not active
+    if active:
+        gm_min = min(abs(c["gm_db"]) for c in rep["channels"])
+        pm_min = min(c["pm_deg"] for c in rep["channels"])
+        rep["loop_at_a_time_min"] = {"gm_db": gm_min, "pm_deg": pm_min}
+        ok = ok and gm_min >= GOAL_GM_DB and pm_min >= GOAL_PM_DEG
+    rep["meets_goal"] = bool(ok)
+    with open(os.path.join(a.out, "design.json"), "w") as fh:
+        json.dump(rep, fh, indent=1, default=float)
+    json.dump(rep, sys.stdout, indent=1, default=float)
+    print()
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
