@@ -300,9 +300,12 @@ static int write_all(const char *dir, const double *pose)
         fprintf(f, "n %d\nperiod_s %.17g\nnz %d\nnu %d\nnm %d\n", n, g_sc.period_s, NZ, NU, NM);
         fprintf(f, "pose %.17g %.17g %.17g %.17g %.17g %.17g\n", pose[0], pose[1], pose[2], pose[3],
                 pose[4], pose[5]);
+        fprintf(f, "cabin_mass_kg %.17g\n", g_plant.robot.p.cabin.mass_kg);
         for (int j = 0; j < g_plant.robot.p.n_cables; ++j) {
-            fprintf(f, "cable %d offset %d nodes %d\n", j, g_plant.robot.offset[j],
-                    g_plant.robot.cable[j].n);
+            const cdpr_robot_cable_params_t *cp = &g_plant.params.cables[j];
+            fprintf(f, "cable %d offset %d nodes %d node_mass_kg %.17g\n", j,
+                    g_plant.robot.offset[j], g_plant.robot.cable[j].n,
+                    cp->cable.rho_kg_per_m * cp->length_m / (double)g_plant.robot.cable[j].n);
         }
         rc |= (fclose(f) == 0) ? 0 : -1;
     } else {
