@@ -27,6 +27,7 @@
 #include "app_cli.h"
 #include "app_run.h"
 #include "app_status.h"
+#include "cdpr/host/cli.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/tracker.h"
@@ -319,39 +320,60 @@ static int write_all(const char *dir, const double *pose)
     return rc;
 }
 
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J]\n"
+               "Linear model of the scenario's loop holding the trajectory's pose at T (default:\n"
+               "where it stops) written into the directory OUT; scripts/feedback_design.py reads\n"
+               "it (modes, closed-loop eigenvalues, margins; docs/validation.md \"Feedback\n"
+               "design\").\n\n"
+               "  --at T          hold the pose of the trajectory at T [s]\n"
+               "  --step-test J   also the nonlinear response to a 1 mm/s step on winch J (0..5)\n"
+               "  --help          this text\n"
+               "  --version       version and git description\n\n"
+               "exit codes: 0 done, 1 step test failed, 2 bad command line or scenario,\n"
+               "            3 OUT cannot be written\n");
+}
+
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"at", required_argument, NULL, 'a'},
                                              {"step-test", required_argument, NULL, 's'},
-                                             {"help", no_argument, NULL, 'h'},
+                                             CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     double at_s = NAN;
-    int step_cable = -1;
+    double cable = -1.0;
     int c;
-    while ((c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
+        cdpr_status_t bad = CDPR_OK;
         if (c == 'a') {
-            at_s = strtod(optarg, NULL);
+            bad = cdpr_cli_number("cdpr-design", "at", optarg, 0.0, 1e6, &at_s);
         } else if (c == 's') {
-            step_cable = atoi(optarg);
+            bad = cdpr_cli_number("cdpr-design", "step-test", optarg, 0.0, 5.0, &cable);
+            bad = (bad == CDPR_OK && floor(cable) < cable)
+                      ? cdpr_app_usage_error("cdpr-design", "--step-test: a winch 0..5")
+                      : bad;
         } else {
-            fprintf(c == 'h' ? stdout : stderr,
-                    "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J]\n"
-                    "Linear model of the scenario's loop holding the trajectory's pose at T\n"
-                    "(default: where it stops); see scripts/feedback_design.py.\n");
-            return (c == 'h') ? 0 : 2;
+            return cdpr_app_exit_code(
+                cdpr_app_other_option("cdpr-design", c, argv, longopts, usage));
+        }
+        if (bad != CDPR_OK) {
+            return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
         }
     }
-    if (argc - optind != 2 || step_cable > 5) {
-        fprintf(stderr, "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J]\n");
-        return 2;
+    if (argc - optind != 2) {
+        return cdpr_app_exit_code(cdpr_app_usage_error("cdpr-design", "SCENARIO and OUT expected"));
     }
+    const int step_cable = (int)cable;
     double pose[6];
     const cdpr_status_t st = setup(argv[optind], at_s, pose);
     if (st != CDPR_OK) {
         return cdpr_app_exit_code(st);
     }
     if (write_all(argv[optind + 1], pose) != 0) {
-        return 3;
+        fprintf(stderr, "cdpr-design: %s: cannot write the model\n", argv[optind + 1]);
+        return cdpr_app_exit_code(CDPR_E_IO);
     }
     if (step_cable >= 0 && step_test(argv[optind + 1], step_cable) != 0) {
         fprintf(stderr, "cdpr-design: step test failed\n");
