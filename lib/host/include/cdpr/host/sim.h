@@ -32,6 +32,11 @@
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/summary.h"
 
+/// Longest unstretched cable length a run accepts at any checked instant [m]: the LCM bridge's
+/// longest length command (cdpr_lcm_bridge_params_t.max_length_m, default 1000 m), so the
+/// same scenario runs under cdpr-sim and cdpr-rt.
+#define CDPR_SIM_MAX_LENGTH_M 1000.0
+
 /// Run options (inputs).
 typedef struct {
     const char *out_dir;     ///< directory for timeseries.csv and summary.json (NULL: none)
