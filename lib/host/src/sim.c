@@ -139,17 +139,14 @@ static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_statics
     return CDPR_OK;
 }
 
-/* The trajectory (every 0.1 s and at the end) must be feasible for the feed-forward: an IK
- * under the weight and the controller's share of the inertial load (as cdpr_tracker_step asks
- * it), with every length within the limits. Returns CDPR_OK or the error with err filled. */
-static cdpr_status_t check_reachable(sim_t *s, const cdpr_scenario_t *sc, double duration,
-                                     cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_sim_check_trajectory(const cdpr_scenario_t *sc, double duration,
+                                        cdpr_robot_t *model, cdpr_scenario_error_t *err)
 {
     cdpr_robot_params_t mp;
     cdpr_winch_params_t w[CDPR_MAX_CABLES];
     cdpr_diag_t d;
     if (cdpr_scenario_build_robot(sc, NULL, &mp, w, &d) != CDPR_OK ||
-        cdpr_robot_init(&s->model, &mp, &d) != CDPR_OK) {
+        cdpr_robot_init(model, &mp, &d) != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "rejected by the model: field '%s': %s", d.field,
                  cdpr_status_str(d.status));
@@ -166,15 +163,15 @@ static cdpr_status_t check_reachable(sim_t *s, const cdpr_scenario_t *sc, double
         cdpr_vec3_t f = cdpr_v3(0.0, 0.0, 0.0);
         cdpr_vec3_t tau = f;
         if (sc->gains.inertial_ff > 0.0) {
-            cdpr_tracker_inertial_wrench(&s->model, &ds, &f, &tau);
+            cdpr_tracker_inertial_wrench(model, &ds, &f, &tau);
             f = cdpr_v3_scale(f, sc->gains.inertial_ff);
             tau = cdpr_v3_scale(tau, sc->gains.inertial_ff);
         }
         cdpr_statics_result_t res;
-        const cdpr_status_t st = cdpr_statics_ik_wrench(&s->model, &ds.motion, f, tau, &o, &res);
+        const cdpr_status_t st = cdpr_statics_ik_wrench(model, &ds.motion, f, tau, &o, &res);
         if (st != CDPR_OK) {
             char what[768];
-            infeasible_reason(&s->model, &ds, t, f, tau, st, what, sizeof what);
+            infeasible_reason(model, &ds, t, f, tau, st, what, sizeof what);
             cdpr_scenario_error(sc, traj_key(sc), what, err);
             return st;
         }
@@ -215,7 +212,7 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
         return ps;
     }
     /* The trajectory before the controller: its error names the time and pose. */
-    const cdpr_status_t ts = check_reachable(s, sc, duration, err);
+    const cdpr_status_t ts = cdpr_sim_check_trajectory(sc, duration, &s->model, err);
     if (ts != CDPR_OK) {
         return ts;
     }
