@@ -15,6 +15,7 @@
 #   --out       output directory (default build/soak)
 #   --duration  plant time [s] (default: the scenario's run.duration_s)
 #   --every     RSS sampling interval [s] of wall time (default 5)
+#   --no-run    only the table, from the outputs of an earlier run in --out
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
 sim=""
@@ -22,6 +23,7 @@ scenario="$here/scenarios/soak-deploy-retrieve.yaml"
 out="$here/build/soak"
 duration=""
 every=5
+run=1
 while [ $# -gt 0 ]; do
     case "$1" in
     --sim) sim=$2; shift 2 ;;
@@ -29,33 +31,36 @@ while [ $# -gt 0 ]; do
     --out) out=$2; shift 2 ;;
     --duration) duration=$2; shift 2 ;;
     --every) every=$2; shift 2 ;;
+    --no-run) run=0; shift ;;
     *) echo "soak.sh: unknown argument '$1'" >&2; exit 2 ;;
     esac
 done
-if [ -z "$sim" ]; then
-    for c in "$here/build/release/apps/cdpr-sim" "$here/build/debug/apps/cdpr-sim"; do
-        if [ -x "$c" ]; then sim=$c; break; fi
+if [ "$run" -eq 1 ]; then
+    if [ -z "$sim" ]; then
+        for c in "$here/build/release/apps/cdpr-sim" "$here/build/debug/apps/cdpr-sim"; do
+            if [ -x "$c" ]; then sim=$c; break; fi
+        done
+    fi
+    [ -x "$sim" ] || { echo "soak.sh: no cdpr-sim (build one, or give --sim)" >&2; exit 2; }
+    mkdir -p "$out"
+    args=("$scenario" --out "$out/run" --no-plot --progress)
+    [ -n "$duration" ] && args+=(--duration "$duration")
+    echo "soak.sh: $sim ${args[*]}"
+    date +%s.%N >"$out/start.txt"
+    "$sim" "${args[@]}" >"$out/stdout.txt" 2>"$out/progress.txt" &
+    pid=$!
+    : >"$out/rss.txt"
+    while kill -0 "$pid" 2>/dev/null; do
+        rss=$(awk '/^VmRSS:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
+        [ -n "$rss" ] && echo "$(date +%s.%N) $rss" >>"$out/rss.txt"
+        sleep "$every"
     done
+    wait "$pid"
+    rc=$?
+    echo "soak.sh: cdpr-sim exit $rc"
+    [ "$rc" -eq 0 ] || { cat "$out/progress.txt" >&2; exit "$rc"; }
 fi
-[ -x "$sim" ] || { echo "soak.sh: no cdpr-sim (build one, or give --sim)" >&2; exit 2; }
-mkdir -p "$out"
-args=("$scenario" --out "$out/run" --no-plot --progress)
-[ -n "$duration" ] && args+=(--duration "$duration")
-echo "soak.sh: $sim ${args[*]}"
-start=$(date +%s.%N)
-"$sim" "${args[@]}" >"$out/stdout.txt" 2>"$out/progress.txt" &
-pid=$!
-: >"$out/rss.txt"
-while kill -0 "$pid" 2>/dev/null; do
-    rss=$(awk '/^VmRSS:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
-    [ -n "$rss" ] && echo "$(date +%s.%N) $rss" >>"$out/rss.txt"
-    sleep "$every"
-done
-wait "$pid"
-rc=$?
-end=$(date +%s.%N)
-echo "soak.sh: cdpr-sim exit $rc after $(echo "$end - $start" | bc) s of wall time"
-[ "$rc" -eq 0 ] || { cat "$out/progress.txt" >&2; exit "$rc"; }
+start=$(cat "$out/start.txt")
 python3 - "$out" "$scenario" "$start" <<'PY'
 import csv, json, math, re, sys
 out, scenario, start = sys.argv[1], sys.argv[2], float(sys.argv[3])
@@ -68,11 +73,14 @@ P = 2.0 * (leg + pause)
 rows = csv.DictReader(l for l in open(out + '/run/timeseries.csv') if not l.startswith('#'))
 cyc = {}
 prev = None
+cyc0 = None
 for r in rows:
     t = float(r['t_s'])
     k = int(math.floor(t / P + 1e-9))
     c = cyc.setdefault(k, {'ins': 0, 'rem': 0, 'work': 0.0, 'err': 0.0})
     n = [int(float(r['n%d' % j])) for j in range(1, 7)]
+    if cyc0 is None:
+        cyc0 = n
     if prev is not None:
         dt = t - prev[0]
         for j in range(6):
@@ -132,6 +140,7 @@ print('summary: status %s, node_insertions %d, node_removals %d, max_error_m %.4
 if ins:
     print('cycles 2..%d: insertions per cycle %d..%d, removals per cycle %d..%d' % (len(full), min(ins), max(ins), min(rem), max(rem)))
     print('winch work per cycle: %.4f .. %.4f kJ (first of them %.4f, last %.4f)' % (min(work) / 1e3, max(work) / 1e3, work[0] / 1e3, work[-1] / 1e3))
+print('segments per cable: first row %s, last row %s' % (cyc0, prev[1]))
 if len(walls) >= 4:
     q = len(walls) // 4
     a, b = sum(walls[:q]) / q, sum(walls[-q:]) / q
