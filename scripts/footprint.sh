@@ -89,8 +89,11 @@ def load(cidir):
 
 # The integrator's indirect call is the robot RHS on the step path; the robot's own indirect
 # call is the optional prescribed-motion callback (user code, not counted).
+# ROS34PW2 calls the plant's three callbacks (plant.c): the RHS, the W factorisation and solve.
 INDIRECT = {"cdpr_rkf45_advance": "cdpr_robot_rhs", "cdpr_rkf45_step": "cdpr_robot_rhs",
-            "cdpr_rkf45_trial": "cdpr_robot_rhs", "trial": "cdpr_robot_rhs"}
+            "cdpr_rkf45_trial": "cdpr_robot_rhs", "trial": "cdpr_robot_rhs",
+            "ros_eval": "cdpr_robot_rhs", "ros_prepare_w": "cdpr_robot_w_factor",
+            "ros_solve": "cdpr_robot_w_solve"}
 
 def worst(fn, g, seen=()):
     frames, qual, edges = g
@@ -129,6 +132,7 @@ def core_graph(preset, segments=None):
     return load(out)
 
 roots = [("cdpr_rkf45_advance", "one control period (advance -> robot RHS)"),
+         ("cdpr_ros_advance", "one control period, ROS34PW2 (RHS, W factor and solves)"),
          ("cdpr_robot_rhs", "robot RHS alone"),
          ("cdpr_winch_node_events", "node insertion/removal"),
          ("cdpr_winch_update", "winch command update"),

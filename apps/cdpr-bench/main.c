@@ -567,7 +567,8 @@ static void usage(FILE *f)
                "  --help    this text\n"
                "  --version version and git description\n\n"
                "Default: best of 5 runs of >= 0.2 s per case (about a minute). Build with the\n"
-               "release preset; see docs/performance.md.\n");
+               "release preset; see docs/performance.md.\n"
+               "exit codes: 0 done, 2 bad command line or a case the core refused (no files)\n");
 }
 
 int main(int argc, char **argv)

@@ -9,8 +9,9 @@
 /// them, each with a note on stderr when it changes the file's value.
 ///
 /// Exit codes (the apps' one table, app_status.h): 0 run completed, 1 stopped early
-/// (SIGINT/SIGTERM), 2 bad command line or scenario, 3 LCM, thread or output failure (also:
-/// the scenario file cannot be read).
+/// (SIGINT/SIGTERM/SIGHUP: telemetry printed, --tracker-out written with status
+/// "interrupted"), 2 bad command line or scenario, 3 LCM, thread or output failure (the file
+/// and strerror on stderr; it outranks 1; also: the scenario file cannot be read).
 #include <getopt.h>
 #include <limits.h>
 #include <math.h>
@@ -37,39 +38,44 @@ typedef struct {
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage: cdpr-rt SCENARIO [options]\n"
-            "Real-time plant node: the scenario's robot (settled at its initial pose) stepped\n"
-            "by a periodic thread; publishes <prefix>CABIN_STATE, CABLE_TENSIONS, CABLE_SHAPE,\n"
-            "DIAGNOSTICS and takes <prefix>WINCH_COMMAND (docs/realtime.md).\n\n"
-            "  --rate HZ              control rate (default: 1 / the scenario's run.period_s)\n"
-            "  --duration S           plant time to run, a whole number of periods (default:\n"
-            "                         the scenario's run.duration_s)\n"
-            "  --lockstep             step only when the command answering the last state came\n"
-            "                         (deterministic: bit-identical to the in-process loop)\n"
-            "  --lockstep-timeout S   lockstep: hold after waiting S for an answer (default 2)\n"
-            "  --realtime             SCHED_FIFO + mlockall when permitted (else says why and\n"
-            "                         runs SCHED_OTHER)\n"
-            "  --priority N           SCHED_FIFO priority 1..99 (default 80)\n"
-            "  --max-trials N         RKF45 trials per attempt (default: the scenario's\n"
-            "                         integrator.max_trials)\n"
-            "  --max-attempts N       attempts per period; the work bound of a period is\n"
-            "                         max-attempts x max-trials (default: the scenario's\n"
-            "                         integrator.max_attempts)\n"
-            "  --watchdog S           no valid command for S -> winches hold (default 0.1)\n"
-            "  --start-delay S        free-running: wait S before the first period (default 0)\n"
-            "  --lcm-url URL          LCM provider (default: liblcm's, i.e. $LCM_DEFAULT_URL or\n"
-            "                         udpm://239.255.76.67:7667?ttl=0)\n"
-            "  --prefix P             channel prefix (default CDPR_)\n"
-            "  --with-tracker         also run the example tracker in this process, on the LCM\n"
-            "                         thread (what memq:// needs: it is in-process only)\n"
-            "  --tracker-out DIR      with --with-tracker: its timeseries.csv, summary.json and\n"
-            "                         figures (as cdpr-tracker --out)\n"
-            "  --quiet                no telemetry summary\n"
-            "  --help                 this text\n"
-            "  --version              version and git description\n\n"
-            "exit codes: 0 completed, 1 stopped by a signal, 2 bad command line or scenario,\n"
-            "            3 LCM/thread start-up or output failure, unreadable scenario\n");
+    fprintf(
+        f, "usage: cdpr-rt SCENARIO [options]\n"
+           "Real-time plant node: the scenario's robot (settled at its initial pose) stepped\n"
+           "by a periodic thread; publishes <prefix>CABIN_STATE, CABLE_TENSIONS, CABLE_SHAPE,\n"
+           "DIAGNOSTICS and takes <prefix>WINCH_COMMAND (docs/realtime.md).\n\n"
+           "  --rate HZ              control rate (default: 1 / the scenario's run.period_s)\n"
+           "  --duration S           plant time to run, a whole number of periods; failed\n"
+           "                         periods do not count (default: the scenario's\n"
+           "                         run.duration_s)\n"
+           "  --lockstep             step only when the command answering the last state came\n"
+           "                         (deterministic: bit-identical to the in-process loop)\n"
+           "  --lockstep-timeout S   lockstep: hold after waiting S for an answer (default 2)\n"
+           "  --realtime             SCHED_FIFO + mlockall when permitted (else says why and\n"
+           "                         runs SCHED_OTHER)\n"
+           "  --priority N           SCHED_FIFO priority 1..99 (default 80)\n"
+           "  --max-trials N         RKF45 trials per attempt (default: the scenario's\n"
+           "                         integrator.max_trials)\n"
+           "  --max-attempts N       attempts per period; the work bound of a period is\n"
+           "                         max-attempts x max-trials (default: the scenario's\n"
+           "                         integrator.max_attempts)\n"
+           "  --integrator NAME      rkf45 or ros34pw2 (default: the scenario's\n"
+           "                         integrator.method)\n"
+           "  --watchdog S           no valid command for S -> winches hold (default 0.1)\n"
+           "  --start-delay S        free-running: wait S before the first period (default 0)\n"
+           "  --lcm-url URL          LCM provider (default: liblcm's, i.e. $LCM_DEFAULT_URL or\n"
+           "                         udpm://239.255.76.67:7667?ttl=0)\n"
+           "  --prefix P             channel prefix (default CDPR_)\n"
+           "  --with-tracker         also run the example tracker in this process, on the LCM\n"
+           "                         thread (what memq:// needs: it is in-process only)\n"
+           "  --tracker-out DIR      with --with-tracker: its timeseries.csv, summary.json and\n"
+           "                         figures (as cdpr-tracker --out)\n"
+           "  --quiet                no telemetry summary\n"
+           "  --help                 this text\n"
+           "  --version              version and git description\n\n"
+           "exit codes: 0 completed, 1 stopped by a signal or a plant that cannot advance,\n"
+           "            2 bad command line or scenario, 3 LCM/thread start-up or output\n"
+           "            failure, unreadable scenario, 5 another plant on the channels\n"
+           "            SIGINT/SIGTERM/SIGHUP: telemetry, --tracker-out \"interrupted\", exit 1\n");
 }
 
 static int parse(int argc, char **argv, options_t *o)
@@ -157,6 +163,25 @@ static int parse(int argc, char **argv, options_t *o)
     return 0;
 }
 
+/* Reports from the node's threads: one line each on stderr. */
+static void on_other_plant(int64_t session, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-rt: warning: another plant (session %lld) publishes on this plant's channels: "
+            "one plant per channel prefix (the run will end with exit code 5)\n",
+            (long long)session);
+}
+
+static void on_overload(long periods, long misses, double rate_hz, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-rt: warning: %ld of the first %ld periods missed their deadline: this machine "
+            "does not hold %.0f Hz (plant time falls behind wall time)\n",
+            misses, periods, rate_hz);
+}
+
 /* Everything big is static. */
 static cdpr_rt_t g_rt;
 static cdpr_rt_tracker_t g_tracker;
@@ -172,7 +197,8 @@ static int tracker_open(lcm_t *lcm, void *ctx)
 /* The in-process tracker on the bridge thread, recording what it sees. */
 static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc)
 {
-    const cdpr_tracker_gains_t g = sc->gains;
+    cdpr_tracker_gains_t g = sc->gains;
+    g.wind_m_per_s = g_rt.plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
     const double period_s = g_rt.plant.pp.period_s;
     cdpr_diag_t d;
     const cdpr_status_t st =
@@ -197,15 +223,22 @@ static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc
     return CDPR_OK;
 }
 
-/* The in-process tracker's summary and outputs. CDPR_OK or CDPR_E_IO. */
-static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *sc)
+/* The in-process tracker's summary (status: `run` of the plant, or io_error when its CSV
+ * failed) and outputs: the CSV's whole rows, summary.json even after a CSV failure (another
+ * file: it may fit), the figures only when both were written. CDPR_OK or CDPR_E_IO after
+ * printing "cdpr-rt: FILE: why". */
+static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *sc,
+                                    cdpr_status_t run)
 {
     cdpr_status_t st = cdpr_sim_rec_close(&g_record.rec);
+    cdpr_scenario_error_t err;
     if (st != CDPR_OK) {
-        fprintf(stderr, "cdpr-rt: %s/timeseries.csv: write error\n", o->tracker_out);
+        cdpr_sim_rec_io_error(&g_record.rec, &err);
+        fprintf(stderr, "cdpr-rt: %s\n", err.msg);
     }
     g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
+    cdpr_sim_tracker_counts(&g_tracker.tracker, &g_tracker_sum);
     /* The plant runs in this process: its own counts (as cdpr-sim's summary has them). */
     const cdpr_plant_t *p = &g_rt.plant;
     g_tracker_sum.node_insertions = g_rt.tel.node_insertions;
@@ -216,22 +249,41 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
     }
     g_tracker_sum.substep_limit_hits = p->stats.substep_limit_hits;
     g_tracker_sum.min_length_periods = p->stats.min_length_periods;
-    g_tracker_sum.steps_accepted = p->rk.stats.steps_accepted;
-    g_tracker_sum.steps_rejected = p->rk.stats.steps_rejected;
-    g_tracker_sum.rhs_evals = p->rk.stats.rhs_evals;
+    const int implicit = (p->pp.integrator != CDPR_PLANT_RKF45) ? 1 : 0;
+    g_tracker_sum.steps_accepted =
+        (implicit != 0) ? p->ros.stats.steps_accepted : p->rk.stats.steps_accepted;
+    g_tracker_sum.steps_rejected =
+        (implicit != 0) ? p->ros.stats.steps_rejected : p->rk.stats.steps_rejected;
+    g_tracker_sum.rhs_evals = (implicit != 0) ? p->ros.stats.rhs_evals : p->rk.stats.rhs_evals;
     g_tracker_sum.settle_steps = p->settle.steps;
     g_tracker_sum.settle_wall_time_s = (double)NAN; /* not measured by cdpr_rt_init */
     g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
     g_tracker_sum.status = CDPR_SIM_OK;
-    snprintf(g_tracker_sum.message, sizeof g_tracker_sum.message, "%llu commands",
+    const char *why = "";
+    if (st != CDPR_OK) {
+        g_tracker_sum.status = CDPR_SIM_IO_ERROR;
+        why = "timeseries.csv write failed; ";
+    } else if (run == CDPR_E_INTERRUPTED) {
+        g_tracker_sum.status = CDPR_SIM_INTERRUPTED;
+        why = "interrupted by a signal; ";
+    } else if (run == CDPR_E_CONFLICT) {
+        g_tracker_sum.status = CDPR_SIM_WARNINGS;
+        why = "another plant shared the channels; ";
+    } else if (run != CDPR_OK) {
+        g_tracker_sum.status = CDPR_SIM_FAILED;
+        why = "the plant could not advance; ";
+    }
+    snprintf(g_tracker_sum.message, sizeof g_tracker_sum.message, "%s%llu commands", why,
              (unsigned long long)g_tracker.stats.answered);
     if (o->quiet == 0) {
         cdpr_sim_print_summary(stdout, "in-process tracker", &g_tracker_sum);
     }
-    if (o->tracker_out != NULL && st == CDPR_OK) {
+    if (o->tracker_out != NULL) {
         char script[1200];
         (void)cdpr_app_data_file("scripts/plot_sim.gp", script, sizeof script);
-        st = cdpr_app_write_outputs("cdpr-rt", sc, o->tracker_out, &g_tracker_sum, script);
+        const cdpr_status_t ws = cdpr_app_write_outputs(
+            "cdpr-rt", sc, o->tracker_out, &g_tracker_sum, (st == CDPR_OK) ? script : NULL);
+        st = (st == CDPR_OK) ? ws : st;
     }
     return st;
 }
@@ -251,6 +303,8 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(st);
     }
     o.rt.stop = cdpr_app_stop_on_signals();
+    o.rt.lcm.on_other_plant = on_other_plant;
+    o.rt.on_overload = on_overload;
     if (o.with_tracker != 0) {
         o.rt.lcm.on_open = tracker_open;
         o.rt.lcm.on_open_ctx = &g_tracker;
@@ -274,16 +328,19 @@ int main(int argc, char **argv)
                 (o.rt.lcm.url != NULL) ? o.rt.lcm.url : "liblcm's default URL");
     }
     st = cdpr_rt_run(&g_rt, &err);
-    if (st == CDPR_E_IO) {
+    if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
+    }
+    if (st == CDPR_E_IO) {
         return cdpr_app_exit_code(st);
     }
     if (o.quiet == 0) {
         cdpr_rt_print_summary(&g_rt, stdout);
     }
     if (o.with_tracker != 0) {
-        const cdpr_status_t ts = tracker_finish(&o, &sc);
-        st = (st == CDPR_OK) ? ts : st;
+        /* An output failure (exit 3) outranks a stop by a signal (exit 1). */
+        const cdpr_status_t ts = tracker_finish(&o, &sc, st);
+        st = (ts != CDPR_OK) ? ts : st;
     }
     return cdpr_app_exit_code(st);
 }

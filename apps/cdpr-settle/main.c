@@ -65,7 +65,9 @@ static void usage(FILE *f)
                "  --rho RHO         mass per length [kg/m] (default 0.14)\n"
                "  --segments LIST   comma-separated segment counts (default 8,16,32,64)\n"
                "  --help            this text\n"
-               "  --version         version and git description\n");
+               "  --version         version and git description\n\n"
+               "exit codes: 0 done, 1 a settling run failed, 2 bad command line or cable, 3 output "
+               "error\n");
 }
 
 static int parse_segments(const char *s, options_t *o)
@@ -297,6 +299,23 @@ static cdpr_status_t run(const options_t *o, int n, const cdpr_catenary_cable_t 
     return CDPR_OK;
 }
 
+/* Close nodes.csv: every fprintf into it left a failure in the stream's error flag; a full
+ * device shows at the flush or the close. CDPR_OK, or CDPR_E_IO after "FILE: write failed:
+ * why" on stderr. */
+static cdpr_status_t close_csv(FILE *csv, const char *path)
+{
+    errno = 0;
+    int e = (fflush(csv) != 0 || ferror(csv) != 0) ? ((errno != 0) ? errno : EIO) : 0;
+    if (fclose(csv) != 0 && e == 0) {
+        e = (errno != 0) ? errno : EIO;
+    }
+    if (e != 0) {
+        fprintf(stderr, "cdpr-settle: %s: write failed: %s\n", path, strerror(e));
+        return CDPR_E_IO;
+    }
+    return CDPR_OK;
+}
+
 int main(int argc, char **argv)
 {
     options_t o = {100.0, 80.0, 10.0, 2.0e4, 0.14, "out/settle", {8, 16, 32, 64}, 4};
@@ -371,7 +390,8 @@ int main(int argc, char **argv)
                r.max_dev_m, r.steps, r.sim_time_s, r.wall_s);
         prev = r;
     }
-    fclose(csv);
+    const cdpr_status_t cs_rc = close_csv(csv, path);
+    rc = (rc == CDPR_OK) ? cs_rc : rc;
     if (rc == CDPR_OK && prev.n > 0) {
         printf("\nfinest run (N=%d) vs closed form: sag %+.2e m (%.4f %%), T_A %+.2e N "
                "(%.4f %%), T_B %+.2e N (%.4f %%)\n",

@@ -4,8 +4,10 @@
 /// robot) and write DIR/timeseries.csv, DIR/summary.json and PNG figures (gnuplot).
 ///
 /// Exit codes (the apps' one table, app_status.h): 0 run completed (also with warnings, see
-/// summary.json "status"), 1 the simulation stopped early, 2 bad command line or bad
-/// scenario, 3 output error (also: the scenario file cannot be read).
+/// summary.json "status"), 1 the simulation stopped early (integrator; or SIGINT/SIGTERM/SIGHUP:
+/// status "interrupted", whole rows, summary written), 2 bad command line or bad scenario,
+/// 3 output error, with the file and strerror (summary status "io_error" where it can still be
+/// written; also: the scenario file cannot be read).
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,6 +47,7 @@ static void usage(FILE *f)
             "  --out DIR           output directory (created if missing; required)\n"
             "  --duration S        simulate S seconds instead of run.duration_s (tests and\n"
             "                      quick looks; S must be a whole number of run.period_s)\n"
+            "  --integrator NAME   rkf45 or ros34pw2 instead of integrator.method\n"
             "  --no-plot           do not run gnuplot\n"
             "  --plot-script FILE  gnuplot script; default: share/cdpr/scripts/plot_sim.gp of\n"
             "                      the installation (the source tree's from a build tree):\n"
@@ -54,7 +57,8 @@ static void usage(FILE *f)
             "  --help              this text\n"
             "  --version           version and git description\n\n"
             "exit codes: 0 run completed (status ok or warnings), 1 simulation stopped early,\n"
-            "            2 bad command line or scenario, 3 output error or unreadable scenario\n",
+            "            2 bad command line or scenario, 3 output error or unreadable scenario\n"
+            "            SIGINT/SIGTERM/SIGHUP: whole rows, summary.json \"interrupted\", exit 1\n",
             g_default_script);
 }
 
@@ -63,6 +67,7 @@ static int parse(int argc, char **argv, options_t *o)
     static const struct option longopts[] = {
         {"out", required_argument, NULL, 'o'},
         {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},
+        {"integrator", required_argument, NULL, CDPR_APP_OPT_INTEGRATOR},
         {"no-plot", no_argument, NULL, 'n'},
         {"plot-script", required_argument, NULL, 's'},
         {"progress", no_argument, NULL, 'p'},
@@ -142,6 +147,7 @@ int main(int argc, char **argv)
     cdpr_sim_opts_default(&so);
     so.out_dir = o.out_dir;
     so.progress_stream = stderr;
+    so.stop = cdpr_app_stop_on_signals();
     if (o.quiet == 0) {
         const int tty = isatty(STDERR_FILENO);
         /* A rewritten line on a terminal; plain lines when forced into a file or pipe. */
@@ -155,7 +161,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "cdpr-sim: %s\n", err.msg);
         return cdpr_app_exit_code(st);
     }
-    if (st != CDPR_OK) {
+    if (st == CDPR_E_INTERRUPTED) {
+        fprintf(stderr, "cdpr-sim: %s: %s\n", o.scenario, sum.message);
+    } else if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-sim: %s: simulation stopped early: %s\n", o.scenario, sum.message);
     }
     cdpr_status_t plotted = CDPR_E_IO;

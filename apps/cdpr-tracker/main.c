@@ -12,9 +12,10 @@
 /// stderr when it changes the file's value.
 ///
 /// Exit codes (the apps' one table, app_status.h): 0 finished (answered the state at the end
-/// of the run), 1 stopped by a signal or by silence (no state for --idle-exit seconds), 2 bad
-/// command line or scenario, 3 LCM failure or output error (also: the scenario file or the
-/// --replay log cannot be read).
+/// of the run), 1 stopped by a signal (SIGINT/SIGTERM/SIGHUP, also while waiting for the first
+/// state: summary.json "interrupted", whole rows) or by silence (no state for --idle-exit
+/// seconds: "failed"), 2 bad command line or scenario, 3 LCM failure or output error (the file
+/// and strerror on stderr; also: the scenario file or the --replay log cannot be read).
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -58,7 +59,7 @@ static void usage(FILE *f)
            "                   run.period_s)\n"
            "  --duration S     run length, a whole number of periods; exits after answering\n"
            "                   the state at S (default: the scenario's run.duration_s)\n"
-           "  --max-trials N   --max-attempts N: the plant's work bound (cdpr-rt's); only\n"
+           "  --max-trials N   --max-attempts N  --integrator NAME: the plant's (cdpr-rt's); only\n"
            "                   checked here, so both processes can take the same overrides\n"
            "  --idle-exit S    exit when no state came for S seconds after the first (default 5)\n"
            "  --lcm-url URL    LCM provider (default: liblcm's)\n"
@@ -75,7 +76,8 @@ static void usage(FILE *f)
            "  --version        version and git description\n\n"
            "exit codes: 0 finished, 1 stopped (signal or silence) or a replayed state differs,\n"
            "            2 bad command line or scenario, 3 LCM or output failure, unreadable\n"
-           "            scenario or log\n");
+           "            scenario or log\n"
+           "            SIGINT/SIGTERM/SIGHUP: whole rows, summary.json \"interrupted\", exit 1\n");
 }
 
 static int parse(int argc, char **argv, options_t *o)
@@ -270,7 +272,10 @@ static void replay_on_state(const lcm_recv_buf_t *rbuf, const char *channel, voi
     }
     if (r->have_cmd[st.seq] != 0) {
         unsigned char buf[256];
-        const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &r->cmd[st.seq]);
+        /* The fresh plant is a new plant session: answer it, with the recorded values. */
+        cdpr_winch_command_t c = r->cmd[st.seq];
+        c.plant_session = st.plant_session;
+        const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &c);
         if (len > 0 && lcm_publish(r->lcm, r->ch_command, buf, (unsigned int)len) == 0) {
             r->answered++;
         }
@@ -331,6 +336,26 @@ static cdpr_plant_t g_model; /* the controller's own model: IK of the initial po
 static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_record_t g_record;
 static cdpr_sim_summary_t g_sum;
+static int g_silence; /* serve stopped because no state came for --idle-exit */
+
+/* Session events of the node (docs/realtime.md, "Sessions"): one line each on stderr. */
+static void on_plant_restart(int64_t old_session, int64_t new_session, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-tracker: plant restarted (session %lld -> %lld): following the new plant from "
+            "t = 0\n",
+            (long long)old_session, (long long)new_session);
+}
+
+static void on_other_plant(int64_t followed, int64_t other, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-tracker: warning: another plant (session %lld) publishes on the channels of "
+            "plant %lld: its states are ignored; one plant per channel prefix\n",
+            (long long)other, (long long)followed);
+}
 
 /* The scenario (with the overrides), the controller's model, the node and its recorder. */
 static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
@@ -345,7 +370,8 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
         return st;
     }
-    const cdpr_tracker_gains_t g = sc->gains;
+    cdpr_tracker_gains_t g = sc->gains;
+    g.wind_m_per_s = g_model.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
     cdpr_diag_t d;
     st = cdpr_rt_tracker_init(&g_tracker, &g_model.params, g_model.pp.winch, &sc->traj, &g,
                               sc->period_s, o->prefix, &d);
@@ -364,6 +390,8 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     }
     g_tracker.on_step = cdpr_rt_tracker_record_step;
     g_tracker.on_step_ctx = &g_record;
+    g_tracker.on_plant_restart = on_plant_restart;
+    g_tracker.on_other_plant = on_other_plant;
     return CDPR_OK;
 }
 
@@ -388,7 +416,7 @@ static cdpr_status_t open_lcm(const options_t *o, lcm_t **out)
 }
 
 /* Answer states until the one at the end of the run (CDPR_OK), a signal or silence
- * (CDPR_E_INTERRUPTED) or an LCM failure (CDPR_E_IO). */
+ * (CDPR_E_INTERRUPTED; g_silence says which) or an LCM failure (CDPR_E_IO). */
 static cdpr_status_t serve(const options_t *o, const cdpr_scenario_t *sc, lcm_t *lcm)
 {
     const double duration = sc->duration_s;
@@ -397,8 +425,14 @@ static cdpr_status_t serve(const options_t *o, const cdpr_scenario_t *sc, lcm_t 
     uint64_t states_seen = 0;
     while (*g_stop == 0) {
         const int h = lcm_handle_timeout(lcm, 50);
+        if (h < 0 && *g_stop != 0) {
+            break; /* the signal interrupted the wait (EINTR): a stop, not an LCM failure */
+        }
+        if (h < 0 && errno == EINTR) {
+            continue;
+        }
         if (h < 0) {
-            fprintf(stderr, "cdpr-tracker: lcm_handle failed\n");
+            fprintf(stderr, "cdpr-tracker: lcm_handle failed: %s\n", strerror(errno));
             return CDPR_E_IO;
         }
         /* Drain what else is queued, then answer only the newest state. */
@@ -415,23 +449,54 @@ static cdpr_status_t serve(const options_t *o, const cdpr_scenario_t *sc, lcm_t 
         }
         if (states_seen > 0 && now - last_rx > o->idle_exit_s) {
             fprintf(stderr, "cdpr-tracker: no state for %g s: stopping\n", o->idle_exit_s);
+            g_silence = 1;
             return CDPR_E_INTERRUPTED;
         }
     }
     return CDPR_E_INTERRUPTED;
 }
 
-/* The summary of what the controller saw (status `rc` of the run), its files and the block on
- * stdout. Returns rc, or CDPR_E_IO when an output failed. */
+/* Status of the tracker's summary: the CSV's failure, the signal, silence, the run's end. */
+static void finish_status(cdpr_status_t rc, int csv_failed)
+{
+    const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
+    const char *why = "";
+    if (csv_failed != 0) {
+        g_sum.status = CDPR_SIM_IO_ERROR;
+        why = "timeseries.csv write failed; ";
+    } else if (rc == CDPR_OK) {
+        g_sum.status = (g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK;
+    } else if (rc == CDPR_E_INTERRUPTED && g_silence == 0) {
+        g_sum.status = CDPR_SIM_INTERRUPTED;
+        why = "interrupted by a signal; ";
+    } else {
+        g_sum.status = CDPR_SIM_FAILED;
+        why = (g_silence != 0) ? "stopped: no state came; " : "";
+    }
+    snprintf(g_sum.message, sizeof g_sum.message,
+             "%sover LCM: %llu states, %llu commands, %llu superseded, %llu clamped", why,
+             (unsigned long long)s->states, (unsigned long long)s->answered,
+             (unsigned long long)s->superseded, (unsigned long long)g_tracker.clamped);
+}
+
+/* The summary of what the controller saw (status `rc` of the run), its files (the CSV's whole
+ * rows; summary.json even after a CSV failure: another file, it may fit; figures only when
+ * both were written) and the block on stdout. Returns rc, or CDPR_E_IO when an output failed
+ * (after printing "cdpr-tracker: FILE: why"). */
 static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_status_t rc,
                             double wall0)
 {
+    int csv_failed = 0;
     if (cdpr_sim_rec_close(&g_record.rec) != CDPR_OK) {
-        fprintf(stderr, "cdpr-tracker: %s/timeseries.csv: write error\n", o->out_dir);
+        cdpr_scenario_error_t err;
+        cdpr_sim_rec_io_error(&g_record.rec, &err);
+        fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
+        csv_failed = 1;
         rc = CDPR_E_IO;
     }
     g_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_sum.ik_failures = g_tracker.tracker.ik_failures;
+    cdpr_sim_tracker_counts(&g_tracker.tracker, &g_sum);
     g_sum.wall_time_s = cdpr_clock_now_s() - wall0;
     /* What only the plant knows is unknown here (null in summary.json); the node events are
      * the changes of the segment counts in the tensions messages (cdpr_sim_rec_node_events). */
@@ -444,17 +509,13 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     g_sum.rhs_evals = CDPR_SIM_UNKNOWN;
     g_sum.settle_steps = -1;
     g_sum.settle_wall_time_s = (double)NAN;
-    g_sum.status = (rc == CDPR_OK) ? ((g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK)
-                                   : CDPR_SIM_FAILED;
+    finish_status(rc, csv_failed);
     const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
-    snprintf(g_sum.message, sizeof g_sum.message,
-             "over LCM: %llu states, %llu commands, %llu superseded, %llu clamped",
-             (unsigned long long)s->states, (unsigned long long)s->answered,
-             (unsigned long long)s->superseded, (unsigned long long)g_tracker.clamped);
     char script[1200];
     (void)cdpr_app_data_file("scripts/plot_sim.gp", script, sizeof script);
+    const int plot = (o->plot != 0 && csv_failed == 0) ? 1 : 0;
     if (o->out_dir != NULL && cdpr_app_write_outputs("cdpr-tracker", sc, o->out_dir, &g_sum,
-                                                     (o->plot != 0) ? script : NULL) != CDPR_OK) {
+                                                     (plot != 0) ? script : NULL) != CDPR_OK) {
         rc = CDPR_E_IO;
     }
     if (o->quiet == 0) {
@@ -500,6 +561,9 @@ int main(int argc, char **argv)
     }
     const double wall0 = cdpr_clock_now_s();
     st = serve(&o, &sc, lcm);
+    if (st == CDPR_OK && g_tracker.stats.other_plant_states > 0) {
+        st = CDPR_E_CONFLICT; /* completed, but next to another plant */
+    }
     cdpr_rt_tracker_detach(&g_tracker);
     lcm_destroy(lcm);
     return cdpr_app_exit_code(finish(&o, &sc, st, wall0));

@@ -17,6 +17,17 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
 {
     double *field = NULL;
     const char *name = NULL;
+    if (c == CDPR_APP_OPT_INTEGRATOR) {
+        if (strcmp(arg, "rkf45") == 0) {
+            ov->method = (int)CDPR_PLANT_RKF45;
+        } else if (strcmp(arg, "ros34pw2") == 0) {
+            ov->method = (int)CDPR_PLANT_ROS34PW2;
+        } else {
+            fprintf(stderr, "%s: option --integrator: '%s': not rkf45 or ros34pw2\n", prog, arg);
+            return -1;
+        }
+        return 1;
+    }
     switch (c) {
     case CDPR_APP_OPT_RATE:
         field = &ov->rate_hz;
@@ -68,8 +79,14 @@ const volatile int *cdpr_app_stop_on_signals(void)
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
+    /* No SA_RESTART: a blocking wait (poll, select in lcm_handle) returns EINTR and the
+     * app looks at the flag. SIGHUP ignored at start (nohup) stays ignored. */
     (void)sigaction(SIGINT, &sa, NULL);
     (void)sigaction(SIGTERM, &sa, NULL);
+    struct sigaction hup;
+    if (sigaction(SIGHUP, NULL, &hup) != 0 || hup.sa_handler != SIG_IGN) {
+        (void)sigaction(SIGHUP, &sa, NULL);
+    }
     return &g_stop;
 }
 
@@ -83,8 +100,11 @@ cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc
                                      const char *plot_script)
 {
     char path[1100];
-    if (cdpr_fs_path(path, sizeof path, out_dir, "summary.json") != CDPR_OK ||
-        cdpr_sim_write_summary(path, sc, sum) != CDPR_OK) {
+    if (cdpr_fs_path(path, sizeof path, out_dir, "summary.json") != CDPR_OK) {
+        fprintf(stderr, "%s: %s/summary.json: path too long\n", prog, out_dir);
+        return CDPR_E_IO;
+    }
+    if (cdpr_sim_write_summary(path, sc, sum) != CDPR_OK) {
         fprintf(stderr, "%s: %s: cannot write: %s\n", prog, path, strerror(errno));
         return CDPR_E_IO;
     }

@@ -12,25 +12,27 @@
 
 /// getopt_long codes of the override options (use them in the apps' option tables).
 enum {
-    CDPR_APP_OPT_RATE = 'r',        ///< --rate HZ         run.period_s = 1 / HZ
-    CDPR_APP_OPT_DURATION = 'd',    ///< --duration S      run.duration_s (plant time)
-    CDPR_APP_OPT_MAX_TRIALS = 'm',  ///< --max-trials N    integrator.max_trials
-    CDPR_APP_OPT_MAX_ATTEMPTS = 'M' ///< --max-attempts N  integrator.max_attempts
+    CDPR_APP_OPT_RATE = 'r',         ///< --rate HZ         run.period_s = 1 / HZ
+    CDPR_APP_OPT_DURATION = 'd',     ///< --duration S      run.duration_s (plant time)
+    CDPR_APP_OPT_MAX_TRIALS = 'm',   ///< --max-trials N    integrator.max_trials
+    CDPR_APP_OPT_MAX_ATTEMPTS = 'M', ///< --max-attempts N  integrator.max_attempts
+    CDPR_APP_OPT_INTEGRATOR = 'I'    ///< --integrator NAME integrator.method (rkf45, ros34pw2)
 };
 
-/// The four override options, for the apps' getopt_long tables.
+/// The five override options, for the apps' getopt_long tables.
 // clang-format off
 #define CDPR_APP_OVERRIDE_OPTIONS                                                                  \
     {"rate", required_argument, NULL, CDPR_APP_OPT_RATE},                                          \
     {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},                                  \
     {"max-trials", required_argument, NULL, CDPR_APP_OPT_MAX_TRIALS},                              \
-    {"max-attempts", required_argument, NULL, CDPR_APP_OPT_MAX_ATTEMPTS}
+    {"max-attempts", required_argument, NULL, CDPR_APP_OPT_MAX_ATTEMPTS},                          \
+    {"integrator", required_argument, NULL, CDPR_APP_OPT_INTEGRATOR}
 // clang-format on
 
 /// If getopt code `c` is an override option, parse its argument into `ov` (any finite number:
-/// the ranges are the scenario's, checked by cdpr_app_scenario). Returns 1 when it was one
-/// and parsed, 0 when `c` is not an override option, -1 after printing why the argument is not
-/// a number.
+/// the ranges are the scenario's, checked by cdpr_app_scenario; --integrator: rkf45 or
+/// ros34pw2). Returns 1 when it was one and parsed, 0 when `c` is not an override option, -1
+/// after printing why the argument is not a number (or not an integrator).
 int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov);
 
 /// Load scenario file `path` and apply the overrides `ov` (a note on stderr for each value
@@ -38,8 +40,11 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
                                 const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc);
 
-/// Install SIGINT/SIGTERM handlers that set the returned flag (0 until a signal came; the
-/// apps' loops and the plant node's periodic thread check it). Same flag on every call.
+/// Install SIGINT, SIGTERM and SIGHUP handlers (alike, without SA_RESTART) that set the
+/// returned flag (0 until a signal came; the apps' loops, cdpr_sim_run and the plant node's
+/// periodic thread check it). Same flag on every call. The apps then end as for a stop: whole
+/// CSV rows, summary.json with status "interrupted", exit 1 (CDPR_E_INTERRUPTED). A SIGHUP
+/// that was ignored when the app started (nohup) stays ignored.
 const volatile int *cdpr_app_stop_on_signals(void);
 
 /// Title of a run's figures: the scenario's description, else its file.

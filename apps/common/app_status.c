@@ -31,6 +31,8 @@ int cdpr_app_exit_code(cdpr_status_t st)
         return CDPR_EXIT_INPUT;
     case CDPR_E_IO:
         return CDPR_EXIT_IO;
+    case CDPR_E_CONFLICT:
+        return CDPR_EXIT_CONFLICT;
     default:
         return CDPR_EXIT_UNKNOWN;
     }

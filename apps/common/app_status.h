@@ -12,6 +12,8 @@
 ///           CDPR_E_GEOMETRY, CDPR_E_NO_CONVERGENCE, CDPR_E_INFEASIBLE, CDPR_E_PARSE
 ///   exit 3  an operating-system resource failed: CDPR_E_IO (file, socket, thread, LCM)
 ///   exit 4  any other value (a status this table does not know: a bug)
+///   exit 5  the run shared its channels with another peer of the same role: CDPR_E_CONFLICT
+///           (cdpr-rt saw another plant's messages on its channels; docs/realtime.md)
 #ifndef CDPR_APP_STATUS_H
 #define CDPR_APP_STATUS_H
 
@@ -23,7 +25,8 @@ enum {
     CDPR_EXIT_STOPPED = 1,
     CDPR_EXIT_INPUT = 2,
     CDPR_EXIT_IO = 3,
-    CDPR_EXIT_UNKNOWN = 4
+    CDPR_EXIT_UNKNOWN = 4,
+    CDPR_EXIT_CONFLICT = 5
 };
 
 /// Exit code of status `st` (the table above).

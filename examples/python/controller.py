@@ -11,10 +11,18 @@ cable, raising the cabin), u_j = k (L_ref_j - L_j) + dL_ref_j/dt, limited to --u
   examples/python/controller.py [--lcm-url URL] [--prefix CDPR_] [--count N] [--timeout S]
                                 [--gain K] [--lift M] [--ramp S] [--u-max U]
 
+Sessions (docs/realtime.md, "Sessions"): the controller draws a random controller_session
+once and puts it, with the plant_session of the state answered, in every command. It follows
+one plant: the first it hears, then a new plant session only after the followed plant has been
+silent for 0.5 s (a restarted plant: the controller starts over); states of another session
+meanwhile are ignored and counted (two plants on one channel prefix).
+
 Exit status: 0 when at least one state (with --count: N states) was answered, 1 otherwise.
 """
 import argparse
+import secrets
 import sys
+import time
 
 import _cdpr_path  # noqa: F401  (sys.path fallback for a source tree)
 import lcm
@@ -37,7 +45,26 @@ def main():
     lc = lcm.LCM(a.lcm_url) if a.lcm_url else lcm.LCM()
     states = {}
     tens = {}
-    ctl = {"answered": 0, "seq": 0, "l0": None, "t0": None, "last": -1, "cmd": b""}
+    ctl = {"answered": 0, "seq": 0, "l0": None, "t0": None, "last": -1, "cmd": b"",
+           "session": secrets.randbits(63) or 1, "plant": 0, "heard": 0.0, "ignored": 0}
+
+    def follows(plant_session, is_state):
+        """True for a message of the plant followed (or of a new one after a silence)."""
+        now = time.monotonic()
+        if plant_session == ctl["plant"]:
+            if is_state:
+                ctl["heard"] = now
+            return True
+        if is_state and (ctl["plant"] == 0 or now - ctl["heard"] > 0.5):
+            if ctl["plant"] != 0:
+                print("controller: plant restarted (session %d -> %d)" %
+                      (ctl["plant"], plant_session), file=sys.stderr)
+            ctl.update(plant=plant_session, heard=now, l0=None, t0=None, last=-1, cmd=b"")
+            states.clear()
+            tens.clear()
+            return True
+        ctl["ignored"] += 1
+        return False
 
     def reference(t):
         s = min(max((t - ctl["t0"]) / a.ramp, 0.0), 1.0) if a.ramp > 0 else 1.0
@@ -60,6 +87,8 @@ def main():
         ctl["seq"] += 1
         cmd.seq = ctl["seq"]
         cmd.state_seq = s.seq
+        cmd.controller_session = ctl["session"]
+        cmd.plant_session = s.plant_session
         cmd.mode = winch_command_t.MODE_RATE
         cmd.n_cables = n
         values = [0.0] * winch_command_t.MAX_CABLES
@@ -74,6 +103,8 @@ def main():
 
     def on_state(channel, data):
         s = cabin_state_t.decode(data)
+        if not follows(s.plant_session, True):
+            return
         if s.seq == ctl["last"]:
             # A state sent again (lockstep: our answer may have been lost): answer again; the
             # plant ignores the copy as replayed if it had it.
@@ -85,6 +116,8 @@ def main():
 
     def on_tensions(channel, data):
         m = cable_tensions_t.decode(data)
+        if not follows(m.plant_session, False):
+            return
         tens[m.seq] = m
         if m.seq in states:
             answer(m.seq)
@@ -99,6 +132,9 @@ def main():
     except KeyboardInterrupt:
         pass
     print("controller: answered %d states (last state seq %d)" % (ctl["answered"], ctl["last"]))
+    if ctl["ignored"]:
+        print("controller: warning: %d messages of another plant session ignored" %
+              ctl["ignored"], file=sys.stderr)
     want = a.count if a.count > 0 else 1
     return 0 if ctl["answered"] >= want else 1
 

@@ -35,9 +35,10 @@ static void test_every_status_has_its_documented_exit_code(void)
         {CDPR_E_INFEASIBLE, 2},
         {CDPR_E_PARSE, 2},
         {CDPR_E_IO, 3},
+        {CDPR_E_CONFLICT, 5},
     };
-    /* Every value from CDPR_E_SINGULAR (-17) to CDPR_WARN_MIN_LENGTH (3) is listed. */
-    TEST_ASSERT_EQUAL_INT(21, (int)(sizeof table / sizeof table[0]));
+    /* Every value from CDPR_E_CONFLICT (-18) to CDPR_WARN_MIN_LENGTH (3) is listed. */
+    TEST_ASSERT_EQUAL_INT(22, (int)(sizeof table / sizeof table[0]));
     for (size_t i = 0; i < sizeof table / sizeof table[0]; ++i) {
         TEST_ASSERT_EQUAL_INT_MESSAGE(table[i].code, cdpr_app_exit_code(table[i].st),
                                       cdpr_status_str(table[i].st));
@@ -46,7 +47,7 @@ static void test_every_status_has_its_documented_exit_code(void)
 
 static void test_an_unknown_status_is_exit_4(void)
 {
-    TEST_ASSERT_EQUAL_INT(4, cdpr_app_exit_code((cdpr_status_t)-18));
+    TEST_ASSERT_EQUAL_INT(4, cdpr_app_exit_code((cdpr_status_t)-19));
     TEST_ASSERT_EQUAL_INT(4, cdpr_app_exit_code((cdpr_status_t)4));
     TEST_ASSERT_EQUAL_INT(4, cdpr_app_exit_code((cdpr_status_t)-1000));
 }

@@ -61,6 +61,28 @@ static void test_differing_values_print_one_note_each(void)
     TEST_ASSERT_EQUAL_INT(2500, cdpr_scenario_periods(&g_sc));
 }
 
+/* --integrator names the method; a --rate below run.output_rate_hz gives a row every period,
+ * said by the key's own name (not refused for a rate the user never set). */
+static void test_integrator_and_a_rate_below_the_output_rate(void)
+{
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    ov.method = (int)CDPR_PLANT_ROS34PW2;
+    ov.rate_hz = 20.0;
+    ov.duration_s = 12.6;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, apply(&ov, &err), err.msg);
+    TEST_ASSERT_EQUAL_STRING(
+        "prog: --rate 20 Hz overrides run.period_s = 0.01 s (100 Hz) of " CIRCLE "\n"
+        "prog: --rate 20 Hz: run.output_rate_hz = 100 Hz of " CIRCLE
+        " is above it: a row every period (20 Hz)\n"
+        "prog: --integrator ros34pw2 overrides integrator.method = rkf45 of " CIRCLE "\n",
+        g_notes);
+    TEST_ASSERT_EQUAL_INT(CDPR_PLANT_ROS34PW2, g_sc.integrator.method);
+    TEST_ASSERT_EQUAL_DOUBLE(20.0, g_sc.output_rate_hz);
+    TEST_ASSERT_EQUAL_INT(1, cdpr_scenario_output_every(&g_sc));
+}
+
 static void test_equal_values_print_nothing(void)
 {
     cdpr_scenario_overrides_t ov;
@@ -112,14 +134,15 @@ static void test_out_of_range_overrides_are_refused_naming_the_option(void)
     ov.max_attempts = 17.0; /* CDPR_PLANT_MAX_ATTEMPTS is 16 */
     refused(&ov, CDPR_E_OUT_OF_RANGE, "--max-attempts 17", "integrator.max_attempts");
     cdpr_scenario_overrides_none(&ov);
-    ov.rate_hz = 30.0; /* run.output_rate_hz 100 does not divide 30 Hz */
-    refused(&ov, CDPR_E_OUT_OF_RANGE, "--rate 30 Hz", "run.output_rate_hz");
+    ov.rate_hz = 150.0; /* run.output_rate_hz 100 does not divide 150 Hz */
+    refused(&ov, CDPR_E_OUT_OF_RANGE, "--rate 150 Hz", "run.output_rate_hz");
 }
 
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_differing_values_print_one_note_each);
+    RUN_TEST(test_integrator_and_a_rate_below_the_output_rate);
     RUN_TEST(test_equal_values_print_nothing);
     RUN_TEST(test_out_of_range_overrides_are_refused_naming_the_option);
     return UNITY_END() ? 1 : 0;

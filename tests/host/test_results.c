@@ -3,12 +3,19 @@
 /// The result writers: timeseries.csv (provenance comments, header and row format, record.h)
 /// from a hand-made period, the statistics of the summary, summary.json written and read back
 /// (provenance, unknown values as null both ways, files without the provenance keys), node
-/// events from the segment counts, and write or read errors reported as statuses (CDPR_E_IO,
-/// CDPR_E_PARSE). Expectations are written out here, never regenerated from the code.
+/// events from the segment counts, rows at the output instants when periods are skipped, every
+/// status name written and read back, and write or read errors reported as statuses (CDPR_E_IO
+/// with the errno kept, CDPR_E_PARSE) that leave only whole rows in the file. Expectations are
+/// written out here, never regenerated from the code.
+#include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "cdpr/version.h"
 #include "cdpr/host/record.h"
@@ -431,6 +438,152 @@ static void test_write_errors_are_io(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "/dev/null/out"), err.msg);
 }
 
+/* Every line of `text` ends with '\n' and has `fields` comma-separated fields; returns lines. */
+static int whole_rows(const char *text, int fields)
+{
+    int lines = 0;
+    int commas = 0;
+    for (const char *p = text; *p != '\0'; ++p) {
+        if (*p == ',') {
+            commas++;
+        } else if (*p == '\n') {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(fields - 1, commas, "a torn row");
+            commas = 0;
+            lines++;
+        }
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, commas, "the file ends inside a row");
+    TEST_ASSERT_TRUE(text[0] == '\0' || text[strlen(text) - 1] == '\n');
+    return lines;
+}
+
+static void test_csv_cut_mid_row_leaves_whole_rows(void)
+{
+    /* A file-size limit of 3000 bytes (EFBIG past it, SIGXFSZ ignored) falls inside a row of
+     * 40 fields of 20 bytes: the writer must cut the file back to the last whole row. With
+     * stdio, the file ended at byte 3000, inside row 4. */
+    mkdir(CDPR_TEST_TMP, 0775);
+    const char *path = CDPR_TEST_TMP "/limited.csv";
+    struct rlimit old;
+    TEST_ASSERT_EQUAL_INT(0, getrlimit(RLIMIT_FSIZE, &old));
+    struct rlimit lim = old;
+    lim.rlim_cur = 3000;
+    void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &lim));
+    cdpr_csv_t c;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_csv_open(&c, path));
+    for (int r = 0; r < 100; ++r) {
+        for (int i = 0; i < 40; ++i) {
+            cdpr_csv_num(&c, 1.0 / 3.0 + (double)(r * 40 + i)); /* 17-20 digits */
+        }
+        cdpr_csv_end_row(&c);
+    }
+    const cdpr_status_t st = cdpr_csv_close(&c);
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &old));
+    (void)signal(SIGXFSZ, prev);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, st);
+    const char *text = slurp(path);
+    const int rows = whole_rows(text, 40);
+    TEST_ASSERT_TRUE_MESSAGE(rows >= 1 && strlen(text) <= 3000, text);
+}
+
+static void test_write_error_keeps_errno(void)
+{
+    /* /dev/full: every write fails with ENOSPC. */
+    cdpr_csv_t c;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_csv_open(&c, "/dev/full"));
+    cdpr_csv_num(&c, 1.0);
+    cdpr_csv_end_row(&c);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_flush(&c));
+    TEST_ASSERT_EQUAL_INT(ENOSPC, c.error);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_close(&c));
+    TEST_ASSERT_EQUAL_INT(ENOSPC, c.error);
+    /* The recorder: its timeseries.csv is /dev/full; the error (path and strerror) for the app. */
+    mkdir(CDPR_TEST_TMP, 0775);
+    mkdir(CDPR_TEST_TMP "/full", 0775);
+    (void)unlink(CDPR_TEST_TMP "/full/timeseries.csv");
+    TEST_ASSERT_EQUAL_INT(0, symlink("/dev/full", CDPR_TEST_TMP "/full/timeseries.csv"));
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    cdpr_sim_summary_t sum;
+    memset(&sum, 0, sizeof sum);
+    cdpr_sim_rec_t rec;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK,
+                          cdpr_sim_rec_open(&rec, &sc, NULL, CDPR_TEST_TMP "/full", 2, &sum, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(ENOSPC, cdpr_sim_rec_errno(&rec));
+    cdpr_sim_rec_io_error(&rec, &err);
+    TEST_ASSERT_EQUAL_STRING(CDPR_TEST_TMP "/full/timeseries.csv: write failed: "
+                                           "No space left on device",
+                             err.msg);
+}
+
+static void test_status_names_round_trip(void)
+{
+    mkdir(CDPR_TEST_TMP, 0775);
+    const char *path = CDPR_TEST_TMP "/status.json";
+    const struct {
+        cdpr_sim_status_t st;
+        const char *name;
+    } all[] = {{CDPR_SIM_OK, "ok"},
+               {CDPR_SIM_WARNINGS, "warnings"},
+               {CDPR_SIM_FAILED, "failed"},
+               {CDPR_SIM_INTERRUPTED, "interrupted"},
+               {CDPR_SIM_IO_ERROR, "io_error"}};
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) {
+        cdpr_sim_summary_t s;
+        fill(&s);
+        s.status = all[i].st;
+        TEST_ASSERT_EQUAL_STRING(all[i].name, cdpr_sim_status_name(all[i].st));
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &s));
+        char line[64];
+        snprintf(line, sizeof line, "\"status\": \"%s\",", all[i].name);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(slurp(path), line), line);
+        cdpr_sim_summary_t b;
+        cdpr_scenario_error_t err;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &b, &err), err.msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(all[i].st, b.status, all[i].name);
+    }
+}
+
+static void test_rows_at_output_instants_when_periods_are_skipped(void)
+{
+    /* 20 Hz rows at 100 Hz: an instant every 5 periods. A recorder that sees periods
+     * 0..21 except 5, 10, 15, 20 (a tracker that skipped those states) writes a row at the
+     * first period at or after each instant: 0, 6, 11, 16, 21. k % 5 wrote only 0. */
+    mkdir(CDPR_TEST_TMP, 0775);
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    sc.output_rate_hz = 20.0;
+    cdpr_sim_summary_t sum;
+    memset(&sum, 0, sizeof sum);
+    cdpr_sim_rec_t rec;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK,
+                          cdpr_sim_rec_open(&rec, &sc, NULL, CDPR_TEST_TMP "/skip", 2, &sum, &err));
+    for (long k = 0; k <= 21; ++k) {
+        if (k == 0 || k % 5 != 0) {
+            period(&rec, k, 20, 20);
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    const char *text = slurp(CDPR_TEST_TMP "/skip/timeseries.csv");
+    const long expected[] = {0, 6, 11, 16, 21};
+    const char *p = strstr(text, "\nt_s,");
+    TEST_ASSERT_NOT_NULL(p);
+    int rows = 0;
+    for (p = strchr(p + 1, '\n'); p != NULL && p[1] != '\0'; p = strchr(p + 1, '\n')) {
+        TEST_ASSERT_TRUE_MESSAGE(rows < 5, p);
+        /* The row's t_s is the one period() recorded: 0.01 k. */
+        TEST_ASSERT_EQUAL_DOUBLE(0.01 * (double)expected[rows], strtod(p + 1, NULL));
+        rows++;
+    }
+    TEST_ASSERT_EQUAL_INT(5, rows);
+}
+
 static void test_read_errors(void)
 {
     mkdir(CDPR_TEST_TMP, 0775);
@@ -459,5 +612,9 @@ int main(void)
     RUN_TEST(test_node_events_from_segment_counts);
     RUN_TEST(test_write_errors_are_io);
     RUN_TEST(test_read_errors);
+    RUN_TEST(test_csv_cut_mid_row_leaves_whole_rows);
+    RUN_TEST(test_write_error_keeps_errno);
+    RUN_TEST(test_status_names_round_trip);
+    RUN_TEST(test_rows_at_output_instants_when_periods_are_skipped);
     return UNITY_END() ? 1 : 0;
 }

@@ -31,7 +31,7 @@ static void init_once(void)
         cdpr_winch_params_default(&w[j]);
     }
     if (cdpr_lcm_limits_from_winch(&lim, 6, w, 1000.0, NULL) != CDPR_OK ||
-        cdpr_lcm_validator_init(&validator, &lim, NULL) != CDPR_OK ||
+        cdpr_lcm_validator_init(&validator, &lim, 1, 100000000, NULL) != CDPR_OK ||
         cdpr_lcm_mailbox_init(&mailbox, 6, 100000000, NULL) != CDPR_OK) {
         abort();
     }
@@ -59,8 +59,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         return 0;
     }
-    if (out.seq <= prev_seq || out.state_seq < prev_state || out.state_seq > 1000 ||
-        out.n_cables != 6 || (out.mode != CDPR_WINCH_RATE && out.mode != CDPR_WINCH_LENGTH)) {
+    if (out.seq <= prev_seq || out.controller_session <= 0 || out.state_seq < prev_state ||
+        out.state_seq > 1000 || out.n_cables != 6 ||
+        (out.mode != CDPR_WINCH_RATE && out.mode != CDPR_WINCH_LENGTH)) {
         abort();
     }
     for (j = 0; j < 6; j++) {
@@ -76,8 +77,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         abort();
     }
     // Keep the search space open: the sequence state would otherwise only ever grow, making
-    // later inputs with small seq numbers uninteresting (stale). Restart from scratch.
+    // later inputs with small seq numbers uninteresting (stale), and the first session would
+    // refuse every other (busy). Restart from scratch.
     validator.last_seq = -1;
     validator.last_state_seq = -1;
+    validator.controller_session = 0;
     return 0;
 }

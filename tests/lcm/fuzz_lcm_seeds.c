@@ -43,6 +43,8 @@ int main(int argc, char **argv)
     memset(&m, 0, sizeof m);
     m.seq = 1;
     m.state_seq = 1;
+    m.controller_session = 2; // any > 0
+    m.plant_session = 1;      // the fuzzer's plant (fuzz_lcm_command.c)
     m.mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
     m.n_cables = 6;
     for (j = 0; j < 6; j++) {

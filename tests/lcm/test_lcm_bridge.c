@@ -35,12 +35,13 @@
 typedef struct {
     lcm_t *lcm;
     char command_channel[CDPR_LCM_CHANNEL_MAX];
-    int silent;           // 1: do not answer
-    int stall_ms;         // >0: sleep that long in the next state handler, then reset to 0
-    int stalling;         // 1 while sleeping
-    int bad_batch;        // 1: publish every kind of bad command before the answer; 2: no answer
-    int64_t next_seq;     // command seq (bridge thread only)
-    uint64_t states_seen; // atomic
+    int silent;            // 1: do not answer
+    int stall_ms;          // >0: sleep that long in the next state handler, then reset to 0
+    int stalling;          // 1 while sleeping
+    int bad_batch;         // 1: publish every kind of bad command before the answer; 2: no answer
+    int64_t next_seq;      // command seq (bridge thread only)
+    int64_t plant_session; // of the last state seen (bridge thread only)
+    uint64_t states_seen;  // atomic
     uint64_t tensions_seen;
 } controller_t;
 
@@ -74,6 +75,8 @@ static cdpr_winch_command_t answer(controller_t *c, int64_t state_seq)
     m.utime_us = state_seq * 1000;
     m.seq = c->next_seq;
     m.state_seq = state_seq;
+    m.controller_session = 1;
+    m.plant_session = c->plant_session;
     m.mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
     m.n_cables = 6;
     for (j = 0; j < 6; j++) {
@@ -136,6 +139,7 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         return;
     }
     __atomic_fetch_add(&c->states_seen, 1u, __ATOMIC_RELAXED);
+    c->plant_session = st.plant_session;
     stall = __atomic_exchange_n(&c->stall_ms, 0, __ATOMIC_ACQ_REL);
     if (stall > 0) {
         __atomic_store_n(&c->stalling, 1, __ATOMIC_RELEASE);
@@ -217,6 +221,7 @@ static cdpr_status_t push_state(int64_t k, int32_t flags)
     s.utime_us = k * 1000;
     s.seq = k;
     s.command_seq = -1;
+    s.plant_session = cdpr_lcm_bridge_session(&bridge);
     s.orientation[0] = 1.0;
     s.position_m[2] = 2.0 + 1e-6 * (double)k;
     s.flags = flags;
@@ -229,6 +234,7 @@ static cdpr_status_t push_tensions(int64_t k)
     memset(&t, 0, sizeof t);
     t.utime_us = k * 1000;
     t.seq = k;
+    t.plant_session = cdpr_lcm_bridge_session(&bridge);
     t.n_cables = 6;
     return cdpr_lcm_bridge_push_tensions(&bridge, &t);
 }
@@ -613,6 +619,68 @@ static void test_stop_publishes_what_is_queued(void)
     TEST_ASSERT_NULL(cdpr_lcm_bridge_lcm(&bridge));
 }
 
+// Another plant on our state channel: its states (and undecodable bytes there) are counted,
+// the hook is called once per new session, our own states are not counted.
+static int64_t other_seen[4];
+static int other_calls;
+
+static void on_other(int64_t session, void *ctx)
+{
+    (void)ctx;
+    if (other_calls < 4) {
+        other_seen[other_calls] = session;
+    }
+    other_calls++;
+}
+
+static void test_another_plant_on_the_channel_is_counted(void)
+{
+    cdpr_lcm_bridge_params_t p;
+    cdpr_lcm_stats_t s;
+    cdpr_diag_t d;
+    cdpr_cabin_state_t st;
+    unsigned char buf[512];
+    static const unsigned char junk[12] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+    int i;
+
+    memset(&ctl, 0, sizeof ctl);
+    strcpy(ctl.command_channel, "CDPR_WINCH_COMMAND");
+    ctl.silent = 1;
+    other_calls = 0;
+    cdpr_lcm_bridge_params_default(&p);
+    p.url = "memq://";
+    p.plant_session = 1234;
+    p.on_open = controller_open;
+    p.on_open_ctx = &ctl;
+    p.on_other_plant = on_other;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_bridge_init(&bridge, &p, &d));
+    TEST_ASSERT_EQUAL_INT64(1234, cdpr_lcm_bridge_session(&bridge));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_bridge_open(&bridge, &d));
+    for (i = 0; i < 3; i++) { // our own states: not counted
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(i, 0));
+    }
+    memset(&st, 0, sizeof st);
+    st.plant_session = 999; // another plant, three states
+    const int n = cdpr_cabin_state_t_encode(buf, 0, (int)sizeof buf, &st);
+    for (i = 0; i < 3; i++) {
+        TEST_ASSERT_EQUAL_INT(
+            0, lcm_publish(cdpr_lcm_bridge_lcm(&bridge), "CDPR_CABIN_STATE", buf, (unsigned int)n));
+    }
+    TEST_ASSERT_EQUAL_INT(
+        0, lcm_publish(cdpr_lcm_bridge_lcm(&bridge), "CDPR_CABIN_STATE", junk, sizeof junk));
+    for (i = 0; i < 20; i++) {
+        (void)cdpr_lcm_bridge_poll(&bridge, 1);
+    }
+    cdpr_lcm_bridge_stats(&bridge, &s);
+    TEST_ASSERT_EQUAL_INT64(1234, s.plant_session);
+    TEST_ASSERT_EQUAL_UINT64(4u, s.other_plant_messages);
+    TEST_ASSERT_EQUAL_INT64(0, s.other_plant_session); // the last one did not decode
+    TEST_ASSERT_EQUAL_INT(2, other_calls);
+    TEST_ASSERT_EQUAL_INT64(999, other_seen[0]);
+    TEST_ASSERT_EQUAL_INT64(0, other_seen[1]);
+    cdpr_lcm_bridge_close(&bridge);
+}
+
 // Without a thread: open / poll / close on the caller's thread. The shape message goes
 // through its own ring.
 static void test_open_poll_close_without_a_thread(void)
@@ -712,6 +780,7 @@ int main(void)
     RUN_TEST(test_stalled_publisher_drops_and_pushes_never_block);
     RUN_TEST(test_stop_publishes_what_is_queued);
     RUN_TEST(test_open_poll_close_without_a_thread);
+    RUN_TEST(test_another_plant_on_the_channel_is_counted);
     RUN_TEST(test_push_cost_is_reported);
     return UNITY_END() ? 1 : 0;
 }

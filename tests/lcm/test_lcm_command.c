@@ -27,6 +27,10 @@
 #define L_MIN    0.5
 #define L_MAX    120.0              // our chosen longest setpoint
 #define MS       ((int64_t)1000000) // [ns]
+#define PLANT    ((int64_t)7777)    // this plant's session
+#define CTRL_A   ((int64_t)5555)    // the controller sessions of the tests
+#define CTRL_B   ((int64_t)6666)
+#define TAKEOVER (100 * MS) // silence after which another session may take over
 
 static cdpr_lcm_validator_t v;
 
@@ -40,7 +44,7 @@ void setUp(void)
         cdpr_winch_params_default(&w[j]);
     }
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_limits_from_winch(&lim, N_CABLES, w, L_MAX, &d));
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_validator_init(&v, &lim, &d));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_validator_init(&v, &lim, PLANT, TAKEOVER, &d));
     cdpr_lcm_validator_note_published(&v, 1000); // states 0..1000 exist
 }
 
@@ -54,6 +58,8 @@ static cdpr_winch_command_t good_rate(int64_t seq, int64_t state_seq)
     m.utime_us = 123456;
     m.seq = seq;
     m.state_seq = state_seq;
+    m.controller_session = CTRL_A;
+    m.plant_session = PLANT;
     m.mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
     m.n_cables = N_CABLES;
     for (j = 0; j < N_CABLES; j++) {
@@ -69,11 +75,17 @@ static int encode(const cdpr_winch_command_t *m, unsigned char *buf, int cap)
     return n;
 }
 
-static cdpr_lcm_reject_t feed(const cdpr_winch_command_t *m, cdpr_lcm_command_t *out)
+static cdpr_lcm_reject_t feed_at(const cdpr_winch_command_t *m, int64_t rx_ns,
+                                 cdpr_lcm_command_t *out)
 {
     unsigned char buf[256];
     const int n = encode(m, buf, (int)sizeof buf);
-    return cdpr_lcm_validator_accept(&v, buf, (size_t)n, 42, out);
+    return cdpr_lcm_validator_accept(&v, buf, (size_t)n, rx_ns, out);
+}
+
+static cdpr_lcm_reject_t feed(const cdpr_winch_command_t *m, cdpr_lcm_command_t *out)
+{
+    return feed_at(m, 42, out);
 }
 
 static uint64_t rejected(cdpr_lcm_reject_t r)
@@ -292,12 +304,94 @@ static void test_a_fresh_validator_rejects_commands_before_any_state(void)
     cdpr_winch_command_t m = good_rate(0, 0);
     const int n = encode(&m, buf, (int)sizeof buf);
 
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_validator_init(&fresh, &v.lim, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_POSITIVE,
+                          cdpr_lcm_validator_init(&fresh, &v.lim, 0, TAKEOVER, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_POSITIVE,
+                          cdpr_lcm_validator_init(&fresh, &v.lim, PLANT, 0, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_validator_init(&fresh, &v.lim, PLANT, TAKEOVER, NULL));
     TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_FUTURE,
                           cdpr_lcm_validator_accept(&fresh, buf, (size_t)n, 0, &out));
     cdpr_lcm_validator_note_published(&fresh, 0);
     TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED,
                           cdpr_lcm_validator_accept(&fresh, buf, (size_t)n, 0, &out));
+}
+
+// Sessions and the sequence window (command.h, "Sessions"): one far-future seq is refused and
+// never adopted; a second controller cannot take the winches from a live one; a new session
+// takes over after the active one has been silent for the take-over time, whatever its seq;
+// state_seq never goes back across sessions; another plant's commands are refused.
+static void test_sessions_and_the_sequence_window(void)
+{
+    cdpr_lcm_command_t out;
+    cdpr_winch_command_t m;
+    int64_t session = -1;
+    uint64_t sessions = 99u;
+
+    cdpr_lcm_validator_sessions(&v, &session, &sessions);
+    TEST_ASSERT_EQUAL_INT64(0, session);
+    TEST_ASSERT_EQUAL_UINT64(0u, sessions);
+    m = good_rate(5, 50);
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED, feed_at(&m, 0, &out));
+    TEST_ASSERT_EQUAL_INT64(CTRL_A, out.controller_session);
+    cdpr_lcm_validator_sessions(&v, &session, &sessions);
+    TEST_ASSERT_EQUAL_INT64(CTRL_A, session);
+    TEST_ASSERT_EQUAL_UINT64(1u, sessions);
+
+    // Poisoned sequence numbers of the live session: refused, counted, never adopted.
+    m = good_rate(INT64_MAX - 10, 51);
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_SEQ_WINDOW, feed_at(&m, 1 * MS, &out));
+    m = good_rate(INT64_MAX, 51);
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_SEQ_WINDOW, feed_at(&m, 1 * MS, &out));
+    m = good_rate(5 + CDPR_LCM_SEQ_WINDOW + 1, 51);
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_SEQ_WINDOW, feed_at(&m, 1 * MS, &out));
+    TEST_ASSERT_EQUAL_UINT64(3u, rejected(CDPR_LCM_REJECT_SEQ_WINDOW));
+    TEST_ASSERT_EQUAL_INT64(5, v.last_seq);
+    m = good_rate(6, 51); // the honest controller goes on
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED, feed_at(&m, 2 * MS, &out));
+    m = good_rate(6 + CDPR_LCM_SEQ_WINDOW, 52); // the window's edge is inside
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED, feed_at(&m, 3 * MS, &out));
+    const int64_t last = m.seq;
+
+    // Another controller while A is live; another plant; no session.
+    m = good_rate(0, 53);
+    m.controller_session = CTRL_B;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_SESSION_BUSY, feed_at(&m, 3 * MS + TAKEOVER, &out));
+    m = good_rate(last + 1, 53);
+    m.plant_session = PLANT + 1;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_OTHER_PLANT, feed_at(&m, 4 * MS, &out));
+    m.plant_session = 0;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_OTHER_PLANT, feed_at(&m, 4 * MS, &out));
+    m = good_rate(last + 1, 53);
+    m.controller_session = 0;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_NO_SESSION, feed_at(&m, 4 * MS, &out));
+    m.controller_session = -CTRL_A;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_NO_SESSION, feed_at(&m, 4 * MS, &out));
+    TEST_ASSERT_EQUAL_INT64(last, v.last_seq);
+
+    // A silent (last accepted at 3 ms): B takes over one take-over time later, from seq 0.
+    m = good_rate(0, 53);
+    m.controller_session = CTRL_B;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED, feed_at(&m, 3 * MS + TAKEOVER + 1, &out));
+    cdpr_lcm_validator_sessions(&v, &session, &sessions);
+    TEST_ASSERT_EQUAL_INT64(CTRL_B, session);
+    TEST_ASSERT_EQUAL_UINT64(2u, sessions);
+    // Now A is the stranger; B's window starts at 0; state_seq kept across the sessions.
+    m = good_rate(last + 1, 54);
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_SESSION_BUSY, feed_at(&m, 3 * MS + TAKEOVER + 2, &out));
+    m = good_rate(1, 52);
+    m.controller_session = CTRL_B;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_STALE, feed_at(&m, 3 * MS + TAKEOVER + 2, &out));
+    m = good_rate(1, 53);
+    m.controller_session = CTRL_B;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED, feed_at(&m, 3 * MS + TAKEOVER + 2, &out));
+
+    // B silent, then B again with a seq behind its anchor: the same session resynchronises.
+    m = good_rate(0, 60);
+    m.controller_session = CTRL_B;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_STALE, feed_at(&m, 3 * MS + TAKEOVER + 3, &out));
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED, feed_at(&m, 4 * MS + 2 * TAKEOVER + 3, &out));
+    cdpr_lcm_validator_sessions(&v, &session, &sessions);
+    TEST_ASSERT_EQUAL_UINT64(2u, sessions); // not a new session
 }
 
 // Malformed bytes through the real (generated) decoder: every truncation, trailing bytes,
@@ -564,6 +658,7 @@ int main(void)
     RUN_TEST(test_good_commands_are_accepted_in_both_modes);
     RUN_TEST(test_every_bad_field_is_rejected_with_its_reason);
     RUN_TEST(test_a_fresh_validator_rejects_commands_before_any_state);
+    RUN_TEST(test_sessions_and_the_sequence_window);
     RUN_TEST(test_malformed_bytes_are_counted_and_ignored);
     RUN_TEST(test_mailbox_init_checks);
     RUN_TEST(test_watchdog_holds_and_resumes);

@@ -54,6 +54,8 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     memset(&m, 0, sizeof m);
     m.seq = c->next_seq++;
     m.state_seq = st.seq;
+    m.controller_session = 1;
+    m.plant_session = st.plant_session;
     m.mode = CDPR_WINCH_COMMAND_T_MODE_LENGTH;
     m.n_cables = 6;
     for (n = 0; n < 6; n++) {
@@ -119,6 +121,7 @@ static void test_udpm_loopback_round_trip(void)
         memset(&st, 0, sizeof st);
         st.seq = k;
         st.utime_us = k * 1000;
+        st.plant_session = cdpr_lcm_bridge_session(&bridge);
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_bridge_push_cabin_state(&bridge, &st));
         for (;;) {
             const int flags = cdpr_lcm_bridge_read_command(&bridge, cdpr_lcm_now_ns(), &cmd);

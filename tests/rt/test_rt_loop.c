@@ -276,6 +276,8 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         memset(&c, 0, sizeof c);
         c.seq = s->seq + 1;
         c.state_seq = st.seq;
+        c.controller_session = 1;
+        c.plant_session = st.plant_session;
         c.n_cables = 6;
         c.value[2] = NAN_D;
         unsigned char buf[256];
@@ -297,6 +299,8 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     memset(&c, 0, sizeof c);
     c.seq = ++s->seq;
     c.state_seq = st.seq;
+    c.controller_session = 1;
+    c.plant_session = st.plant_session;
     c.mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
     c.n_cables = 6;
     for (int j = 0; j < 6; ++j) {

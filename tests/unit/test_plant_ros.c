@@ -44,6 +44,8 @@ static cdpr_plant_t ref;
  * resolved: docs/model.md "Time integration"), a 1 kHz period, at most 3 trials, the plant's
  * default reuse of W (jac_reuse_max 4; measured with 0 / 10 / 100: cabin 0.5 / 1.3 / 75 um,
  * 10 ms mean tension 0.23 / 0.24 / 2.2 % of the peak). */
+static double g_vtol = 1e-2; /* velocity atol of ros_params [m/s] */
+
 static void ros_params(cdpr_plant_params_t *pp)
 {
     pp->integrator = CDPR_PLANT_ROS34PW2;
@@ -51,7 +53,7 @@ static void ros_params(cdpr_plant_params_t *pp)
     pp->ros.h_max_s = CDPR_R(0.01);
     pp->ros.h_init_s = CDPR_R(1e-3);
     pp->atol.position_m = CDPR_R(1e-4);
-    pp->atol.velocity_m_per_s = CDPR_R(1e-2);
+    pp->atol.velocity_m_per_s = (cdpr_real_t)g_vtol;
     pp->atol.quaternion = CDPR_R(1e-6);
     pp->atol.rate_rad_per_s = CDPR_R(1e-4);
     pp->period_s = CDPR_R(0.001);
@@ -92,10 +94,10 @@ static double angle_diff(const cdpr_cabin_motion_t *a, const cdpr_cabin_motion_t
     return 2.0 * asin(fmin(1.0, sqrt(vx * vx + vy * vy + vz * vz)));
 }
 
-/* 1.5 s of payout profiles at 1 kHz: implicit vs the tight RKF45 reference, every period. */
-static void test_implicit_follows_tight_reference(void)
+/* 1.5 s of payout profiles at 1 kHz: implicit vs the tight RKF45 reference, every period;
+ * the raw winch-end tension within `raw_pct` of the peak. */
+static void follow_tight_reference(double raw_pct)
 {
-    SKIP_IN_FLOAT("the rtol 1e-10 reference needs double");
     cdpr_plant_params_t pp;
     robot_params(&pp);
     ref_params(&pp);
@@ -153,7 +155,7 @@ static void test_implicit_follows_tight_reference(void)
     /* The raw tension carries the stiff axial vibration the L-stable step damps instead of
      * resolving (measured 1.6 % of the peak); its 10 ms mean is what the target bounds. */
     TEST_ASSERT_TRUE_MESSAGE(dtenf < 0.01 * tpeak, msg);
-    TEST_ASSERT_TRUE_MESSAGE(dten < 0.03 * tpeak, msg);
+    TEST_ASSERT_TRUE_MESSAGE(dten < 0.01 * raw_pct * tpeak, msg);
     /* Work bound of a period: max_trials (3) trials of 1 factorisation, 4 solves, <= 4 RHS. */
     TEST_ASSERT_EQUAL_UINT(max_fac, plant.stats.max_factorisations);
     TEST_ASSERT_EQUAL_UINT(max_sol, plant.stats.max_solves);
@@ -163,6 +165,25 @@ static void test_implicit_follows_tight_reference(void)
     TEST_ASSERT_TRUE(plant.stats.max_rhs_evals <= 12u);
     TEST_ASSERT_EQUAL_UINT(0u, plant.stats.step_failures);
     TEST_ASSERT_EQUAL_UINT(0u, ref.stats.max_factorisations); /* RKF45: no W */
+}
+
+static void test_implicit_follows_tight_reference(void)
+{
+    SKIP_IN_FLOAT("the rtol 1e-10 reference needs double");
+    g_vtol = 1e-2;
+    follow_tight_reference(3.0);
+}
+
+/* With the velocity tolerance at 1e-4 m/s (instead of 1e-2) the raw 1 kHz tension is within
+ * 1 % of the peak too (measured 0.77 %, against 1.71 %), for the same work on this case
+ * (4.04 RHS per period against 4.01; on the paper circle's snaps it costs more:
+ * docs/validation.md §4a). */
+static void test_implicit_raw_tension_at_a_tighter_velocity_tolerance(void)
+{
+    SKIP_IN_FLOAT("the rtol 1e-10 reference needs double");
+    g_vtol = 1e-4;
+    follow_tight_reference(1.0);
+    g_vtol = 1e-2;
 }
 
 /* Node events under the implicit scheme: the unstretched length changes by exactly the
@@ -380,6 +401,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_implicit_follows_tight_reference);
+    RUN_TEST(test_implicit_raw_tension_at_a_tighter_velocity_tolerance);
     RUN_TEST(test_node_events_conserve_length);
     RUN_TEST(test_reruns_bit_identical_no_allocation);
     RUN_TEST(test_release_against_tight_reference_and_energy);

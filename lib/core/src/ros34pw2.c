@@ -412,6 +412,80 @@ static int ros_can_reach(const cdpr_ros_t *s, cdpr_real_t h, int budget, cdpr_re
     return 0;
 }
 
+/* Where one cdpr_ros_advance is in its interval (internal). */
+typedef struct {
+    cdpr_real_t tc;    /* time reached */
+    cdpr_real_t t_end; /* end of the interval */
+    int equal;         /* 1: the rest is covered in equal steps, one per remaining trial */
+    int last;          /* 1: this trial's step reaches t_end */
+    int forced;        /* equal steps accepted above the tolerance */
+    int have_f1;       /* the first stage's f is that of the current state */
+} ros_walk_t;
+
+/* The step of the next trial, `budget` trials left: the controller's, or equal steps once the
+ * controller's can no longer reach the end within the budget; the rest at once when it is
+ * barely longer than the step (no sliver). */
+static cdpr_real_t ros_pick_step(const cdpr_ros_t *s, ros_walk_t *w, int budget)
+{
+    const cdpr_real_t remaining = w->t_end - w->tc;
+    cdpr_real_t h = ros_clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+    if (w->equal == 0 && (budget == 1 || ros_can_reach(s, h, budget, remaining) == 0)) {
+        w->equal = 1;
+    }
+    if (w->equal != 0) {
+        h = remaining / (cdpr_real_t)budget;
+    }
+    w->last = (h >= remaining * CDPR_R(0.999)) ? 1 : 0;
+    return (w->last != 0) ? remaining : h;
+}
+
+/* Accept or reject the trial of step h from y (to yn, error norm err) and choose the next
+ * step. Returns CDPR_OK to go on, or the error that ends the advance. */
+static cdpr_status_t ros_judge(cdpr_ros_t *s, ros_walk_t *w, cdpr_real_t *y, const cdpr_real_t *yn,
+                               cdpr_real_t h, cdpr_real_t err)
+{
+    cdpr_status_t st = CDPR_OK;
+    w->have_f1 = 1; /* until a step is accepted, the next trial starts from here */
+    if (!isfinite(err)) {
+        if (ros_start_is_bad(s, y) != 0) {
+            return CDPR_E_STATE_NOT_FINITE;
+        }
+        if (w->equal != 0) {
+            return CDPR_E_SUBSTEP_LIMIT; /* an equal step cannot shrink */
+        }
+        s->stats.nonfinite_rejected++;
+        s->h_s = h * s->p.shrink_min;
+    } else if (err <= CDPR_R(1.0) || (w->equal != 0 && err <= s->p.force_err_max)) {
+        ros_copy(y, yn, s->dim);
+        w->have_f1 = 0;
+        w->tc = (w->last != 0) ? w->t_end : w->tc + h;
+        s->stats.steps_accepted++;
+        if (err > CDPR_R(1.0)) {
+            s->stats.forced_steps++;
+            w->forced++;
+        }
+        const cdpr_real_t h_next =
+            ros_clamp(h * ros_step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+        s->h_s = (w->last != 0 && h_next < s->h_s) ? s->h_s : h_next;
+    } else {
+        s->stats.steps_rejected++;
+        const cdpr_real_t h_next = h * ros_step_factor(s, err);
+        /* An equal step was not the controller's choice: its rejection never raises h_s. */
+        s->h_s = (w->equal != 0 && s->h_s < h_next) ? s->h_s : h_next;
+        if (w->equal != 0) {
+            return CDPR_E_SUBSTEP_LIMIT; /* the rest no longer fits in the budget */
+        }
+    }
+    if (s->h_s < s->p.h_min_s) {
+        if (h <= s->p.h_min_s) {
+            st = CDPR_E_STEP_TOO_SMALL;
+        } else {
+            s->h_s = s->p.h_min_s;
+        }
+    }
+    return st;
+}
+
 cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
                                cdpr_real_t *y, cdpr_real_t dt, int max_trials)
 {
@@ -425,76 +499,22 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
     cdpr_real_t *yn = ros_slot(s, YNEW);
     cdpr_real_t *yb = ros_slot(s, YBAK);
     const cdpr_real_t t0 = *t;
-    const cdpr_real_t t_end = t0 + dt;
     const cdpr_real_t h_saved = s->h_s;
-    cdpr_real_t tc = t0;
-    int have_f1 = 0;
-    int equal = 0;
-    int forced = 0;
+    ros_walk_t w = {t0, t0 + dt, 0, 0, 0, 0};
     ros_copy(yb, y, s->dim);
 
     cdpr_status_t st = CDPR_OK;
-    for (int trials = 0; (st == CDPR_OK) && (tc < t_end); ++trials) {
-        const cdpr_real_t remaining = t_end - tc;
+    for (int trials = 0; (st == CDPR_OK) && (w.tc < w.t_end); ++trials) {
         const int budget = max_trials - trials;
         if (budget < 1) {
             st = CDPR_E_SUBSTEP_LIMIT; /* not reached: the last trial is an equal step */
             break;
         }
-        cdpr_real_t h = ros_clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
-        if (equal == 0 && (budget == 1 || ros_can_reach(s, h, budget, remaining) == 0)) {
-            equal = 1;
-        }
-        if (equal != 0) {
-            h = remaining / (cdpr_real_t)budget;
-        }
-        /* Do not leave a sliver much shorter than the step: take the rest now. */
-        const int last = (h >= remaining * CDPR_R(0.999)) ? 1 : 0;
-        if (last != 0) {
-            h = remaining;
-        }
+        const cdpr_real_t h = ros_pick_step(s, &w, budget);
         cdpr_real_t err = CDPR_R(0.0);
-        st = ros_try(s, pb, tc, y, h, yn, &err, have_f1);
-        if (st != CDPR_OK) {
-            break;
-        }
-        have_f1 = 1; /* until a step is accepted, the next trial starts from here */
-        if (!isfinite(err)) {
-            if (ros_start_is_bad(s, y) != 0) {
-                st = CDPR_E_STATE_NOT_FINITE;
-            } else if (equal != 0) {
-                st = CDPR_E_SUBSTEP_LIMIT; /* an equal step cannot shrink */
-            } else {
-                s->stats.nonfinite_rejected++;
-                s->h_s = h * s->p.shrink_min;
-            }
-        } else if (err <= CDPR_R(1.0) || (equal != 0 && err <= s->p.force_err_max)) {
-            ros_copy(y, yn, s->dim);
-            have_f1 = 0;
-            tc = (last != 0) ? t_end : tc + h;
-            s->stats.steps_accepted++;
-            if (err > CDPR_R(1.0)) {
-                s->stats.forced_steps++;
-                forced++;
-            }
-            const cdpr_real_t h_next =
-                ros_clamp(h * ros_step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
-            s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
-        } else {
-            s->stats.steps_rejected++;
-            const cdpr_real_t h_next = h * ros_step_factor(s, err);
-            /* An equal step was not the controller's choice: its rejection never raises h_s. */
-            s->h_s = (equal != 0 && s->h_s < h_next) ? s->h_s : h_next;
-            if (equal != 0) {
-                st = CDPR_E_SUBSTEP_LIMIT; /* the rest no longer fits in the budget */
-            }
-        }
-        if ((st == CDPR_OK) && (s->h_s < s->p.h_min_s)) {
-            if (h <= s->p.h_min_s) {
-                st = CDPR_E_STEP_TOO_SMALL;
-            } else {
-                s->h_s = s->p.h_min_s;
-            }
+        st = ros_try(s, pb, w.tc, y, h, yn, &err, w.have_f1);
+        if (st == CDPR_OK) {
+            st = ros_judge(s, &w, y, yn, h, err);
         }
     }
     if (st < 0) {
@@ -507,8 +527,8 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
         }
         return ros_failed(s, st);
     }
-    *t = t_end;
-    if (forced != 0) {
+    *t = w.t_end;
+    if (w.forced != 0) {
         s->stats.substep_limit_hits++;
         return CDPR_WARN_SUBSTEP_LIMIT;
     }

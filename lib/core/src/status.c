@@ -50,6 +50,8 @@ const char *cdpr_status_str(cdpr_status_t st)
         return "CDPR_E_MISMATCH";
     case CDPR_E_SINGULAR:
         return "CDPR_E_SINGULAR";
+    case CDPR_E_CONFLICT:
+        return "CDPR_E_CONFLICT";
     default:
         return "CDPR_UNKNOWN";
     }

@@ -123,11 +123,16 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
 {
     memset(rec, 0, sizeof *rec);
     rec->prev_k = -1;
+    rec->last_row_k = -1;
     cdpr_sim_provenance_init(&sum->prov, sc->path, pp);
     rec->n_cables = n_cables;
     rec->every = cdpr_scenario_output_every(sc);
     rec->duration_s = sc->duration_s;
+    rec->transfer_s = sc->gains.transfer_s;
     rec->sum = sum;
+    sum->n_cables = n_cables;
+    sum->first_slack_demand_t_s = (double)NAN;
+    sum->first_slack_demand_N = (double)NAN;
     sum->min_tension_N = (double)INFINITY;
     /* Known only if state 0 is recorded (a tracker over LCM may miss it): else null. */
     sum->initial_error_m = (double)NAN;
@@ -141,9 +146,12 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
                  strerror(errno));
         return CDPR_E_IO;
     }
-    char path[1100];
-    if (cdpr_fs_path(path, sizeof path, out_dir, "timeseries.csv") != CDPR_OK ||
-        cdpr_csv_open(&rec->csv, path) != CDPR_OK) {
+    char *path = rec->csv_path;
+    if (cdpr_fs_path(path, sizeof rec->csv_path, out_dir, "timeseries.csv") != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "%s/timeseries.csv: path too long", out_dir);
+        return CDPR_E_IO;
+    }
+    if (cdpr_csv_open(&rec->csv, path) != CDPR_OK) {
         snprintf(err->msg, sizeof err->msg, "%s: cannot write: %s", path, strerror(errno));
         return CDPR_E_IO;
     }
@@ -153,7 +161,7 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
     return CDPR_OK;
 }
 
-void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row)
+cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row)
 {
     cdpr_sim_summary_t *sum = rec->sum;
     const int nc = rec->n_cables;
@@ -168,6 +176,10 @@ void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_r
     if (row->t_s >= 0.5 * rec->duration_s) {
         rec->sum2_pos_late += smp.epos_m * smp.epos_m;
         rec->n_late++;
+    }
+    if (row->t_s >= rec->transfer_s) {
+        rec->sum2_pos_after += smp.epos_m * smp.epos_m;
+        rec->n_after++;
     }
     sum->max_error_m = fmax(sum->max_error_m, smp.epos_m);
     sum->max_error_rad = fmax(sum->max_error_rad, smp.erot_rad);
@@ -197,14 +209,36 @@ void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_r
         }
         for (int j = 0; j < nc; ++j) {
             rec->prev_segments[j] = row->segments[j];
+            /* A slack period: either end of cable j without tension. */
+            if (!(row->tension_cabin_N[j] > 0.0) || !(row->tension_winch_N[j] > 0.0)) {
+                sum->slack_periods[j]++;
+            }
         }
         rec->prev_k = k;
     }
     sum->periods = k;
     sum->sim_time_s = row->t_s;
-    if (rec->csv_open != 0 && (k % rec->every == 0 || last != 0)) {
-        csv_row(rec, row, &smp);
+    if (rec->csv_open == 0) {
+        return CDPR_OK;
     }
+    /* A row when t_k reaches the next output instant (not k % every: a period may be unseen). */
+    if (k > rec->last_row_k && (k >= rec->next_row_k || last != 0)) {
+        csv_row(rec, row, &smp);
+        rec->last_row_k = k;
+        rec->next_row_k = (k / rec->every + 1) * rec->every;
+    }
+    return (rec->csv.failed != 0) ? CDPR_E_IO : CDPR_OK;
+}
+
+void cdpr_sim_tracker_counts(const cdpr_tracker_t *tr, cdpr_sim_summary_t *sum)
+{
+    for (int j = 0; j < tr->model.p.n_cables && j < CDPR_MAX_CABLES; ++j) {
+        sum->slack_demand_periods[j] = tr->slack_demand_periods[j];
+    }
+    sum->first_slack_demand_cable = tr->first_slack_cable + 1;
+    sum->first_slack_demand_t_s = (tr->first_slack_cable >= 0) ? tr->first_slack_t_s : (double)NAN;
+    sum->first_slack_demand_N =
+        (tr->first_slack_cable >= 0) ? tr->first_slack_tension_N : (double)NAN;
 }
 
 void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
@@ -224,13 +258,27 @@ cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec)
     sum->rms_error_rad = (rec->n > 0) ? sqrt(rec->sum2_rot / (double)rec->n) : 0.0;
     sum->rms_error_second_half_m =
         (rec->n_late > 0) ? sqrt(rec->sum2_pos_late / (double)rec->n_late) : 0.0;
+    sum->rms_error_after_transfer_m =
+        (rec->n_after > 0) ? sqrt(rec->sum2_pos_after / (double)rec->n_after) : 0.0;
     if (!isfinite(sum->min_tension_N)) {
         sum->min_tension_N = 0.0;
     }
-    cdpr_status_t st = CDPR_OK;
     if (rec->csv_open != 0) {
-        st = cdpr_csv_close(&rec->csv);
+        (void)cdpr_csv_close(&rec->csv);
         rec->csv_open = 0;
     }
-    return st;
+    return (rec->csv.failed != 0) ? CDPR_E_IO : CDPR_OK;
+}
+
+int cdpr_sim_rec_errno(const cdpr_sim_rec_t *rec)
+{
+    return (rec->csv.failed != 0) ? rec->csv.error : 0;
+}
+
+void cdpr_sim_rec_io_error(const cdpr_sim_rec_t *rec, cdpr_scenario_error_t *err)
+{
+    const int e = cdpr_sim_rec_errno(rec);
+    snprintf(err->msg, sizeof err->msg, "%s: write failed: %s",
+             (rec->csv_path[0] != '\0') ? rec->csv_path : "timeseries.csv",
+             (e != 0) ? strerror(e) : "unknown error");
 }

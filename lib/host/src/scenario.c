@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "cdpr/config.h"
+#include "cdpr/host/summary.h"
 #include "cdpr/host/yaml.h"
 #include "rig_raw.h"
 
@@ -123,6 +124,8 @@ typedef struct {
     double *inertial_ff;
     double *damping_N_s_per_m;
     double *damping_rot_N_m_s;
+    double *transfer_s; /* issue 14: planned transfer, wind feed-forward */
+    double *wind_ff;
 } raw_controller_t;
 
 typedef struct {
@@ -295,6 +298,8 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("inertial_ff", raw_controller_t, inertial_ff),
     OPT_NUMP("damping_N_s_per_m", raw_controller_t, damping_N_s_per_m),
     OPT_NUMP("damping_rot_N_m_s", raw_controller_t, damping_rot_N_m_s),
+    OPT_NUMP("transfer_s", raw_controller_t, transfer_s),
+    OPT_NUMP("wind_ff", raw_controller_t, wind_ff),
     CYAML_FIELD_END,
 };
 static const cyaml_strval_t method_names[] = {
@@ -544,6 +549,8 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.inertial_ff, r->controller.inertial_ff, 1);
     take(&sc->gains.damping_N_s_per_m, r->controller.damping_N_s_per_m, 1);
     take(&sc->gains.damping_rot_N_m_s, r->controller.damping_rot_N_m_s, 1);
+    take(&sc->gains.transfer_s, r->controller.transfer_s, 1); /* default 0: none */
+    take(&sc->gains.wind_ff, r->controller.wind_ff, 1);       /* default 0: none */
     if (r->integrator != NULL) {
         const raw_integrator_t *in = r->integrator;
         take(&sc->integrator.rtol, in->rtol, 1);
@@ -958,6 +965,8 @@ static void check_run(vctx_t *vp)
     range(&v, "controller.inertial_ff", &sc->gains.inertial_ff, 1, 0.0, 1.0, 0);
     range(&v, "controller.damping_N_s_per_m", &sc->gains.damping_N_s_per_m, 1, 0.0, 1e6, 0);
     range(&v, "controller.damping_rot_N_m_s", &sc->gains.damping_rot_N_m_s, 1, 0.0, 1e6, 0);
+    range(&v, "controller.transfer_s", &sc->gains.transfer_s, 1, 0.0, 1e6, 0);
+    range(&v, "controller.wind_ff", &sc->gains.wind_ff, 1, 0.0, 1.0, 0);
     const cdpr_scenario_integrator_t *in = &sc->integrator;
     range(&v, "integrator.rtol", &in->rtol, 1, 0.0, 0.1, 1);
     range(&v, "integrator.atol_position_m", &in->atol_position_m, 1, 0.0, 1.0, 1);
@@ -1109,6 +1118,7 @@ void cdpr_scenario_overrides_none(cdpr_scenario_overrides_t *ov)
     ov->duration_s = (double)NAN;
     ov->max_trials = (double)NAN;
     ov->max_attempts = (double)NAN;
+    ov->method = -1;
 }
 
 static int given(double v)
@@ -1156,6 +1166,17 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
         }
         sc->period_s = period;
         snprintf(opts, sizeof opts, "--rate %g Hz", ov->rate_hz);
+        /* Outputs faster than the new control rate: every period (a row per period is all
+         * there is), said by its own name. */
+        if (isfinite(ov->rate_hz) && ov->rate_hz > 0.0 && sc->output_rate_hz > ov->rate_hz) {
+            if (notes != NULL) {
+                fprintf(notes,
+                        "%s: --rate %g Hz: run.output_rate_hz = %g Hz of %s is above it: a row "
+                        "every period (%g Hz)\n",
+                        prog, ov->rate_hz, sc->output_rate_hz, of, ov->rate_hz);
+            }
+            sc->output_rate_hz = ov->rate_hz;
+        }
     }
     if (given(ov->duration_s) != 0) {
         if (notes != NULL && differs(ov->duration_s, sc->duration_s) != 0) {
@@ -1166,6 +1187,18 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
         const size_t n = strlen(opts);
         snprintf(opts + n, sizeof opts - n, "%s--duration %g s", (n > 0) ? ", " : "",
                  ov->duration_s);
+    }
+    if (ov->method >= 0) {
+        const cdpr_plant_integrator_t m = (cdpr_plant_integrator_t)ov->method;
+        if (notes != NULL && m != sc->integrator.method) {
+            fprintf(notes, "%s: --integrator %s overrides integrator.method = %s of %s\n", prog,
+                    cdpr_sim_integrator_name(m), cdpr_sim_integrator_name(sc->integrator.method),
+                    of);
+        }
+        sc->integrator.method = m;
+        const size_t n = strlen(opts);
+        snprintf(opts + n, sizeof opts - n, "%s--integrator %s", (n > 0) ? ", " : "",
+                 cdpr_sim_integrator_name(m));
     }
     const struct {
         const char *opt;

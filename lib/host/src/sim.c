@@ -218,8 +218,10 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
     }
     /* The controller, with its own model built from the same values. */
     cdpr_diag_t d;
-    const cdpr_status_t st = cdpr_tracker_init(&s->tracker, &s->plant.params, &sc->traj, &sc->gains,
-                                               sc->period_s, 0.0, &d);
+    cdpr_tracker_gains_t g = sc->gains;
+    g.wind_m_per_s = s->plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
+    const cdpr_status_t st =
+        cdpr_tracker_init(&s->tracker, &s->plant.params, &sc->traj, &g, sc->period_s, 0.0, &d);
     if (st != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "controller: field '%s': %s", d.field, cdpr_status_str(st));
@@ -237,7 +239,10 @@ static void note(cdpr_sim_summary_t *sum, const char *what)
     }
 }
 
-/* The control loop. Returns CDPR_OK (reached the end) or the error that stopped it. */
+static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum);
+
+/* The control loop. Returns CDPR_OK (reached the end) or the error that stopped it (a signal:
+ * CDPR_E_INTERRUPTED; the CSV: CDPR_E_IO). */
 static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
                           double duration, cdpr_sim_summary_t *sum, double wall0)
 {
@@ -282,7 +287,13 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
                                     l_ff,
                                     r->in.payout_m_per_s,
                                     segments};
-        cdpr_sim_rec_period(&s->rec, k, last, &row);
+        if (cdpr_sim_rec_period(&s->rec, k, last, &row) != CDPR_OK) {
+            snprintf(sum->message, sizeof sum->message,
+                     "timeseries.csv: write failed at t = %.6g s: %s", t,
+                     strerror(cdpr_sim_rec_errno(&s->rec)));
+            rc = CDPR_E_IO;
+            break;
+        }
         int flags = 0;
         if (last == 0) {
             flags = cdpr_plant_command(p, CDPR_WINCH_RATE, cmd.rate_m_per_s);
@@ -292,6 +303,11 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
             }
         }
         if (last != 0) {
+            break;
+        }
+        if (o->stop != NULL && *o->stop != 0) {
+            snprintf(sum->message, sizeof sum->message, "interrupted by a signal at t = %.6g s", t);
+            rc = CDPR_E_INTERRUPTED;
             break;
         }
         const cdpr_status_t as = cdpr_plant_advance(p, &flags);
@@ -314,12 +330,21 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
     if (shown != 0) {
         progress(o, sum->sim_time_s, duration, cdpr_clock_now_s() - wall0, 1);
     }
-    for (int j = 0; j < nc; ++j) {
+    collect_counts(s, sum);
+    return rc;
+}
+
+/* The plant's and the controller's counts of the run into the summary. */
+static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum)
+{
+    const cdpr_plant_t *p = &s->plant;
+    for (int j = 0; j < p->robot.p.n_cables; ++j) {
         sum->node_insertions += p->nodes.insertions[j];
         sum->node_removals += p->nodes.removals[j];
         sum->capacity_hits += p->nodes.capacity_hits[j];
     }
     sum->ik_failures = s->tracker.ik_failures;
+    cdpr_sim_tracker_counts(&s->tracker, sum);
     sum->substep_limit_hits = p->stats.substep_limit_hits;
     sum->min_length_periods = p->stats.min_length_periods;
     if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
@@ -331,13 +356,16 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
         sum->steps_rejected = p->rk.stats.steps_rejected;
         sum->rhs_evals = p->rk.stats.rhs_evals;
     }
-    return rc;
 }
 
 /* Status of a run that reached its end or stopped (rc), with the first warning as message. */
 static void finish_status(cdpr_status_t rc, cdpr_sim_summary_t *sum)
 {
-    if (rc != CDPR_OK) {
+    if (rc == CDPR_E_INTERRUPTED) {
+        sum->status = CDPR_SIM_INTERRUPTED;
+    } else if (rc == CDPR_E_IO) {
+        sum->status = CDPR_SIM_IO_ERROR;
+    } else if (rc != CDPR_OK) {
         sum->status = CDPR_SIM_FAILED;
     } else if (sum->substep_limit_hits + sum->ik_failures + sum->capacity_hits +
                    sum->min_length_periods >
@@ -355,24 +383,38 @@ static void finish_status(cdpr_status_t rc, cdpr_sim_summary_t *sum)
     }
 }
 
-/* The outputs of a finished run: close the CSV, write summary.json. CDPR_OK or CDPR_E_IO. */
+/* The outputs of a finished, stopped or failed run: close the CSV (its whole rows), then
+ * summary.json even when the CSV failed (another file: it may fit; its status says io_error).
+ * CDPR_OK or CDPR_E_IO with err naming the file(s) and strerror. */
 static cdpr_status_t write_outputs(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
-                                   const cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+                                   cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
 {
+    cdpr_status_t rc = CDPR_OK;
     if (cdpr_sim_rec_close(&s->rec) != CDPR_OK) {
-        snprintf(err->msg, sizeof err->msg, "%s/timeseries.csv: write error", o->out_dir);
-        return CDPR_E_IO;
+        if (sum->status != CDPR_SIM_IO_ERROR) { /* failed at the final flush */
+            sum->status = CDPR_SIM_IO_ERROR;
+            snprintf(sum->message, sizeof sum->message, "timeseries.csv: write failed: %s",
+                     strerror(cdpr_sim_rec_errno(&s->rec)));
+        }
+        cdpr_sim_rec_io_error(&s->rec, err);
+        rc = CDPR_E_IO;
     }
     if (o->out_dir == NULL) {
-        return CDPR_OK;
+        return rc;
     }
     char path[1100];
     if (cdpr_fs_path(path, sizeof path, o->out_dir, "summary.json") != CDPR_OK ||
         cdpr_sim_write_summary(path, sc, sum) != CDPR_OK) {
-        snprintf(err->msg, sizeof err->msg, "%s: cannot write: %s", path, strerror(errno));
-        return CDPR_E_IO;
+        const char *why = strerror(errno);
+        if (rc != CDPR_OK) {
+            const size_t n = strlen(err->msg);
+            snprintf(err->msg + n, sizeof err->msg - n, "; %.1100s: cannot write: %s", path, why);
+        } else {
+            snprintf(err->msg, sizeof err->msg, "%.1100s: cannot write: %s", path, why);
+        }
+        rc = CDPR_E_IO;
     }
-    return CDPR_OK;
+    return rc;
 }
 
 cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,

@@ -3,8 +3,11 @@
 /// summary.json writer and reader, and the end-of-run block (summary.h).
 #include "cdpr/host/summary.h"
 
+#include <errno.h>
 #include <math.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "cdpr/version.h"
 #include "cdpr/host/yaml.h"
@@ -24,9 +27,26 @@ const char *cdpr_sim_status_name(cdpr_sim_status_t st)
         return "ok";
     case CDPR_SIM_WARNINGS:
         return "warnings";
+    case CDPR_SIM_INTERRUPTED:
+        return "interrupted";
+    case CDPR_SIM_IO_ERROR:
+        return "io_error";
     default:
         return "failed";
     }
+}
+
+/* The status of a name written by cdpr_sim_status_name (unknown names: failed). */
+static cdpr_sim_status_t status_of_name(const char *name)
+{
+    static const cdpr_sim_status_t all[] = {CDPR_SIM_OK, CDPR_SIM_WARNINGS, CDPR_SIM_INTERRUPTED,
+                                            CDPR_SIM_IO_ERROR};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) {
+        if (strcmp(name, cdpr_sim_status_name(all[i])) == 0) {
+            return all[i];
+        }
+    }
+    return CDPR_SIM_FAILED;
 }
 
 /* ---------------------------------------------------------------- writing summary.json */
@@ -91,6 +111,45 @@ void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_
     }
 }
 
+/* Close a written summary. Every fprintf/fputc into it left its failure in the stream's error
+ * flag; a full device shows at the flush: check the flag, the flush and the close, keep the
+ * first errno. A regular file that could not be written whole is emptied (the reader then says
+ * "empty file"), never left as torn JSON; the directory entry is left alone (the path may be a
+ * device or a link). CDPR_OK or CDPR_E_IO with errno set. */
+static cdpr_status_t close_summary(FILE *f)
+{
+    int e = 0;
+    if (fflush(f) != 0 || ferror(f) != 0) {
+        e = (errno != 0) ? errno : EIO;
+        struct stat sb;
+        if (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode)) {
+            (void)ftruncate(fileno(f), 0);
+        }
+    }
+    if (fclose(f) != 0 && e == 0) {
+        e = (errno != 0) ? errno : EIO;
+    }
+    if (e != 0) {
+        errno = e;
+        return CDPR_E_IO;
+    }
+    return CDPR_OK;
+}
+
+/* A per-cable count list ("key": [c1, ...]), or null when the cable count is unknown. */
+static void write_counts(FILE *f, const char *key, int n, const unsigned long *c)
+{
+    fprintf(f, ",\n  \"%s\": ", key);
+    if (n <= 0 || n > CDPR_MAX_CABLES) {
+        fputs("null", f);
+        return;
+    }
+    for (int j = 0; j < n; ++j) {
+        fprintf(f, "%s%lu", (j == 0) ? "[" : ", ", c[j]);
+    }
+    fputc(']', f);
+}
+
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum)
 {
@@ -98,6 +157,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
     if (f == NULL) {
         return CDPR_E_IO;
     }
+    errno = 0;
     const cdpr_sim_provenance_t *pv = &sum->prov;
     fprintf(f, "{\n  \"version\": ");
     json_string_or_null(f, pv->version);
@@ -138,6 +198,9 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"wall_time_s", sum->wall_time_s},
         {"settle_wall_time_s", sum->settle_wall_time_s},
         {"control_period_s", sc->period_s},
+        {"rms_error_after_transfer_m", sum->rms_error_after_transfer_m},
+        {"first_slack_demand_t_s", sum->first_slack_demand_t_s},
+        {"first_slack_demand_N", sum->first_slack_demand_N},
     };
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; ++i) {
         /* JSON has no NaN or infinity: a non-finite value is not known. */
@@ -166,6 +229,8 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"rhs_evals", (long)sum->rhs_evals, KNOWN(sum->rhs_evals)},
         {"settle_steps", sum->settle_steps, (sum->settle_steps >= 0) ? 1 : 0},
         {"segments", (long)cdpr_scenario_segments(sc), 1},
+        {"first_slack_demand_cable", (long)sum->first_slack_demand_cable,
+         (sum->first_slack_demand_cable > 0) ? 1 : 0},
     };
     for (size_t i = 0; i < sizeof ints / sizeof ints[0]; ++i) {
         if (ints[i].known != 0) {
@@ -174,10 +239,10 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
             fprintf(f, ",\n  \"%s\": null", ints[i].k);
         }
     }
+    write_counts(f, "slack_periods", sum->n_cables, sum->slack_periods);
+    write_counts(f, "slack_demand_periods", sum->n_cables, sum->slack_demand_periods);
     fprintf(f, "\n}\n");
-    /* A full device shows at the flush: check the stream as well as the close. */
-    const int failed = (fflush(f) != 0 || ferror(f) != 0) ? 1 : 0;
-    return (fclose(f) == 0 && failed == 0) ? CDPR_OK : CDPR_E_IO;
+    return close_summary(f);
 }
 
 /* ---------------------------------------------------------------- reading summary.json */
@@ -190,7 +255,8 @@ typedef struct {
     double *rms_error_m, *max_error_m, *final_error_m, *initial_error_m, *rms_error_second_half_m;
     double *rms_error_rad, *max_error_rad, *final_error_rad;
     double *max_tension_N, *min_tension_N, *max_payout_m_per_s, *sim_time_s, *wall_time_s;
-    double *settle_wall_time_s;
+    double *settle_wall_time_s, *rms_error_after_transfer_m, *first_slack_demand_t_s;
+    double *first_slack_demand_N, *first_slack_demand_cable;
     double *node_insertions, *node_removals, *capacity_hits, *substep_limit_hits, *ik_failures;
     double *min_length_periods, *nodes_min, *nodes_max, *periods, *steps_accepted;
     double *steps_rejected, *rhs_evals, *settle_steps;
@@ -227,6 +293,10 @@ static const cyaml_schema_field_t summary_fields[] = {
     SUM_NUM(sim_time_s),
     SUM_NUM(wall_time_s),
     SUM_OPT_NUM(settle_wall_time_s),
+    SUM_OPT_NUM(rms_error_after_transfer_m),
+    SUM_OPT_NUM(first_slack_demand_t_s),
+    SUM_OPT_NUM(first_slack_demand_N),
+    SUM_OPT_NUM(first_slack_demand_cable),
     SUM_NUM(node_insertions),
     SUM_NUM(node_removals),
     SUM_NUM(capacity_hits),
@@ -267,10 +337,7 @@ static void string_or_empty(char *dst, size_t cap, const char *v)
 static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
 {
     memset(sum, 0, sizeof *sum);
-    sum->status =
-        (strcmp(r->status, "ok") == 0)
-            ? CDPR_SIM_OK
-            : ((strcmp(r->status, "warnings") == 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_FAILED);
+    sum->status = status_of_name(r->status);
     cdpr_sim_provenance_t *pv = &sum->prov;
     string_or_empty(pv->version, sizeof pv->version, r->version);
     string_or_empty(pv->git_describe, sizeof pv->git_describe, r->git_describe);
@@ -291,6 +358,11 @@ static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
     sum->sim_time_s = real_or_nan(r->sim_time_s);
     sum->wall_time_s = real_or_nan(r->wall_time_s);
     sum->settle_wall_time_s = real_or_nan(r->settle_wall_time_s);
+    sum->rms_error_after_transfer_m = real_or_nan(r->rms_error_after_transfer_m);
+    sum->first_slack_demand_t_s = real_or_nan(r->first_slack_demand_t_s);
+    sum->first_slack_demand_N = real_or_nan(r->first_slack_demand_N);
+    sum->first_slack_demand_cable =
+        (r->first_slack_demand_cable != NULL) ? (int)*r->first_slack_demand_cable : 0;
     sum->node_insertions = count_or_unknown(r->node_insertions);
     sum->node_removals = count_or_unknown(r->node_removals);
     sum->capacity_hits = count_or_unknown(r->capacity_hits);
@@ -325,6 +397,31 @@ cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
 }
 
 /* ---------------------------------------------------------------- the end-of-run block */
+
+/* The per-cable slack counts of the plant (recorded periods) and of the feed-forward. */
+static void print_slack(FILE *f, const cdpr_sim_summary_t *s)
+{
+    if (fabs(s->rms_error_after_transfer_m - s->rms_error_m) > 0.0) {
+        fprintf(f, "  after transfer  rms %.4g m (t >= controller.transfer_s)\n",
+                s->rms_error_after_transfer_m);
+    }
+    if (s->n_cables <= 0 || s->n_cables > CDPR_MAX_CABLES) {
+        return;
+    }
+    const unsigned long *lists[2] = {s->slack_periods, s->slack_demand_periods};
+    static const char *const names[2] = {"  slack periods  ", "; feed-forward demands"};
+    for (int k = 0; k < 2; ++k) {
+        fputs(names[k], f);
+        for (int j = 0; j < s->n_cables; ++j) {
+            fprintf(f, "%s%lu", (j == 0) ? " " : "/", lists[k][j]);
+        }
+    }
+    fputs(" (cables 1..n)\n", f);
+    if (s->first_slack_demand_cable > 0) {
+        fprintf(f, "  first slack demand: cable %d at t = %.4g s (%.4g N on the chords)\n",
+                s->first_slack_demand_cable, s->first_slack_demand_t_s, s->first_slack_demand_N);
+    }
+}
 
 void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s)
 {
@@ -361,6 +458,7 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
         fprintf(f, "  controller      %lu IK failures (the plant's integrator ran elsewhere)\n",
                 s->ik_failures);
     }
+    print_slack(f, s);
     if (isfinite(s->settle_wall_time_s)) {
         fprintf(f, "  time            %.3g s simulated in %.3g s wall (settling %.3g s)\n",
                 s->sim_time_s, s->wall_time_s, s->settle_wall_time_s);

@@ -62,23 +62,30 @@ void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sam
 
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s, cdpr_diag_t *diag)
 {
-    const double v[8] = {period_s,
-                         g->kp,
-                         g->kd_s,
-                         g->k_length_per_s,
-                         g->filter_s,
-                         g->inertial_ff,
-                         g->damping_N_s_per_m,
-                         g->damping_rot_N_m_s};
-    static const char *const names[8] = {"period_s",
-                                         "kp",
-                                         "kd_s",
-                                         "k_length_per_s",
-                                         "filter_s",
-                                         "inertial_ff",
-                                         "damping_N_s_per_m",
-                                         "damping_rot_N_m_s"};
-    for (int i = 0; i < 8; ++i) {
+    const double v[10] = {period_s,
+                          g->kp,
+                          g->kd_s,
+                          g->k_length_per_s,
+                          g->filter_s,
+                          g->inertial_ff,
+                          g->damping_N_s_per_m,
+                          g->damping_rot_N_m_s,
+                          g->transfer_s,
+                          g->wind_ff};
+    static const char *const names[10] = {"period_s",
+                                          "kp",
+                                          "kd_s",
+                                          "k_length_per_s",
+                                          "filter_s",
+                                          "inertial_ff",
+                                          "damping_N_s_per_m",
+                                          "damping_rot_N_m_s",
+                                          "transfer_s",
+                                          "wind_ff"};
+    if (!cdpr_v3_isfinite(g->wind_m_per_s)) {
+        return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "wind_m_per_s", -1);
+    }
+    for (int i = 0; i < 10; ++i) {
         if (!isfinite(v[i])) {
             return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
         }
@@ -89,25 +96,148 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s,
     return CDPR_OK;
 }
 
-/* Lengths at time t: IK of the desired pose under the weight, the feed-forward share of the
- * d'Alembert load, and the cable wrench (f_add, tau_add) asked for on top of that (zero for
- * the feed-forward itself). On failure `L` is untouched. */
+/* Gaussian elimination with partial pivoting on the augmented 6x7 matrix A; x = solution.
+ * CDPR_E_INFEASIBLE when a pivot is below 1e-12 of the largest entry (singular). */
+static cdpr_status_t solve6(double A[6][7], double *x)
+{
+    double amax = 0.0;
+    for (int i = 0; i < 6; ++i) {
+        for (int k = 0; k < 6; ++k) {
+            amax = fmax(amax, fabs(A[i][k]));
+        }
+    }
+    for (int c = 0; c < 6; ++c) {
+        int piv = c;
+        for (int i = c + 1; i < 6; ++i) {
+            piv = (fabs(A[i][c]) > fabs(A[piv][c])) ? i : piv;
+        }
+        if (!(fabs(A[piv][c]) > 1e-12 * amax)) {
+            return CDPR_E_INFEASIBLE;
+        }
+        for (int k = 0; k < 7; ++k) {
+            const double tmp = A[c][k];
+            A[c][k] = A[piv][k];
+            A[piv][k] = tmp;
+        }
+        for (int i = c + 1; i < 6; ++i) {
+            const double m = A[i][c] / A[c][c];
+            for (int k = c; k < 7; ++k) {
+                A[i][k] -= m * A[c][k];
+            }
+        }
+    }
+    for (int i = 5; i >= 0; --i) {
+        double acc = A[i][6];
+        for (int k = i + 1; k < 6; ++k) {
+            acc -= A[i][k] * x[k];
+        }
+        x[i] = acc / A[i][i];
+    }
+    return CDPR_OK;
+}
+
+void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion_t *pose,
+                              cdpr_vec3_t wind_m_per_s, cdpr_vec3_t *f_N, cdpr_vec3_t *tau_Nm)
+{
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(cdpr_quat_normalize(pose->q), &R);
+    const cdpr_vec3_t J = wind_m_per_s;
+    *f_N = cdpr_v3(0.0, 0.0, 0.0);
+    *tau_Nm = *f_N;
+    for (int j = 0; j < model->p.n_cables; ++j) {
+        const cdpr_robot_cable_params_t *c = &model->p.cables[j];
+        const cdpr_vec3_t rb = cdpr_m3_mul_v3(&R, c->attach_body_m);
+        const cdpr_vec3_t d = cdpr_v3_sub(c->exit_point_m, cdpr_v3_add(pose->p_m, rb));
+        const double l = cdpr_v3_norm(d);
+        if (!(l > 0.0)) {
+            continue;
+        }
+        const cdpr_vec3_t t = cdpr_v3_scale(d, 1.0 / l);
+        const double jt = cdpr_v3_dot(J, t);
+        const cdpr_vec3_t jn = cdpr_v3_sub(J, cdpr_v3_scale(t, jt));
+        const double k = 0.5 * c->cable.rho_air_kg_per_m3 * c->cable.d0_m * c->cable.cd * l;
+        const cdpr_vec3_t D =
+            cdpr_v3_scale(cdpr_v3_add(cdpr_v3_scale(jn, cdpr_v3_norm(jn)),
+                                      cdpr_v3_scale(t, c->cable.cm * fabs(jt) * jt)),
+                          k);
+        const cdpr_vec3_t half = cdpr_v3_scale(D, 0.5);
+        const cdpr_vec3_t r =
+            cdpr_m3_mul_v3(&R, cdpr_v3_sub(c->attach_body_m, model->p.cabin.com_body_m));
+        *f_N = cdpr_v3_add(*f_N, half);
+        *tau_Nm = cdpr_v3_add(*tau_Nm, cdpr_v3_cross(r, half));
+    }
+}
+
+cdpr_status_t cdpr_tracker_straight_tensions(const cdpr_robot_t *model,
+                                             const cdpr_cabin_motion_t *pose, cdpr_vec3_t f_ext_N,
+                                             cdpr_vec3_t tau_ext_Nm, double *tension_N)
+{
+    if (model->p.n_cables != 6) {
+        return CDPR_E_INVALID_ARG;
+    }
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(cdpr_quat_normalize(pose->q), &R);
+    double A[6][7];
+    for (int j = 0; j < 6; ++j) {
+        const cdpr_robot_cable_params_t *c = &model->p.cables[j];
+        const cdpr_vec3_t rb = cdpr_m3_mul_v3(&R, c->attach_body_m);
+        const cdpr_vec3_t d = cdpr_v3_sub(c->exit_point_m, cdpr_v3_add(pose->p_m, rb));
+        const double l = cdpr_v3_norm(d);
+        const cdpr_vec3_t u = (l > 0.0) ? cdpr_v3_scale(d, 1.0 / l) : cdpr_v3(0.0, 0.0, 0.0);
+        const cdpr_vec3_t r =
+            cdpr_m3_mul_v3(&R, cdpr_v3_sub(c->attach_body_m, model->p.cabin.com_body_m));
+        const cdpr_vec3_t m = cdpr_v3_cross(r, u);
+        const double col[6] = {u.x, u.y, u.z, m.x, m.y, m.z};
+        for (int i = 0; i < 6; ++i) {
+            A[i][j] = col[i];
+        }
+    }
+    /* sum t_j u_j = M g z - f_ext, sum t_j (r_j x u_j) = -tau_ext (statics.h). */
+    const double w = model->p.cabin.mass_kg * model->p.g_m_per_s2;
+    const double rhs[6] = {-f_ext_N.x,    -f_ext_N.y,    w - f_ext_N.z,
+                           -tau_ext_Nm.x, -tau_ext_Nm.y, -tau_ext_Nm.z};
+    for (int i = 0; i < 6; ++i) {
+        A[i][6] = rhs[i];
+    }
+    return solve6(A, tension_N);
+}
+
+/* External load of the feed-forward IK at time t: the reference (into d), the feed-forward
+ * share of the d'Alembert load, the cables' wind load, minus the cable wrench (f_add, tau_add)
+ * asked for on top of that (zero for the feed-forward itself). */
+static void load_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add, cdpr_vec3_t tau_add,
+                    cdpr_traj_sample_t *d, cdpr_vec3_t *f, cdpr_vec3_t *tau)
+{
+    cdpr_tracker_reference(tr, t, d);
+    *f = cdpr_v3(0.0, 0.0, 0.0);
+    *tau = *f;
+    if (tr->g.inertial_ff > 0.0) {
+        cdpr_tracker_inertial_wrench(&tr->model, d, f, tau);
+        *f = cdpr_v3_scale(*f, tr->g.inertial_ff);
+        *tau = cdpr_v3_scale(*tau, tr->g.inertial_ff);
+    }
+    if (tr->g.wind_ff > 0.0) {
+        cdpr_vec3_t fw;
+        cdpr_vec3_t tw;
+        cdpr_tracker_wind_wrench(&tr->model, &d->motion, tr->g.wind_m_per_s, &fw, &tw);
+        *f = cdpr_v3_add(*f, cdpr_v3_scale(fw, tr->g.wind_ff));
+        *tau = cdpr_v3_add(*tau, cdpr_v3_scale(tw, tr->g.wind_ff));
+    }
+    /* The IK's external load is what the cables must balance: a wrench the cables are to
+     * add enters with the opposite sign. */
+    *f = cdpr_v3_sub(*f, f_add);
+    *tau = cdpr_v3_sub(*tau, tau_add);
+}
+
+/* Lengths at time t: IK of the reference pose under the weight and load_at's load. On
+ * failure `L` is untouched. */
 static cdpr_status_t ik_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add,
                            cdpr_vec3_t tau_add, double *L)
 {
     cdpr_traj_sample_t d;
-    cdpr_traj_eval(&tr->traj, t, &d);
-    cdpr_vec3_t f = cdpr_v3(0.0, 0.0, 0.0);
-    cdpr_vec3_t tau = f;
-    if (tr->g.inertial_ff > 0.0) {
-        cdpr_tracker_inertial_wrench(&tr->model, &d, &f, &tau);
-        f = cdpr_v3_scale(f, tr->g.inertial_ff);
-        tau = cdpr_v3_scale(tau, tr->g.inertial_ff);
-    }
-    /* The IK's external load is what the cables must balance: a wrench the cables are to
-     * add enters with the opposite sign. */
-    f = cdpr_v3_sub(f, f_add);
-    tau = cdpr_v3_sub(tau, tau_add);
+    cdpr_vec3_t f;
+    cdpr_vec3_t tau;
+    load_at(tr, t, f_add, tau_add, &d, &f, &tau);
     cdpr_statics_result_t res;
     const cdpr_status_t st =
         cdpr_statics_ik_wrench(&tr->model, &d.motion, f, tau, &tr->ik_opts, &res);
@@ -127,6 +257,44 @@ static cdpr_status_t ik_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add
         L[j] = res.cable[j].length_m;
     }
     return CDPR_OK;
+}
+
+/* Tension awareness: the feed-forward at t failed; distribute its load on the straight chords
+ * and count every cable whose tension there is <= 0. */
+static void slack_demand(cdpr_tracker_t *tr, double t, cdpr_tracker_cmd_t *cmd)
+{
+    cdpr_traj_sample_t d;
+    cdpr_vec3_t f;
+    cdpr_vec3_t tau;
+    const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
+    load_at(tr, t, zero, zero, &d, &f, &tau);
+    double ten[CDPR_MAX_CABLES] = {0.0};
+    if (cdpr_tracker_straight_tensions(&tr->model, &d.motion, f, tau, ten) != CDPR_OK) {
+        return;
+    }
+    for (int j = 0; j < tr->model.p.n_cables; ++j) {
+        if (ten[j] <= 0.0) {
+            cmd->slack_demand |= 1U << j;
+            tr->slack_demand_periods[j]++;
+            if (tr->first_slack_cable < 0) {
+                tr->first_slack_cable = j;
+                tr->first_slack_t_s = t;
+                tr->first_slack_tension_N = ten[j];
+            }
+        }
+    }
+    if (cmd->slack_demand != 0U) {
+        memcpy(cmd->demand_tension_N, ten, sizeof ten);
+    }
+}
+
+void cdpr_tracker_reference(const cdpr_tracker_t *tr, double t_s, cdpr_traj_sample_t *out)
+{
+    if (tr->transfer_set != 0) {
+        cdpr_transfer_eval(&tr->transfer, &tr->traj, t_s, out);
+    } else {
+        cdpr_traj_eval(&tr->traj, t_s, out);
+    }
 }
 
 /* Feed-forward lengths at time t; on failure `L` is untouched. */
@@ -167,6 +335,7 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
     }
     tr->t_next_s = t0_s;
     tr->l_ff_exact = 1;
+    tr->first_slack_cable = -1;
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -200,6 +369,7 @@ static void feedforward_step(cdpr_tracker_t *tr, double t, double dt, double *l_
     cmd->ik_status = feedforward(tr, t + dt, l_next);
     if (cmd->ik_status != CDPR_OK) {
         tr->ik_failures++; /* l_next still holds the last good feed-forward */
+        slack_demand(tr, t + dt, cmd);
     }
 }
 
@@ -208,7 +378,7 @@ static void feedforward_step(cdpr_tracker_t *tr, double t, double dt, double *l_
 static void pose_error(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double t,
                        cdpr_tracker_cmd_t *cmd, double raw[12])
 {
-    cdpr_traj_eval(&tr->traj, t, &cmd->desired);
+    cdpr_tracker_reference(tr, t, &cmd->desired);
     const cdpr_cabin_motion_t *d = &cmd->desired.motion;
     const cdpr_quat_t qm = cdpr_quat_normalize(m->cabin.q);
     const cdpr_quat_t qm_inv = {qm.w, -qm.x, -qm.y, -qm.z};
@@ -300,6 +470,24 @@ static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     }
 }
 
+/* Step 5: at the first step with transfer_s > 0, the transfer from this measurement; L_ff(t)
+ * is then the IK of the measured pose (under the load of the reference's start). */
+static void start_transfer(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
+{
+    if (!(tr->g.transfer_s > 0.0) || tr->transfer_set != 0) {
+        return;
+    }
+    cdpr_transfer_init(&tr->transfer, &tr->traj, m->t_s, tr->g.transfer_s, &m->cabin);
+    tr->transfer_set = 1;
+    tr->t_next_s = m->t_s;
+    if (feedforward(tr, m->t_s, tr->l_ff_m) != CDPR_OK) {
+        tr->ik_failures++;
+        tr->l_ff_exact = 0;
+    } else {
+        tr->l_ff_exact = 1;
+    }
+}
+
 cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m,
                                 cdpr_tracker_cmd_t *cmd)
 {
@@ -313,6 +501,7 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     const double dt = tr->period_s;
     const double t = m->t_s;
     double l_next[CDPR_MAX_CABLES];
+    start_transfer(tr, m);
     feedforward_step(tr, t, dt, l_next, cmd);
     double raw[12];
     pose_error(tr, m, t, cmd, raw);

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "cdpr/host/tracker.h"
 #include "cdpr/vec3.h"
 
 cdpr_vec3_t cdpr_euler_rates_to_body(const double euler[3], const double rates[3])
@@ -184,4 +185,98 @@ void cdpr_traj_eval(const cdpr_traj_t *tr, double t_s, cdpr_traj_sample_t *out)
     out->motion.w_rad_per_s = cdpr_euler_rates_to_body(out->pose + 3, out->rate + 3);
     out->a_m_per_s2 = cdpr_v3(out->accel[0], out->accel[1], out->accel[2]);
     out->dw_rad_per_s2 = cdpr_euler_accel_to_body(out->pose + 3, out->rate + 3, out->accel + 3);
+}
+
+void cdpr_transfer_blend(double tau, double *s, double *ds_dtau, double *d2s_dtau2)
+{
+    const double x = (tau < 0.0) ? 0.0 : ((tau > 1.0) ? 1.0 : tau);
+    const double x2 = x * x;
+    const double x3 = x2 * x;
+    *s = x2 * x2 * (35.0 + x * (-84.0 + x * (70.0 - 20.0 * x)));
+    *ds_dtau = x3 * (140.0 + x * (-420.0 + x * (420.0 - 140.0 * x)));
+    *d2s_dtau2 = x2 * (420.0 + x * (-1680.0 + x * (2100.0 - 840.0 * x)));
+}
+
+void cdpr_transfer_init(cdpr_transfer_t *x, const cdpr_traj_t *traj, double t0_s, double duration_s,
+                        const cdpr_cabin_motion_t *m0)
+{
+    memset(x, 0, sizeof *x);
+    x->t0_s = t0_s;
+    x->duration_s = duration_s;
+    cdpr_traj_sample_t d;
+    cdpr_traj_eval(traj, t0_s, &d);
+    x->offset_m = cdpr_v3_sub(m0->p_m, d.motion.p_m);
+    const cdpr_quat_t q0 = cdpr_quat_normalize(m0->q);
+    const cdpr_quat_t qd_inv = {d.motion.q.w, -d.motion.q.x, -d.motion.q.y, -d.motion.q.z};
+    x->theta0_rad = cdpr_quat_to_rotvec(cdpr_quat_mul(q0, qd_inv));
+}
+
+/* Unit quaternion of the rotation vector th. */
+static cdpr_quat_t quat_from_rotvec(cdpr_vec3_t th)
+{
+    const double a = cdpr_v3_norm(th);
+    if (a < 1e-300) {
+        const cdpr_quat_t id = {1.0, 0.0, 0.0, 0.0};
+        return id;
+    }
+    const double k = sin(0.5 * a) / a;
+    const cdpr_quat_t q = {cos(0.5 * a), k * th.x, k * th.y, k * th.z};
+    return q;
+}
+
+/* The attitude part of the transfer: q_r = exp((1 - s) θ0) q_traj, its body rate and
+ * acceleration, into `o` (which holds the trajectory's sample). */
+static void transfer_attitude(const cdpr_transfer_t *x, double s, double sd, double sdd,
+                              cdpr_traj_sample_t *o)
+{
+    const cdpr_quat_t e = quat_from_rotvec(cdpr_v3_scale(x->theta0_rad, 1.0 - s));
+    cdpr_mat3_t Rt;
+    cdpr_mat3_t E;
+    cdpr_quat_to_mat3(o->motion.q, &Rt);
+    cdpr_quat_to_mat3(e, &E);
+    const cdpr_vec3_t w_t = cdpr_m3_mul_v3(&Rt, o->motion.w_rad_per_s); /* world */
+    const cdpr_vec3_t dw_t = cdpr_m3_mul_v3(&Rt, o->dw_rad_per_s2);     /* world */
+    const cdpr_vec3_t w_e = cdpr_v3_scale(x->theta0_rad, -sd);
+    const cdpr_vec3_t ew = cdpr_m3_mul_v3(&E, w_t);
+    const cdpr_vec3_t w_r = cdpr_v3_add(w_e, ew);
+    const cdpr_vec3_t dw_r =
+        cdpr_v3_add(cdpr_v3_add(cdpr_v3_scale(x->theta0_rad, -sdd), cdpr_v3_cross(w_e, ew)),
+                    cdpr_m3_mul_v3(&E, dw_t));
+    o->motion.q = cdpr_quat_normalize(cdpr_quat_mul(e, o->motion.q));
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(o->motion.q, &R);
+    o->motion.w_rad_per_s = cdpr_m3t_mul_v3(&R, w_r);
+    o->dw_rad_per_s2 = cdpr_m3t_mul_v3(&R, dw_r);
+    cdpr_quat_to_euler(o->motion.q, &o->pose[3], &o->pose[4], &o->pose[5]);
+}
+
+void cdpr_transfer_eval(const cdpr_transfer_t *x, const cdpr_traj_t *traj, double t_s,
+                        cdpr_traj_sample_t *out)
+{
+    cdpr_traj_eval(traj, t_s, out);
+    if (!(x->duration_s > 0.0) || t_s >= x->t0_s + x->duration_s) {
+        return; /* no transfer, or after it: the trajectory itself */
+    }
+    const double T = x->duration_s;
+    double s;
+    double sd;
+    double sdd;
+    cdpr_transfer_blend((t_s - x->t0_s) / T, &s, &sd, &sdd);
+    sd /= T;
+    sdd /= T * T;
+    /* Position: the start offset decays, p_r = p_traj + (1 - s) (p0 - p_traj(t0)). */
+    const cdpr_vec3_t off = x->offset_m;
+    const cdpr_vec3_t p = cdpr_v3_add(out->motion.p_m, cdpr_v3_scale(off, 1.0 - s));
+    const cdpr_vec3_t v = cdpr_v3_sub(out->motion.v_m_per_s, cdpr_v3_scale(off, sd));
+    const cdpr_vec3_t a = cdpr_v3_sub(out->a_m_per_s2, cdpr_v3_scale(off, sdd));
+    out->motion.p_m = p;
+    out->motion.v_m_per_s = v;
+    out->a_m_per_s2 = a;
+    const double pv[3][3] = {{p.x, p.y, p.z}, {v.x, v.y, v.z}, {a.x, a.y, a.z}};
+    for (int i = 0; i < 3; ++i) {
+        out->pose[i] = pv[0][i];
+        out->rate[i] = pv[1][i];
+        out->accel[i] = pv[2][i];
+    }
+    transfer_attitude(x, s, sd, sdd, out);
 }

@@ -24,6 +24,7 @@
 #include <sched.h>
 #include <string.h>
 #include <sys/eventfd.h>
+#include <sys/random.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -47,6 +48,17 @@ int64_t cdpr_lcm_now_ns(void)
     return (int64_t)ts.tv_sec * 1000000000 + (int64_t)ts.tv_nsec;
 }
 
+int64_t cdpr_lcm_new_session(void)
+{
+    uint64_t x = 0u;
+    if (getrandom(&x, sizeof x, 0u) != (ssize_t)sizeof x) {
+        // No entropy source (very old kernel, seccomp): clock and pid still differ per run.
+        x = (uint64_t)cdpr_lcm_now_ns() * 0x9E3779B97F4A7C15u ^ ((uint64_t)getpid() << 32);
+    }
+    x &= (uint64_t)INT64_MAX;
+    return (x == 0u) ? 1 : (int64_t)x;
+}
+
 void cdpr_lcm_bridge_params_default(cdpr_lcm_bridge_params_t *p)
 {
     int j;
@@ -64,6 +76,9 @@ void cdpr_lcm_bridge_params_default(cdpr_lcm_bridge_params_t *p)
     p->wake_on_push = 1;
     p->on_open = NULL;
     p->on_open_ctx = NULL;
+    p->plant_session = 0;
+    p->on_other_plant = NULL;
+    p->on_other_plant_ctx = NULL;
 }
 
 // Channel names are also LCM subscription regexes: keep the prefix free of regex syntax.
@@ -166,6 +181,9 @@ cdpr_status_t cdpr_lcm_bridge_init(cdpr_lcm_bridge_t *b, const cdpr_lcm_bridge_p
     if (p->idle_poll_ms < 1 || p->idle_poll_ms > 1000) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "idle_poll_ms", -1);
     }
+    if (p->plant_session < 0) {
+        return cdpr_diag_set(diag, CDPR_E_NOT_POSITIVE, "plant_session", -1);
+    }
 
     memset(b, 0, sizeof *b);
     b->p = *p;
@@ -179,6 +197,10 @@ cdpr_status_t cdpr_lcm_bridge_init(cdpr_lcm_bridge_t *b, const cdpr_lcm_bridge_p
     b->lcm_fd = -1;
     b->wake_fd = -1;
     b->published_state_seq = -1;
+    b->other_reported = -1;
+    if (b->p.plant_session == 0) {
+        b->p.plant_session = cdpr_lcm_new_session();
+    }
 
     st = cdpr_lcm_ring_init(&b->ring, b->ring_storage, sizeof b->ring_storage, CDPR_LCM_RING_SLOTS,
                             CDPR_LCM_SLOT_BYTES, diag);
@@ -190,7 +212,8 @@ cdpr_status_t cdpr_lcm_bridge_init(cdpr_lcm_bridge_t *b, const cdpr_lcm_bridge_p
         st = check_sizes(b, diag);
     }
     if (st == CDPR_OK) {
-        st = cdpr_lcm_validator_init(&b->validator, &lim, diag);
+        st = cdpr_lcm_validator_init(&b->validator, &lim, b->p.plant_session,
+                                     (int64_t)llround(p->watchdog_timeout_s * 1e9), diag);
     }
     if (st == CDPR_OK) {
         st = cdpr_lcm_mailbox_init(&b->mailbox, p->n_cables,
@@ -214,6 +237,11 @@ const char *cdpr_lcm_bridge_channel(const cdpr_lcm_bridge_t *b, cdpr_lcm_channel
     return b->channel[ch];
 }
 
+int64_t cdpr_lcm_bridge_session(const cdpr_lcm_bridge_t *b)
+{
+    return b->p.plant_session;
+}
+
 lcm_t *cdpr_lcm_bridge_lcm(cdpr_lcm_bridge_t *b)
 {
     return b->lcm;
@@ -231,6 +259,32 @@ static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *us
     if (cdpr_lcm_validator_accept(&b->validator, rbuf->data, (size_t)rbuf->data_size,
                                   cdpr_lcm_now_ns(), &cmd) == CDPR_LCM_ACCEPTED) {
         cdpr_lcm_mailbox_write(&b->mailbox, &cmd);
+    }
+}
+
+/* Our own state channel: every state there that is not ours is another plant's. */
+static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    cdpr_lcm_bridge_t *b = (cdpr_lcm_bridge_t *)user;
+    cdpr_cabin_state_t msg;
+    int64_t session = 0;
+    (void)channel;
+
+    if (rbuf->data_size <= (uint32_t)INT32_MAX &&
+        cdpr_cabin_state_t_decode(rbuf->data, 0, (int)rbuf->data_size, &msg) ==
+            (int)rbuf->data_size) {
+        if (msg.plant_session == b->p.plant_session) {
+            return;
+        }
+        session = msg.plant_session;
+    }
+    bump(&b->other_plant_messages);
+    __atomic_store_n(&b->other_plant_session, session, __ATOMIC_RELAXED);
+    if (session != b->other_reported) {
+        b->other_reported = session;
+        if (b->p.on_other_plant != NULL) {
+            b->p.on_other_plant(session, b->p.on_other_plant_ctx);
+        }
     }
 }
 
@@ -282,10 +336,14 @@ static void close_lcm(cdpr_lcm_bridge_t *b)
         if (b->sub != NULL) {
             (void)lcm_unsubscribe(b->lcm, b->sub);
         }
+        if (b->sub_state != NULL) {
+            (void)lcm_unsubscribe(b->lcm, b->sub_state);
+        }
         lcm_destroy(b->lcm);
     }
     b->lcm = NULL;
     b->sub = NULL;
+    b->sub_state = NULL;
     b->lcm_fd = -1;
     b->opened = 0;
 }
@@ -300,7 +358,8 @@ cdpr_status_t cdpr_lcm_bridge_open(cdpr_lcm_bridge_t *b, cdpr_diag_t *diag)
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "lcm_create (url)", -1);
     }
     b->sub = lcm_subscribe(b->lcm, b->channel[CDPR_LCM_CH_WINCH_COMMAND], on_command, b);
-    if (b->sub == NULL) {
+    b->sub_state = lcm_subscribe(b->lcm, b->channel[CDPR_LCM_CH_CABIN_STATE], on_state, b);
+    if (b->sub == NULL || b->sub_state == NULL) {
         close_lcm(b);
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "lcm_subscribe", -1);
     }
@@ -593,6 +652,10 @@ void cdpr_lcm_bridge_stats(const cdpr_lcm_bridge_t *b, cdpr_lcm_stats_t *s)
     s->hold_entries = __atomic_load_n(&b->mailbox.hold_entries, __ATOMIC_RELAXED);
     s->hold_reads = __atomic_load_n(&b->mailbox.hold_reads, __ATOMIC_RELAXED);
     s->holding = (int)__atomic_load_n(&b->mailbox.holding, __ATOMIC_RELAXED);
+    s->plant_session = b->p.plant_session;
+    cdpr_lcm_validator_sessions(&b->validator, &s->controller_session, &s->controller_sessions);
+    s->other_plant_messages = __atomic_load_n(&b->other_plant_messages, __ATOMIC_RELAXED);
+    s->other_plant_session = __atomic_load_n(&b->other_plant_session, __ATOMIC_RELAXED);
 }
 
 static int64_t i64(uint64_t x)
@@ -616,4 +679,9 @@ void cdpr_lcm_pack_diagnostics(cdpr_diagnostics_t *msg, const cdpr_lcm_stats_t *
     msg->hold_entries = i64(s->hold_entries);
     msg->hold_periods = i64(s->hold_reads);
     msg->holding = (int8_t)(s->holding != 0);
+    msg->plant_session = s->plant_session;
+    msg->controller_session = s->controller_session;
+    msg->controller_sessions = i64(s->controller_sessions);
+    msg->other_plant_messages = i64(s->other_plant_messages);
+    msg->other_plant_session = s->other_plant_session;
 }

@@ -16,6 +16,11 @@ CDPR_LCM_STATIC_ASSERT(CDPR_LCM_N_REJECT == CDPR_DIAGNOSTICS_T_N_REJECT, n_rejec
 CDPR_LCM_STATIC_ASSERT(CDPR_LCM_REJECT_FUTURE == CDPR_DIAGNOSTICS_T_REJECT_FUTURE, future_index);
 CDPR_LCM_STATIC_ASSERT(CDPR_LCM_REJECT_MALFORMED == CDPR_DIAGNOSTICS_T_REJECT_MALFORMED,
                        malformed_index);
+CDPR_LCM_STATIC_ASSERT(CDPR_LCM_REJECT_SEQ_WINDOW == CDPR_DIAGNOSTICS_T_REJECT_SEQ_WINDOW,
+                       seq_window_index);
+CDPR_LCM_STATIC_ASSERT(CDPR_LCM_REJECT_OTHER_PLANT == CDPR_DIAGNOSTICS_T_REJECT_OTHER_PLANT,
+                       other_plant_index);
+CDPR_LCM_STATIC_ASSERT(CDPR_LCM_SEQ_WINDOW == CDPR_WINCH_COMMAND_T_SEQ_WINDOW, seq_window_wire);
 CDPR_LCM_STATIC_ASSERT(CDPR_WINCH_COMMAND_T_MODE_RATE == (int)CDPR_WINCH_RATE, mode_rate);
 CDPR_LCM_STATIC_ASSERT(CDPR_WINCH_COMMAND_T_MODE_LENGTH == (int)CDPR_WINCH_LENGTH, mode_length);
 
@@ -45,6 +50,14 @@ const char *cdpr_lcm_reject_str(cdpr_lcm_reject_t reason)
         return "replayed";
     case CDPR_LCM_REJECT_FUTURE:
         return "future state";
+    case CDPR_LCM_REJECT_NO_SESSION:
+        return "no session";
+    case CDPR_LCM_REJECT_OTHER_PLANT:
+        return "other plant";
+    case CDPR_LCM_REJECT_SESSION_BUSY:
+        return "session busy";
+    case CDPR_LCM_REJECT_SEQ_WINDOW:
+        return "seq beyond window";
     case CDPR_LCM_N_REJECT:
     default:
         return "unknown";
@@ -110,7 +123,7 @@ cdpr_status_t cdpr_lcm_limits_from_winch(cdpr_lcm_limits_t *lim, int n_cables,
 }
 
 cdpr_status_t cdpr_lcm_validator_init(cdpr_lcm_validator_t *v, const cdpr_lcm_limits_t *lim,
-                                      cdpr_diag_t *diag)
+                                      int64_t plant_session, int64_t takeover_ns, cdpr_diag_t *diag)
 {
     cdpr_winch_command_t probe;
     unsigned char buf[sizeof(cdpr_winch_command_t) + 64];
@@ -123,12 +136,21 @@ cdpr_status_t cdpr_lcm_validator_init(cdpr_lcm_validator_t *v, const cdpr_lcm_li
     if (st != CDPR_OK) {
         return st;
     }
+    if (plant_session <= 0) {
+        return cdpr_diag_set(diag, CDPR_E_NOT_POSITIVE, "plant_session", -1);
+    }
+    if (takeover_ns <= 0) {
+        return cdpr_diag_set(diag, CDPR_E_NOT_POSITIVE, "takeover_ns", -1);
+    }
     memset(&probe, 0, sizeof probe);
     if (cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &probe) < 8) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "winch_command_t encoding", -1);
     }
     memset(v, 0, sizeof *v);
     v->lim = *lim;
+    v->plant_session = plant_session;
+    v->takeover_ns = takeover_ns;
+    v->controller_session = 0;
     v->last_seq = -1;
     v->last_state_seq = -1;
     v->published_state_seq = -1;
@@ -143,10 +165,9 @@ void cdpr_lcm_validator_note_published(cdpr_lcm_validator_t *v, int64_t seq)
     }
 }
 
-cdpr_lcm_reject_t cdpr_lcm_validator_check(const cdpr_lcm_validator_t *v,
-                                           const cdpr_winch_command_t *msg)
+/* The rules on the values alone (mode, cable count, finite, limits). */
+static cdpr_lcm_reject_t check_values(const cdpr_lcm_limits_t *lim, const cdpr_winch_command_t *msg)
 {
-    const cdpr_lcm_limits_t *lim = &v->lim;
     int j;
 
     if (msg->mode != CDPR_WINCH_COMMAND_T_MODE_RATE &&
@@ -172,11 +193,43 @@ cdpr_lcm_reject_t cdpr_lcm_validator_check(const cdpr_lcm_validator_t *v,
             return CDPR_LCM_REJECT_OUT_OF_LIMIT;
         }
     }
-    if (msg->seq < v->last_seq) {
+    return CDPR_LCM_ACCEPTED;
+}
+
+/* 1 when the active session is silent (or there is none): another session, or a new anchor,
+ * may take over. */
+static int session_silent(const cdpr_lcm_validator_t *v, int64_t rx_time_ns)
+{
+    return v->controller_session == 0 || rx_time_ns - v->last_accept_ns > v->takeover_ns;
+}
+
+/* The session and sequence rules (header: "Sessions"). */
+static cdpr_lcm_reject_t check_sequence(const cdpr_lcm_validator_t *v,
+                                        const cdpr_winch_command_t *msg, int64_t rx_time_ns)
+{
+    if (msg->controller_session <= 0) {
+        return CDPR_LCM_REJECT_NO_SESSION;
+    }
+    if (msg->plant_session != v->plant_session) {
+        return CDPR_LCM_REJECT_OTHER_PLANT;
+    }
+    if (msg->seq < 0) {
         return CDPR_LCM_REJECT_STALE;
     }
-    if (msg->seq == v->last_seq) {
-        return CDPR_LCM_REJECT_REPLAYED;
+    if (session_silent(v, rx_time_ns) == 0) {
+        if (msg->controller_session != v->controller_session) {
+            return CDPR_LCM_REJECT_SESSION_BUSY;
+        }
+        if (msg->seq < v->last_seq) {
+            return CDPR_LCM_REJECT_STALE;
+        }
+        if (msg->seq == v->last_seq) {
+            return CDPR_LCM_REJECT_REPLAYED;
+        }
+        // seq > last_seq >= -1 here; the difference in unsigned arithmetic cannot overflow.
+        if ((uint64_t)msg->seq - (uint64_t)v->last_seq > (uint64_t)CDPR_LCM_SEQ_WINDOW) {
+            return CDPR_LCM_REJECT_SEQ_WINDOW;
+        }
     }
     if (msg->state_seq < 0 || msg->state_seq < v->last_state_seq) {
         return CDPR_LCM_REJECT_STALE;
@@ -185,6 +238,13 @@ cdpr_lcm_reject_t cdpr_lcm_validator_check(const cdpr_lcm_validator_t *v,
         return CDPR_LCM_REJECT_FUTURE;
     }
     return CDPR_LCM_ACCEPTED;
+}
+
+cdpr_lcm_reject_t cdpr_lcm_validator_check(const cdpr_lcm_validator_t *v,
+                                           const cdpr_winch_command_t *msg, int64_t rx_time_ns)
+{
+    const cdpr_lcm_reject_t r = check_values(&v->lim, msg);
+    return (r != CDPR_LCM_ACCEPTED) ? r : check_sequence(v, msg, rx_time_ns);
 }
 
 static cdpr_lcm_reject_t count(cdpr_lcm_validator_t *v, cdpr_lcm_reject_t reason)
@@ -219,15 +279,22 @@ cdpr_lcm_reject_t cdpr_lcm_validator_accept(cdpr_lcm_validator_t *v, const void 
     if (n < 0 || (size_t)n != len) {
         return count(v, CDPR_LCM_REJECT_MALFORMED);
     }
-    reason = cdpr_lcm_validator_check(v, &msg);
+    reason = cdpr_lcm_validator_check(v, &msg, rx_time_ns);
     if (reason != CDPR_LCM_ACCEPTED) {
         return count(v, reason);
     }
 
+    if (msg.controller_session != v->controller_session) {
+        // A take-over (the first controller included): read by cdpr_lcm_validator_sessions.
+        __atomic_store_n(&v->controller_session, msg.controller_session, __ATOMIC_RELAXED);
+        __atomic_store_n(&v->sessions, v->sessions + 1u, __ATOMIC_RELAXED);
+    }
     __atomic_store_n(&v->last_seq, msg.seq, __ATOMIC_RELAXED); // read by cdpr_lcm_validator_counts
     v->last_state_seq = msg.state_seq;
+    v->last_accept_ns = rx_time_ns;
     memset(out, 0, sizeof *out);
     out->seq = msg.seq;
+    out->controller_session = msg.controller_session;
     out->state_seq = msg.state_seq;
     out->utime_us = msg.utime_us;
     out->rx_time_ns = rx_time_ns;
@@ -252,6 +319,17 @@ void cdpr_lcm_validator_counts(const cdpr_lcm_validator_t *v, uint64_t *accepted
     }
     if (last_seq != NULL) {
         *last_seq = __atomic_load_n(&v->last_seq, __ATOMIC_RELAXED);
+    }
+}
+
+void cdpr_lcm_validator_sessions(const cdpr_lcm_validator_t *v, int64_t *controller_session,
+                                 uint64_t *sessions)
+{
+    if (controller_session != NULL) {
+        *controller_session = __atomic_load_n(&v->controller_session, __ATOMIC_RELAXED);
+    }
+    if (sessions != NULL) {
+        *sessions = __atomic_load_n(&v->sessions, __ATOMIC_RELAXED);
     }
 }
 

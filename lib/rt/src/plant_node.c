@@ -52,11 +52,12 @@ static cdpr_status_t check_opts(const cdpr_rt_opts_t *op, double rate_hz,
     if (op->rt_priority < 1 || op->rt_priority > 99) {
         return opt_error("priority", (double)op->rt_priority, "must be in 1..99", err);
     }
-    if (!(op->shape_rate_hz >= 0.0 && op->shape_rate_hz <= rate_hz)) {
-        return opt_error("shape-rate", op->shape_rate_hz, "must be in [0, control rate]", err);
+    (void)rate_hz; /* a message rate above the control rate means every period */
+    if (!(op->shape_rate_hz >= 0.0 && op->shape_rate_hz < 1e12)) {
+        return opt_error("shape-rate", op->shape_rate_hz, "must be >= 0 Hz", err);
     }
-    if (!(op->diag_rate_hz >= 0.0 && op->diag_rate_hz <= rate_hz)) {
-        return opt_error("diag-rate", op->diag_rate_hz, "must be in [0, control rate]", err);
+    if (!(op->diag_rate_hz >= 0.0 && op->diag_rate_hz < 1e12)) {
+        return opt_error("diag-rate", op->diag_rate_hz, "must be >= 0 Hz", err);
     }
     if (!(op->start_delay_s >= 0.0 && op->start_delay_s <= 3600.0)) {
         return opt_error("start-delay", op->start_delay_s, "must be in [0, 3600] s", err);
@@ -90,6 +91,16 @@ static cdpr_status_t init_bridge(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     return st;
 }
 
+/* Periods between two messages of rate `hz` (0: none; at least every period). */
+static long every(double rate_hz, double hz)
+{
+    if (!(hz > 0.0)) {
+        return 0;
+    }
+    const double n = floor(rate_hz / hz + 0.5);
+    return (n < 1.0) ? 1 : (n > 1e9 ? 1000000000L : (long)n);
+}
+
 cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
                            cdpr_scenario_error_t *err)
 {
@@ -110,9 +121,9 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
         return CDPR_E_OUT_OF_RANGE;
     }
     rt->n_periods = cdpr_scenario_periods(sc);
-    rt->shape_every =
-        (rt->o.shape_rate_hz > 0.0) ? (long)llround(rate_hz / rt->o.shape_rate_hz) : 0;
-    rt->diag_every = (rt->o.diag_rate_hz > 0.0) ? (long)llround(rate_hz / rt->o.diag_rate_hz) : 0;
+    rt->shape_every = every(rate_hz, rt->o.shape_rate_hz);
+    rt->diag_every = every(rate_hz, rt->o.diag_rate_hz);
+    rt->stall_periods = (long)ceil(CDPR_RT_STALL_S / sc->period_s);
     st = cdpr_host_plant_init(&rt->plant, sc, NULL, err);
     if (st != CDPR_OK) {
         return st;
@@ -123,6 +134,8 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
     }
     rt->seq = 0;
     rt->command_seq = -1;
+    rt->command_session = 0;
+    rt->tel.plant_session = cdpr_lcm_bridge_session(&rt->bridge);
     return CDPR_OK;
 }
 
@@ -230,13 +243,18 @@ static void publish(cdpr_rt_t *rt, int plant_flags)
     if (rt->o.lockstep != 0) {
         flags |= CDPR_CABIN_STATE_T_FLAG_LOCKSTEP;
     }
+    const int64_t session = rt->tel.plant_session;
     cdpr_lcm_pack_cabin_motion(&rt->st_msg, &m.cabin, m.t_s, rt->seq, rt->command_seq, flags);
+    rt->st_msg.plant_session = session;
+    rt->st_msg.controller_session = rt->command_session;
     (void)cdpr_lcm_bridge_push_cabin_state(&rt->bridge, &rt->st_msg);
     cdpr_robot_outputs(&p->robot, m.t_s, p->y, &rt->out);
     cdpr_lcm_pack_tensions(&rt->ten_msg, &p->robot, p->y, &rt->out, m.t_s, rt->seq);
+    rt->ten_msg.plant_session = session;
     (void)cdpr_lcm_bridge_push_tensions(&rt->bridge, &rt->ten_msg);
     if (rt->shape_every > 0 && rt->seq % rt->shape_every == 0) {
         cdpr_lcm_pack_shape(&rt->shape_msg, &p->robot, p->y, m.t_s, rt->seq);
+        rt->shape_msg.plant_session = session;
         (void)cdpr_lcm_bridge_push_shape(&rt->bridge, &rt->shape_msg);
     }
     if (rt->diag_every > 0 && rt->seq > 0 && rt->seq % rt->diag_every == 0) {
@@ -273,6 +291,37 @@ static int wait_answer(cdpr_rt_t *rt, cdpr_lcm_command_t *cmd, int *read_flags)
     }
 }
 
+/* The command of the next period: in lockstep the answer to the last state (or hold after the
+ * timeout), free-running the newest one at the period's start `next`. Counts holds and new
+ * commands; returns the time the period's work starts. */
+static int64_t take_command(cdpr_rt_t *rt, int64_t next, cdpr_lcm_command_t *cmd)
+{
+    cdpr_rt_telemetry_t *t = &rt->tel;
+    int rf = 0;
+    int64_t t0;
+    if (rt->o.lockstep != 0) {
+        if (wait_answer(rt, cmd, &rf) == 0) {
+            t->lockstep_timeouts++;
+            cdpr_lcm_command_hold(rt->plant.robot.p.n_cables, cmd);
+            rf = CDPR_LCM_READ_HOLD;
+        } else {
+            rf |= CDPR_LCM_READ_NEW;
+        }
+        t0 = cdpr_lcm_now_ns();
+    } else {
+        sleep_until(next);
+        t0 = cdpr_lcm_now_ns();
+        rf = cdpr_lcm_bridge_read_command(&rt->bridge, t0, cmd);
+    }
+    rt->hold = ((rf & CDPR_LCM_READ_HOLD) != 0) ? 1 : 0;
+    if (rt->hold != 0) {
+        t->hold_periods++;
+    } else if ((rf & CDPR_LCM_READ_NEW) != 0) {
+        t->commands_applied++;
+    }
+    return t0;
+}
+
 static void prefault_stack(void)
 {
     volatile unsigned char buf[PREFAULT_STACK_BYTES];
@@ -299,39 +348,25 @@ static void *periodic(void *arg)
     rt->hold = 1;
     publish(rt, 0);
     int64_t next = start + T;
-    for (long k = 0; k < rt->n_periods; ++k) {
+    long failed_in_row = 0;
+    while (rt->advanced < rt->n_periods) {
         if (o->stop != NULL && *o->stop != 0) {
             break;
         }
         cdpr_lcm_command_t cmd;
-        int rf = 0;
-        int64_t t0;
-        if (o->lockstep != 0) {
-            if (wait_answer(rt, &cmd, &rf) == 0) {
-                t->lockstep_timeouts++;
-                cdpr_lcm_command_hold(rt->plant.robot.p.n_cables, &cmd);
-                rf = CDPR_LCM_READ_HOLD;
-            } else {
-                rf |= CDPR_LCM_READ_NEW;
-            }
-            t0 = cdpr_lcm_now_ns();
-        } else {
-            sleep_until(next);
-            t0 = cdpr_lcm_now_ns();
-            rf = cdpr_lcm_bridge_read_command(&rt->bridge, t0, &cmd);
-        }
-        rt->hold = ((rf & CDPR_LCM_READ_HOLD) != 0) ? 1 : 0;
-        if (rt->hold != 0) {
-            t->hold_periods++;
-        } else if ((rf & CDPR_LCM_READ_NEW) != 0) {
-            t->commands_applied++;
-        }
+        const int64_t t0 = take_command(rt, next, &cmd);
         const cdpr_winch_mode_t mode =
             (cmd.mode == CDPR_WINCH_LENGTH) ? CDPR_WINCH_LENGTH : CDPR_WINCH_RATE;
         int pf = 0;
         const cdpr_status_t st = cdpr_plant_step(&rt->plant, mode, cmd.value, &pf);
         if (st >= 0) {
             rt->command_seq = cmd.seq;
+            rt->command_session = cmd.controller_session;
+            rt->advanced++;
+            failed_in_row = 0;
+        } else {
+            rt->stall_status = st;
+            failed_in_row++;
         }
         rt->seq++;
         t->periods++;
@@ -347,6 +382,12 @@ static void *periodic(void *arg)
                     t->periods_skipped++;
                 }
             }
+            __atomic_store_n(&rt->mon_misses, t->deadline_misses, __ATOMIC_RELAXED);
+            __atomic_store_n(&rt->mon_periods, t->periods, __ATOMIC_RELAXED);
+        }
+        if (failed_in_row >= rt->stall_periods) {
+            t->stalled = 1;
+            break;
         }
     }
     t->wall_s = 1e-9 * (double)(cdpr_lcm_now_ns() - start);
@@ -355,7 +396,66 @@ static void *periodic(void *arg)
     if (o->on_rt_thread != NULL) {
         o->on_rt_thread(1, o->on_rt_thread_ctx);
     }
+    __atomic_store_n(&rt->done, 1, __ATOMIC_RELEASE);
     return NULL;
+}
+
+/* The overload report: more than CDPR_RT_OVERLOAD_RATIO of the periods so far missed. */
+static void check_overload(cdpr_rt_t *rt)
+{
+    const long n = __atomic_load_n(&rt->mon_periods, __ATOMIC_RELAXED);
+    const long m = __atomic_load_n(&rt->mon_misses, __ATOMIC_RELAXED);
+    if (n > 0 && (double)m > CDPR_RT_OVERLOAD_RATIO * (double)n) {
+        rt->tel.overloaded = 1;
+        rt->tel.overload_periods = n;
+        rt->tel.overload_misses = m;
+        if (rt->o.on_overload != NULL) {
+            rt->o.on_overload(n, m, 1e9 / (double)rt->period_ns, rt->o.on_overload_ctx);
+        }
+    }
+}
+
+/* The caller's thread while the periodic thread runs: one look at the deadline misses after
+ * the first second of a free-running run (or at its end, when shorter), then wait. */
+static void watch(cdpr_rt_t *rt)
+{
+    const struct timespec tick = {0, 20000000}; /* 20 ms */
+    const int64_t t_check = cdpr_lcm_now_ns() + (int64_t)llround((rt->o.start_delay_s + 1.0) * 1e9);
+    int checked = (rt->o.lockstep != 0) ? 1 : 0;
+    while (__atomic_load_n(&rt->done, __ATOMIC_ACQUIRE) == 0) {
+        (void)nanosleep(&tick, NULL);
+        if (checked == 0 && cdpr_lcm_now_ns() >= t_check) {
+            checked = 1;
+            check_overload(rt);
+        }
+    }
+    if (checked == 0) {
+        check_overload(rt);
+    }
+}
+
+/* How the run ended (cdpr_rt_run). */
+static cdpr_status_t run_status(const cdpr_rt_t *rt, cdpr_scenario_error_t *err)
+{
+    const cdpr_rt_telemetry_t *t = &rt->tel;
+    if (t->stalled != 0) {
+        snprintf(err->msg, sizeof err->msg,
+                 "the plant could not advance: %ld periods in a row failed at t = %.6g s (%s)",
+                 rt->stall_periods, t->final_time_s, cdpr_status_str(rt->stall_status));
+        return rt->stall_status;
+    }
+    if (rt->advanced < rt->n_periods) {
+        snprintf(err->msg, sizeof err->msg, "stopped by a signal at t = %.6g s", t->final_time_s);
+        return CDPR_E_INTERRUPTED;
+    }
+    if (t->lcm.other_plant_messages > 0) {
+        snprintf(err->msg, sizeof err->msg,
+                 "another plant shared the channels: %llu of its states seen (session %lld)",
+                 (unsigned long long)t->lcm.other_plant_messages,
+                 (long long)t->lcm.other_plant_session);
+        return CDPR_E_CONFLICT;
+    }
+    return CDPR_OK;
 }
 
 cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
@@ -408,6 +508,7 @@ cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
         return CDPR_E_IO;
     }
     t->sched_fifo = fifo;
+    watch(rt);
     pthread_join(th, NULL);
     cdpr_lcm_bridge_stop(&rt->bridge);
     if (t->mlocked != 0) {
@@ -415,9 +516,7 @@ cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     }
     fill_stats(rt);
     cdpr_lcm_bridge_stats(&rt->bridge, &t->lcm);
-    return (rt->o.stop != NULL && *rt->o.stop != 0 && t->periods < rt->n_periods)
-               ? CDPR_E_INTERRUPTED
-               : CDPR_OK;
+    return run_status(rt, err);
 }
 
 static double to_us(int64_t ns)
@@ -437,6 +536,20 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
             (t->mlocked != 0) ? " + mlockall" : "");
     if (t->rt_note[0] != '\0') {
         fprintf(f, "  real-time note     %s\n", t->rt_note);
+    }
+    fprintf(f, "  sessions           plant %lld; controller %lld (%llu taken over)\n",
+            (long long)t->plant_session, (long long)s->controller_session,
+            (unsigned long long)s->controller_sessions);
+    if (s->other_plant_messages > 0) {
+        fprintf(f,
+                "  OTHER PLANT        %llu states of another plant on our channel (session %lld)\n",
+                (unsigned long long)s->other_plant_messages, (long long)s->other_plant_session);
+    }
+    if (t->overloaded != 0) {
+        fprintf(f,
+                "  OVERLOAD           %ld of the first %ld periods missed their deadline: this "
+                "machine does not hold %.0f Hz\n",
+                t->overload_misses, t->overload_periods, 1.0 / rt->plant.pp.period_s);
     }
     fprintf(f, "  periods            %ld (plant time %.3f s, wall %.3f s)\n", t->periods,
             t->final_time_s, t->wall_s);

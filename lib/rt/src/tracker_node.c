@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cdpr/lcm/bridge.h"
+
 static int all_finite(const double *v, int n)
 {
     for (int i = 0; i < n; ++i) {
@@ -70,6 +72,13 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
     if (st != CDPR_OK) {
         return st;
     }
+    t->model = model;
+    t->traj = traj;
+    t->gains = *g;
+    t->controller_session = cdpr_lcm_new_session();
+    t->plant_session = 0;
+    t->plant_silence_s = CDPR_RT_PLANT_SILENCE_S;
+    t->other_reported = -1;
     t->period_s = period_s;
     t->n_cables = model->n_cables;
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
@@ -78,6 +87,55 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
     t->answered_state_seq = -1;
     t->cmd_seq = -1;
     return CDPR_OK;
+}
+
+/* A new plant session: the controller starts again (the new plant starts at t = 0). */
+static void follow_plant(cdpr_rt_tracker_t *t, int64_t session)
+{
+    const int64_t old = t->plant_session;
+    t->plant_session = session;
+    t->other_reported = -1;
+    if (old == 0) {
+        return;
+    }
+    t->stats.plant_restarts++;
+    t->answered_state_seq = -1;
+    t->have_state = 0;
+    t->have_ten = 0;
+    t->cmd_len = 0;
+    /* Same inputs as at init, which accepted them: cannot fail. */
+    (void)cdpr_tracker_init(&t->tracker, t->model, t->traj, &t->gains, t->period_s, 0.0, NULL);
+    if (t->on_plant_restart != NULL) {
+        t->on_plant_restart(old, session, t->on_session_ctx);
+    }
+}
+
+/* 1 when a message of plant session `session` is to be used: the one followed, or a new one
+ * after the followed one fell silent (a restart); else counted as another plant's. */
+static int from_followed_plant(cdpr_rt_tracker_t *t, int64_t session, int is_state)
+{
+    const int64_t now = cdpr_lcm_now_ns();
+    if (session == t->plant_session) {
+        if (is_state != 0) {
+            t->last_state_ns = now;
+        }
+        return 1;
+    }
+    const int silent =
+        t->plant_session == 0 || (double)(now - t->last_state_ns) > t->plant_silence_s * 1e9;
+    if (is_state != 0 && silent != 0) {
+        follow_plant(t, session);
+        t->last_state_ns = now;
+        return 1;
+    }
+    t->stats.other_plant_states++;
+    if (session != t->other_reported) {
+        t->other_reported = session;
+        if (t->on_other_plant != NULL) {
+            t->on_other_plant(t->plant_session, session, t->on_session_ctx);
+        }
+    }
+    return 0;
 }
 
 static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
@@ -91,6 +149,9 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         return;
     }
     t->stats.states++;
+    if (from_followed_plant(t, msg.plant_session, 1) == 0) {
+        return;
+    }
     if (msg.seq == t->answered_state_seq && t->cmd_len > 0) {
         /* The plant sent the state we answered again (lockstep resend): our answer was lost
          * or late; send the same command again (the plant ignores it as replayed if it had
@@ -119,6 +180,9 @@ static void on_tensions(const lcm_recv_buf_t *rbuf, const char *channel, void *u
         return;
     }
     t->stats.tensions++;
+    if (from_followed_plant(t, msg.plant_session, 0) == 0) {
+        return;
+    }
     t->ten = msg;
     t->have_ten = 1;
     if (t->answer_in_handler != 0) {
@@ -156,7 +220,8 @@ void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t)
 int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
 {
     if (t->have_state == 0 || t->have_ten == 0 || t->state.seq != t->ten.seq ||
-        t->state.seq <= t->answered_state_seq || t->lcm == NULL) {
+        t->state.plant_session != t->ten.plant_session || t->state.seq <= t->answered_state_seq ||
+        t->lcm == NULL) {
         return 0;
     }
     t->answered_state_seq = t->state.seq;
@@ -173,6 +238,8 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
     cmd.utime_us = t->state.utime_us;
     cmd.seq = t->cmd_seq + 1;
     cmd.state_seq = t->state.seq;
+    cmd.controller_session = t->controller_session;
+    cmd.plant_session = t->state.plant_session;
     cmd.mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
     cmd.n_cables = (int8_t)t->n_cables;
     for (int j = 0; j < t->n_cables; ++j) {
@@ -219,7 +286,10 @@ void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracke
                                 ten->payout_m_per_s,
                                 segments};
     const long k = (long)llround(m->t_s / r->period_s);
-    cdpr_sim_rec_period(&r->rec, k, 0, &row);
+    /* The state at the end of the run gets its row, as in cdpr-sim; a CSV failure is kept in
+     * the recorder (cdpr_sim_rec_close reports it) and the controller keeps controlling. */
+    const int last = (m->t_s >= r->rec.duration_s - 0.5 * r->period_s) ? 1 : 0;
+    (void)cdpr_sim_rec_period(&r->rec, k, last, &row);
     r->last_t_s = m->t_s;
     r->periods++;
 }

@@ -9,8 +9,8 @@
 /// integrates as it was; what a call does leave behind on error (counters, a learned step
 /// size, an iteration count) is stated in its header. The core
 /// returns CDPR_OK .. CDPR_E_SUBSTEP_LIMIT and CDPR_E_SINGULAR; the host layers (files, LCM,
-/// threads) add CDPR_E_IO, CDPR_E_PARSE, CDPR_E_INTERRUPTED and CDPR_E_MISMATCH. Libraries return
-/// these; only the apps map them to process exit codes (one table, docs/api.md).
+/// threads) add CDPR_E_IO, CDPR_E_PARSE, CDPR_E_INTERRUPTED, CDPR_E_MISMATCH and CDPR_E_CONFLICT.
+/// Libraries return these; only the apps map them to process exit codes (one table, docs/api.md).
 #ifndef CDPR_STATUS_H
 #define CDPR_STATUS_H
 
@@ -35,7 +35,8 @@ typedef enum {
     CDPR_E_PARSE = -14,           ///< host: an input file is malformed (syntax, key, type)
     CDPR_E_INTERRUPTED = -15,     ///< host: stopped early on request (a signal); work kept
     CDPR_E_MISMATCH = -16,        ///< host: a result differs from its reference (replay check)
-    CDPR_E_SINGULAR = -17         ///< a linear system (W of ros34pw2.h) is singular or not finite
+    CDPR_E_SINGULAR = -17,        ///< a linear system (W of ros34pw2.h) is singular or not finite
+    CDPR_E_CONFLICT = -18         ///< host: another peer of the same role on the channel
 } cdpr_status_t;
 
 /// Name of a status ("CDPR_E_GEOMETRY"). Never NULL (unknown values give "CDPR_UNKNOWN").

@@ -5,7 +5,15 @@
 /// statistics of the summary (summary.h). Used by the batch runner (sim.h) and by the
 /// controller node (tracker_node.h), so a run over LCM writes the same files.
 ///
-/// Host library; no allocation (the CSV goes through stdio).
+/// Rows: one when the period's time reaches the next output instant (a multiple of
+/// 1 / run.output_rate_hz: period k gets a row when k >= the next multiple of `every`, so a
+/// recorder that does not see every period -- a tracker over LCM that skips superseded states --
+/// still writes run.output_rate_hz rows per second; when every period is seen this is
+/// k % every == 0), and the last. Rows are whole in the file even on a full device or a signal
+/// (csv.h); after the first write error no further row is written and the error (errno) is kept
+/// for the caller's message (cdpr_sim_rec_io_error).
+///
+/// Host library; no allocation, no printing.
 #ifndef CDPR_HOST_RECORD_H
 #define CDPR_HOST_RECORD_H
 
@@ -36,13 +44,17 @@ typedef struct {
     int n_cables;
     long every;
     double duration_s;
-    double sum2_pos, sum2_rot, sum2_pos_late;
-    long n, n_late;
+    double sum2_pos, sum2_rot, sum2_pos_late, sum2_pos_after;
+    long n, n_late, n_after;
+    double transfer_s; ///< controller.transfer_s: rms_error_after_transfer_m counts t >= it
     cdpr_sim_summary_t *sum;
     long prev_k; ///< period of the last recorded row (-1: none yet)
     int prev_segments[CDPR_MAX_CABLES];
     unsigned long seg_insertions, seg_removals; ///< node events seen in the segment counts
-    long missed; ///< periods between the first and the last recorded that were not recorded
+    long missed;         ///< periods between the first and the last recorded that were not recorded
+    long next_row_k;     ///< first period of the next CSV row (the next output instant)
+    long last_row_k;     ///< period of the last CSV row (-1: none)
+    char csv_path[1100]; ///< out_dir/timeseries.csv ("" without outputs)
 } cdpr_sim_rec_t;
 
 /// Start recording into `sum` (zeroed by the caller) over the scenario's run.duration_s
@@ -55,8 +67,9 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
                                 const cdpr_plant_params_t *pp, const char *out_dir, int n_cables,
                                 cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err);
 
-/// Record period k (t_k = row->t_s); `last` forces a CSV row.
-void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row);
+/// Record period k (t_k = row->t_s); `last` forces a CSV row. Returns CDPR_OK, or CDPR_E_IO
+/// when the CSV has failed (now or earlier; the statistics are still kept).
+cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row);
 
 /// Node events as the recorded rows show them: per cable, a rise of the segment count from one
 /// recorded period to the next is that many insertions, a fall that many removals (a node
@@ -68,8 +81,19 @@ void cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_r
 void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
                               unsigned long *removals, long *missed);
 
-/// Finish the statistics (RMS values) and close the CSV. Returns CDPR_OK, or CDPR_E_IO when
-/// a write or the close failed. Safe to call twice.
+/// The tracker's tension-awareness counts (slack demands per cable, the first one) into `sum`.
+void cdpr_sim_tracker_counts(const cdpr_tracker_t *tr, cdpr_sim_summary_t *sum);
+
+/// Finish the statistics (RMS values) and close the CSV (its buffered whole rows written).
+/// Returns CDPR_OK, or CDPR_E_IO when a write or the close failed (then and later
+/// cdpr_sim_rec_io_error describes it). Safe to call twice.
 cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec);
+
+/// errno of the CSV's first failure (0: none).
+int cdpr_sim_rec_errno(const cdpr_sim_rec_t *rec);
+
+/// The CSV's failure as "DIR/timeseries.csv: write failed: REASON" (strerror of the kept errno)
+/// into err->msg.
+void cdpr_sim_rec_io_error(const cdpr_sim_rec_t *rec, cdpr_scenario_error_t *err);
 
 #endif /* CDPR_HOST_RECORD_H */

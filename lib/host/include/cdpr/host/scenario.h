@@ -105,9 +105,10 @@ typedef struct {
     double duration_s;   ///< --duration S: run.duration_s = S (plant time)
     double max_trials;   ///< --max-trials N (a whole number): integrator.max_trials
     double max_attempts; ///< --max-attempts N (a whole number): integrator.max_attempts
+    int method;          ///< --integrator NAME: integrator.method (-1: not given)
 } cdpr_scenario_overrides_t;
 
-/// Nothing overridden (every field NaN).
+/// Nothing overridden (every number NaN, method -1).
 void cdpr_scenario_overrides_none(cdpr_scenario_overrides_t *ov);
 
 /// Apply the given overrides to `sc` (loaded or built in code), then check it again with

@@ -53,25 +53,32 @@ cdpr_status_t cdpr_sim_check_trajectory(const cdpr_scenario_t *sc, double durati
 
 /// Run options (inputs).
 typedef struct {
-    const char *out_dir;     ///< directory for timeseries.csv and summary.json (NULL: none)
-    int progress;            ///< 0 none, 1 one rewritten line (a tty), 2 a line per update
-    FILE *progress_stream;   ///< progress goes here (e.g. stderr)
-    double progress_after_s; ///< wall time before the first progress output [s]
+    const char *out_dir;      ///< directory for timeseries.csv and summary.json (NULL: none)
+    int progress;             ///< 0 none, 1 one rewritten line (a tty), 2 a line per update
+    FILE *progress_stream;    ///< progress goes here (e.g. stderr)
+    double progress_after_s;  ///< wall time before the first progress output [s]
+    const volatile int *stop; ///< optional: non-zero ends the run at the next period (a signal)
 } cdpr_sim_opts_t;
 
-/// Defaults: no output directory, no progress, 2 s before progress.
+/// Defaults: no output directory, no progress, 2 s before progress, no stop flag.
 void cdpr_sim_opts_default(cdpr_sim_opts_t *o);
 
 /// Run a scenario (checked again here) for its run.duration_s. Returns
 ///  - CDPR_OK when the run reached its end (sum->status ok or warnings);
+///  - CDPR_E_INTERRUPTED when *o->stop ended it early (sum->status interrupted; the CSV holds
+///    whole rows up to the last period run, summary.json is written);
+///  - CDPR_E_IO when writing timeseries.csv failed during the run: the run stops there
+///    (sum->status io_error; the CSV keeps the whole rows written before, summary.json is still
+///    tried: it is another file and may fit), `err` says "DIR/timeseries.csv: write failed:
+///    strerror"; also when summary.json cannot be written or memory runs out;
 ///  - the integrator's error (CDPR_E_SUBSTEP_LIMIT, CDPR_E_STATE_NOT_FINITE,
 ///    CDPR_E_STEP_TOO_SMALL, CDPR_E_RHS) when it stopped early (sum->status failed; the
 ///    outputs and `sum` cover what was done);
 ///  - the error of the scenario when it cannot start (`err` names the key): its check's
 ///    (CDPR_E_OUT_OF_RANGE, ...), an infeasible initial pose or trajectory
 ///    (CDPR_E_INFEASIBLE, CDPR_E_NO_CONVERGENCE), a settling failure, the controller's;
-///  - CDPR_E_IO on an output error or when memory runs out (`err` names the file).
-/// `err` is written only when the run could not start or on an output error.
+/// `err` is written only when the run could not start or on an output error (when both the CSV
+/// and summary.json failed it names both).
 cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
                            cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err);
 

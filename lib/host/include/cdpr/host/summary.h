@@ -42,58 +42,76 @@ const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator);
 void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_path,
                               const cdpr_plant_params_t *pp);
 
-/// Run status.
+/// Run status (summary.json "status": the name of cdpr_sim_status_name).
 typedef enum {
-    CDPR_SIM_OK = 0,       ///< ran to the end, no warning
-    CDPR_SIM_WARNINGS = 1, ///< ran to the end; substep limit, IK failure, capacity or min length
-    CDPR_SIM_FAILED = 2    ///< stopped early (integrator error); outputs hold what was done
+    CDPR_SIM_OK = 0,          ///< "ok": ran to the end, no warning
+    CDPR_SIM_WARNINGS = 1,    ///< "warnings": ran to the end; substep limit, IK failure, ...
+    CDPR_SIM_FAILED = 2,      ///< "failed": stopped early (integrator error); outputs hold what
+                              ///< was done
+    CDPR_SIM_INTERRUPTED = 3, ///< "interrupted": stopped by a signal (SIGINT, SIGTERM, SIGHUP);
+                              ///< outputs hold what was done
+    CDPR_SIM_IO_ERROR = 4     ///< "io_error": writing timeseries.csv failed; it holds the whole
+                              ///< rows written before, `message` says why
 } cdpr_sim_status_t;
 
 /// Summary of a run (outputs). Errors are |p - p_d| and the angle of q_d q^-1 over every
 /// control period t_k, k = 0..N (t_0 after settling). Unknown values: see the file comment.
 typedef struct {
-    double rms_error_m;               ///< RMS position error [m]
-    double max_error_m;               ///< largest position error [m]
-    double final_error_m;             ///< position error at the end [m]
-    double initial_error_m;           ///< position error at t = 0 (after settling) [m]
-    double rms_error_second_half_m;   ///< RMS position error over t >= duration/2 [m]
-    double rms_error_rad;             ///< RMS attitude error [rad]
-    double max_error_rad;             ///< largest attitude error [rad]
-    double final_error_rad;           ///< attitude error at the end [rad]
-    double max_tension_N;             ///< largest end tension, any cable, either end [N]
-    double min_tension_N;             ///< smallest end tension [N]
-    double max_payout_m_per_s;        ///< largest |payout rate| applied [m/s]
-    unsigned long node_insertions;    ///< all cables (over LCM: from the segment counts seen)
-    unsigned long node_removals;      ///< all cables (over LCM: from the segment counts seen)
-    unsigned long capacity_hits;      ///< node-event calls that wanted a node at capacity
-    unsigned long substep_limit_hits; ///< periods with CDPR_WARN_SUBSTEP_LIMIT
-    unsigned long ik_failures;        ///< periods whose feed-forward IK failed (held)
-    unsigned long min_length_periods; ///< winch-periods held at the minimum length
-    unsigned long steps_accepted;     ///< RKF45 accepted steps (run only)
-    unsigned long steps_rejected;     ///< RKF45 rejected trials
-    unsigned long rhs_evals;          ///< RHS calls (run only)
-    long settle_steps;                ///< accepted steps of the initial settling (< 0: unknown)
-    int nodes_min;                    ///< fewest segments of any cable during the run
-    int nodes_max;                    ///< most segments of any cable during the run
-    long periods;                     ///< control periods run
-    double sim_time_s;                ///< simulated time reached [s]
-    double wall_time_s;               ///< wall-clock time of the run incl. settling [s]
-    double settle_wall_time_s;        ///< of which settling [s] (NaN: unknown)
-    cdpr_sim_status_t status;         ///< see cdpr_sim_status_t
-    char message[256];                ///< what failed or warned, "" if nothing
-    cdpr_sim_provenance_t prov;       ///< where the outputs come from
+    double rms_error_m;                ///< RMS position error [m]
+    double max_error_m;                ///< largest position error [m]
+    double final_error_m;              ///< position error at the end [m]
+    double initial_error_m;            ///< position error at t = 0 (after settling) [m]
+    double rms_error_second_half_m;    ///< RMS position error over t >= duration/2 [m]
+    double rms_error_rad;              ///< RMS attitude error [rad]
+    double max_error_rad;              ///< largest attitude error [rad]
+    double final_error_rad;            ///< attitude error at the end [rad]
+    double max_tension_N;              ///< largest end tension, any cable, either end [N]
+    double min_tension_N;              ///< smallest end tension [N]
+    double max_payout_m_per_s;         ///< largest |payout rate| applied [m/s]
+    unsigned long node_insertions;     ///< all cables (over LCM: from the segment counts seen)
+    unsigned long node_removals;       ///< all cables (over LCM: from the segment counts seen)
+    unsigned long capacity_hits;       ///< node-event calls that wanted a node at capacity
+    unsigned long substep_limit_hits;  ///< periods with CDPR_WARN_SUBSTEP_LIMIT
+    unsigned long ik_failures;         ///< periods whose feed-forward IK failed (held)
+    unsigned long min_length_periods;  ///< winch-periods held at the minimum length
+    unsigned long steps_accepted;      ///< RKF45 accepted steps (run only)
+    unsigned long steps_rejected;      ///< RKF45 rejected trials
+    unsigned long rhs_evals;           ///< RHS calls (run only)
+    long settle_steps;                 ///< accepted steps of the initial settling (< 0: unknown)
+    int nodes_min;                     ///< fewest segments of any cable during the run
+    int nodes_max;                     ///< most segments of any cable during the run
+    long periods;                      ///< control periods run
+    double sim_time_s;                 ///< simulated time reached [s]
+    double wall_time_s;                ///< wall-clock time of the run incl. settling [s]
+    double settle_wall_time_s;         ///< of which settling [s] (NaN: unknown)
+    double rms_error_after_transfer_m; ///< RMS position error over t >= controller.transfer_s
+                                       ///< (the whole run without a transfer) [m]
+    int n_cables;                      ///< cables of the per-cable counts below (0: unknown)
+    unsigned long slack_periods[CDPR_MAX_CABLES];        ///< recorded periods with cable j's cabin-
+                                                         ///< or winch-end tension <= 0 (the plant)
+    unsigned long slack_demand_periods[CDPR_MAX_CABLES]; ///< periods whose feed-forward
+                                                         ///< demanded tension <= 0 of cable j
+    int first_slack_demand_cable;  ///< 1-based cable of the first slack demand (0: none)
+    double first_slack_demand_t_s; ///< its time [s] (NaN: none)
+    double first_slack_demand_N;   ///< its straight-cable tension [N] (NaN: none)
+    cdpr_sim_status_t status;      ///< see cdpr_sim_status_t
+    char message[256];             ///< what failed or warned, "" if nothing
+    cdpr_sim_provenance_t prov;    ///< where the outputs come from
 } cdpr_sim_summary_t;
 
-/// Name of a status as written in summary.json ("ok", "warnings", "failed").
+/// Name of a status as written in summary.json ("ok", "warnings", "failed", "interrupted",
+/// "io_error"; "failed" for a value not in the enum).
 const char *cdpr_sim_status_name(cdpr_sim_status_t st);
 
 /// Write summary.json for `sum` of scenario `sc` to `path`. Returns CDPR_OK, or CDPR_E_IO
-/// (cannot create, or a write or the close failed; errno set).
+/// (cannot create, or a write or the close failed; errno set: the first failure's). A regular
+/// file that could not be written whole is emptied (no torn JSON is left behind).
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum);
 
 /// Read a summary.json written by cdpr_sim_write_summary (JSON is YAML, so libcyaml reads it;
-/// keys it does not know are ignored). Fills the numeric fields, the status and the
+/// keys it does not know are ignored). Fills the numeric fields, the status (a name this
+/// library does not know reads as CDPR_SIM_FAILED) and the
 /// provenance (optional keys: files written before they existed have none); a null reads as
 /// unknown (CDPR_SIM_UNKNOWN, settle_steps -1, NaN, ""). Returns CDPR_OK, or with `err` naming
 /// the file (and libcyaml's reason): CDPR_E_IO (cannot open), CDPR_E_PARSE (malformed, a key

@@ -40,6 +40,20 @@
 ///     do not use it (docs/validation.md §8).
 ///  4. payout-rate command u_j = u_ff,j + k_L (L_ff,j(t) + δL_j - L_j). The plant's winch
 ///     (cdpr_winch_update) applies its speed and acceleration limits.
+///  5. (before step 1) the reference: the desired trajectory, or with transfer_s = T > 0 the
+///     planned transfer (trajectory.h, cdpr_transfer_t) from the first measurement (the pose
+///     at the first step: in process and over LCM, where a plant restart re-inits the
+///     tracker) onto the trajectory over T; every step above (feed-forward with its d'Alembert
+///     load, errors, damping) uses the reference. With T = 0 the tracker is bit-identical to
+///     one without the transfer.
+///  6. wind (wind_ff > 0): the feed-forward load also holds wind_ff times the steady wind
+///     load of the cables at the reference pose (cdpr_tracker_wind_wrench).
+///  7. tension awareness: six cables and six wrench components make the feed-forward's
+///     tension distribution unique. When the feed-forward IK fails (the load needs a pushing
+///     cable, or finds only a cable hanging in a loop) the load is distributed on the straight
+///     chords (a 6x6 solve); each cable whose tension there is <= 0 is a "slack demand" of the
+///     period: counted per cable (slack_demand_periods), the first one kept (cable, time,
+///     tension), reported in cmd->slack_demand / demand_tension_N.
 ///
 /// The controller keeps its own robot model (for the IK), built from the same parameters as
 /// the plant, so it needs nothing from the plant but measurements: the real-time loop moves it
@@ -70,6 +84,13 @@ typedef struct {
                               ///< (>= 0; 1 = full inverse dynamics of the rigid cabin, 0 = static)
     double damping_N_s_per_m; ///< wrench-space damping c of the velocity error [N s/m] (>= 0)
     double damping_rot_N_m_s; ///< wrench-space damping c_r of the rate error [N m s] (>= 0)
+    double transfer_s;        ///< planned transfer T from the first measurement onto the
+                              ///< trajectory [s] (>= 0; 0 = none: the reference is the
+                              ///< trajectory from the start; cdpr_transfer_t)
+    double wind_ff;           ///< fraction of the cables' steady wind load in the feed-forward
+                              ///< IK [-] (>= 0; 0 = none; cdpr_tracker_wind_wrench)
+    cdpr_vec3_t wind_m_per_s; ///< the steady wind the feed-forward assumes [m/s] (finite; the
+                              ///< plant's robot.wind_m_per_s: an ideal anemometer)
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,
@@ -87,6 +108,9 @@ typedef struct {
     double err_rot_rad[3];                ///< e_θ, world [rad]
     cdpr_status_t ik_status;              ///< status of this period's IK
     cdpr_status_t fb_status;              ///< status of the damping IK (CDPR_OK if unused)
+    unsigned slack_demand;                ///< bit j: cable j's demanded tension <= 0 this period
+    double demand_tension_N[CDPR_MAX_CABLES]; ///< straight-cable tensions of the demanded load
+                                              ///< (filled when slack_demand != 0, else 0) [N]
 } cdpr_tracker_cmd_t;
 
 /// The controller (caller-owned).
@@ -105,6 +129,13 @@ typedef struct {
     unsigned long ik_failures;      ///< periods whose IK failed (output)
     unsigned long fb_failures;      ///< periods whose damping IK failed (output)
     unsigned long steps;            ///< periods run (output)
+    cdpr_transfer_t transfer;       ///< the planned transfer (set at the first step; internal)
+    int transfer_set;               ///< transfer holds the first measurement (internal)
+    unsigned long slack_demand_periods[CDPR_MAX_CABLES]; ///< periods whose feed-forward demanded
+                                                         ///< a tension <= 0 of cable j (output)
+    int first_slack_cable;        ///< cable (0-based) of the first slack demand (-1: none)
+    double first_slack_t_s;       ///< its time: the feed-forward instant t + Δt_c [s]
+    double first_slack_tension_N; ///< its straight-cable tension [N] (<= 0)
 } cdpr_tracker_t;
 
 /// Validate and initialise for control period `period_s` (> 0): builds the model from
@@ -132,6 +163,31 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
 /// about the CoM in world axes (ω, ω̇ in body axes; ω_w = R ω, ω̇_w = R ω̇).
 void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sample_t *d,
                                   cdpr_vec3_t *f_N, cdpr_vec3_t *tau_Nm);
+
+/// Steady aerodynamic load on the cabin from the cables in a uniform wind J at `pose` (wind
+/// only; the model has no cabin drag, docs/model.md §3), in the form cdpr_statics_ik_wrench
+/// takes (f at the CoM, tau about it, world axes). Per cable, on its straight chord from the
+/// attachment P_j to the exit point A_j (length l_j, unit t_j), the plant's drag law at rest
+/// (docs/model.md §2, μ = -J): D_j = ½ ρa d0 Cd l_j (|J_n| J_n + Cm |J_t| J_t), J_t = (J·t_j) t_j,
+/// J_n = J - J_t; the cabin end carries half of it (a uniform load on a shallow cable splits
+/// equally between its ends, to first order in the sag): f = Σ D_j / 2,
+/// tau = Σ (R (b_j - c)) x D_j / 2. Neglected: the sag's change of the local tangent (second
+/// order in sag/chord), the stretch (sqrt(l lu) vs l) and the tilt of the catenary plane the
+/// drag causes in the cable's own shape (the IK's catenaries stay vertical: statics.h).
+void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion_t *pose,
+                              cdpr_vec3_t wind_m_per_s, cdpr_vec3_t *f_N, cdpr_vec3_t *tau_Nm);
+
+/// Reference of tracker `tr` at t: the trajectory, or the transfer onto it once the first
+/// step has set it (transfer_s > 0).
+void cdpr_tracker_reference(const cdpr_tracker_t *tr, double t_s, cdpr_traj_sample_t *out);
+
+/// Straight-chord tensions t_j that balance the weight plus the external wrench (f_ext at the
+/// CoM, tau_ext about it, world axes) at `pose`: the 6x6 solve of the massless model
+/// (statics.h model, chords instead of catenaries), negative values allowed. Returns CDPR_OK,
+/// or CDPR_E_INFEASIBLE when the chords do not span the wrench (singular).
+cdpr_status_t cdpr_tracker_straight_tensions(const cdpr_robot_t *model,
+                                             const cdpr_cabin_motion_t *pose, cdpr_vec3_t f_ext_N,
+                                             cdpr_vec3_t tau_ext_Nm, double *tension_N);
 
 /// Rotation vector θ of the unit quaternion q (|θ| <= π, world axes for q_d q^-1) [rad].
 cdpr_vec3_t cdpr_quat_to_rotvec(cdpr_quat_t q);

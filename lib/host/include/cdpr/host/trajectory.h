@@ -82,4 +82,46 @@ double cdpr_traj_cycle_s(const cdpr_traj_t *tr);
 /// Time at which the trajectory stops moving [s] (circle and an endless cyclic: never, +Inf).
 double cdpr_traj_end_time(const cdpr_traj_t *tr);
 
+/// Planned transfer from a measured start onto a trajectory (issue 14; controller.transfer_s).
+///
+/// Over [t0, t0 + T] the offset of the measured start from the trajectory decays:
+///   p_r(t) = p_traj(t) + (1 - s(τ)) Δp,  Δp = p0 - p_traj(t0),  τ = (t - t0) / T,
+///   v_r = v_traj - ṡ Δp,  a_r = a_traj - s̈ Δp,
+/// with the septic blend s(τ) = 35 τ^4 - 84 τ^5 + 70 τ^6 - 20 τ^7 (s, ds/dτ, d²s/dτ² and the
+/// jerk vanish at τ = 0; s = 1 and the derivatives vanish at τ = 1), ṡ = ds/dτ / T,
+/// s̈ = d²s/dτ² / T². So the reference starts at the measured position with the trajectory's
+/// velocity and acceleration (the blend adds none at t0) and joins the trajectory at t0 + T
+/// with its position, velocity, acceleration and jerk. The measured velocity is not used: a
+/// start at rest onto a trajectory that starts moving (the paper's circle at full speed) keeps
+/// that velocity step. (A blend from the held start into the moving trajectory,
+/// p_h + s (p_traj - p_h), removes it but cuts across the circle with large accelerations;
+/// measured worse on the paper's circle: docs/validation.md §8, "Issue 14, increment 1".)
+/// Attitude: the rotation-vector offset θ0 = rotvec(q0 q_traj(t0)^-1) (world axes) decays,
+///   q_r(t) = exp((1 - s) θ0) q_traj(t),
+///   ω_r,world = -ṡ θ0 + E ω_traj,world,  ω̇_r,world = -s̈ θ0 + (-ṡ θ0) x (E ω_traj,world)
+///                + E ω̇_traj,world,  E = rotation of exp((1 - s) θ0).
+/// From t0 + T on the sample is exactly cdpr_traj_eval's (before t0, τ is clamped to 0).
+/// T = 0 means no transfer.
+typedef struct {
+    double t0_s;            ///< start of the transfer [s]
+    double duration_s;      ///< T [s] (>= 0; 0 = no transfer)
+    cdpr_vec3_t offset_m;   ///< Δp = p0 - p_traj(t0), world [m]
+    cdpr_vec3_t theta0_rad; ///< rotvec(q0 q_traj(t0)^-1), world [rad]
+} cdpr_transfer_t;
+
+/// Septic blend s(τ) and its first two derivatives with respect to τ (τ clamped to [0, 1]).
+void cdpr_transfer_blend(double tau, double *s, double *ds_dtau, double *d2s_dtau2);
+
+/// The transfer that starts at t0_s from the measured pose m0 (its velocities are not used)
+/// onto `traj`, over duration_s (>= 0).
+void cdpr_transfer_init(cdpr_transfer_t *x, const cdpr_traj_t *traj, double t0_s, double duration_s,
+                        const cdpr_cabin_motion_t *m0);
+
+/// Reference at t: the transfer blended into `traj` (see cdpr_transfer_t). `pose`, `motion`,
+/// `a_m_per_s2` and `dw_rad_per_s2` are the reference's; `rate`/`accel` hold the position
+/// derivatives exactly and, for the angles, the trajectory's Euler rates (not used by the
+/// controller).
+void cdpr_transfer_eval(const cdpr_transfer_t *x, const cdpr_traj_t *traj, double t_s,
+                        cdpr_traj_sample_t *out);
+
 #endif /* CDPR_HOST_TRAJECTORY_H */

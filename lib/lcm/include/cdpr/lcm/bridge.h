@@ -22,7 +22,11 @@
 ///
 /// Channels: `<prefix>CABIN_STATE`, `<prefix>CABLE_TENSIONS`, `<prefix>DIAGNOSTICS`,
 /// `<prefix>CABLE_SHAPE` (published), `<prefix>WINCH_COMMAND` (subscribed); prefix "CDPR_" by
-/// default.
+/// default. The bridge also listens on its own `<prefix>CABIN_STATE`: a state of another
+/// plant session there means two plants share the channels (counted, on_other_plant).
+///
+/// Sessions: the plant's session (params plant_session) goes into every message the plant
+/// node packs and is the one the command validator accepts (command.h, "Sessions").
 ///
 /// Memory: cdpr_lcm_bridge_t is caller-owned and large (its ring storage is inline:
 /// CDPR_LCM_RING_SLOTS x CDPR_LCM_SLOT_BYTES + CDPR_LCM_SHAPE_SLOTS x CDPR_LCM_SHAPE_SLOT_BYTES,
@@ -85,6 +89,16 @@ typedef enum {
 /// non-zero to make open/start fail.
 typedef int (*cdpr_lcm_on_open_fn)(lcm_t *lcm, void *ctx);
 
+/// Called on the bridge thread the first time a message of another plant session (or one that
+/// does not decode as a cabin_state_t) arrives on our <prefix>CABIN_STATE channel: another
+/// plant shares the channels (`session` is its session, 0 when the message did not decode).
+/// Called again for each further session. Must not block (e.g. one line on stderr).
+typedef void (*cdpr_lcm_on_other_plant_fn)(int64_t session, void *ctx);
+
+/// A new session id (> 0, 63 random bits from getrandom(2); where that fails, from the clock
+/// and the process id). Not RT-safe (a system call).
+int64_t cdpr_lcm_new_session(void);
+
 /// Bridge parameters (inputs).
 typedef struct {
     const char *url;            ///< LCM provider URL; NULL or "": liblcm's default
@@ -98,6 +112,10 @@ typedef struct {
                                  ///< cdpr_lcm_bridge_wake (or relies on idle_poll_ms); default 1
     cdpr_lcm_on_open_fn on_open; ///< optional hook, see above; default NULL
     void *on_open_ctx;           ///< passed to on_open
+    int64_t plant_session;       ///< this plant run's session (> 0); 0: init draws one
+                                 ///< (cdpr_lcm_new_session); default 0
+    cdpr_lcm_on_other_plant_fn on_other_plant; ///< optional, see above; default NULL
+    void *on_other_plant_ctx;                  ///< passed to on_other_plant
 } cdpr_lcm_bridge_params_t;
 
 /// Statistics snapshot (any thread).
@@ -117,6 +135,11 @@ typedef struct {
     uint64_t hold_entries;                ///< times the mailbox reader went on hold (start-up too)
     uint64_t hold_reads;                  ///< command reads that returned the hold command
     int holding;                          ///< 1 while on hold
+    int64_t plant_session;                ///< this plant run's session
+    int64_t controller_session;           ///< active controller session (0: none yet)
+    uint64_t controller_sessions;         ///< controller sessions taken over
+    uint64_t other_plant_messages;        ///< messages of other plants on our state channel
+    int64_t other_plant_session;          ///< the last other plant's session (0: none/undecodable)
 } cdpr_lcm_stats_t;
 
 /// The bridge (caller-owned; fields are internal, use the functions).
@@ -130,6 +153,10 @@ typedef struct {
     cdpr_lcm_mailbox_t mailbox;     ///< written by the bridge thread, read by the RT thread
     lcm_t *lcm;                     ///< bridge thread only
     lcm_subscription_t *sub;
+    lcm_subscription_t *sub_state; ///< our own state channel: other plants (bridge thread)
+    uint64_t other_plant_messages; ///< bridge thread (atomic)
+    int64_t other_plant_session;   ///< bridge thread (atomic)
+    int64_t other_reported;        ///< last session passed to on_other_plant (-1: none)
     int lcm_fd;
     int wake_fd;                 ///< eventfd, or -1
     uint32_t sleeping;           ///< 1 while the bridge thread may be blocked in poll()
@@ -157,6 +184,10 @@ typedef struct {
 
 /// Defaults (see the field comments).
 void cdpr_lcm_bridge_params_default(cdpr_lcm_bridge_params_t *p);
+
+/// The plant session of an initialised bridge (the parameter, or the one init drew). Any
+/// thread; O(1).
+int64_t cdpr_lcm_bridge_session(const cdpr_lcm_bridge_t *b);
 
 /// Validate the parameters and initialise rings, validator and mailbox. No thread, no lcm_t,
 /// no allocation; O(CDPR_LCM_RING_SLOTS). On error `b` is unusable and `diag` names the first

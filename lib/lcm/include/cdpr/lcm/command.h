@@ -6,8 +6,8 @@
 /// Data flow: receiver thread -> cdpr_lcm_validator_accept (decode + validate + count) ->
 /// cdpr_lcm_mailbox_write; real-time thread -> cdpr_lcm_mailbox_read every period.
 ///
-/// Validation (every rule; the first one that fails names the reason, the command is counted
-/// under it and ignored, the last good command stays in the mailbox):
+/// Validation (every rule, in this order; the first one that fails names the reason, the
+/// command is counted under it and ignored, the last good command stays in the mailbox):
 ///   MALFORMED     fewer than 8 bytes, or the fingerprint matches but the bytes do not decode
 ///                 as exactly one winch_command_t (truncated, or trailing bytes after it)
 ///   WRONG_TYPE    the first 8 bytes are not winch_command_t's fingerprint: another type (e.g.
@@ -17,11 +17,28 @@
 ///   NOT_FINITE    any of the value[] entries (used or not) is NaN or infinite
 ///   OUT_OF_LIMIT  rate mode: |value[j]| > u_max_m_per_s of winch j; length mode: value[j]
 ///                 outside [min_length_m of winch j, max_length_m]
-///   STALE         seq < last accepted seq; or state_seq < 0 or < last accepted state_seq
-///   REPLAYED      seq == last accepted seq
+///   NO_SESSION    controller_session <= 0
+///   OTHER_PLANT   plant_session is not this plant's: the command answers another plant on the
+///                 channel, or this channel's plant before a restart
+///   STALE         seq < 0
+///   SESSION_BUSY  controller_session is not the active one and the active one is not silent
+///   STALE         (active session) seq < last accepted seq
+///   REPLAYED      (active session) seq == last accepted seq
+///   SEQ_WINDOW    (active session) seq > last accepted seq + CDPR_LCM_SEQ_WINDOW
+///   STALE         state_seq < 0 or < the state_seq of the last accepted command (any session)
 ///   FUTURE        state_seq > the last state seq the plant published
-/// So a command is accepted only if its seq is strictly newer than the last accepted one and it
-/// answers a state at least as new as the last accepted command did and already published.
+///
+/// Sessions. One controller session is active at a time. It is **silent** when no command
+/// has been accepted for `takeover_ns` (the watchdog timeout: the plant is holding). While the
+/// active session is not silent, commands of any other session are refused (SESSION_BUSY): a
+/// stray or second controller cannot take the winches from a live one. When it is silent (or
+/// none was active yet), the next command that passes every other rule is accepted whatever
+/// its seq, and its session becomes the active one with its seq as the new anchor: a restarted
+/// controller takes over within one watchdog timeout; a controller whose own sequence went
+/// wrong resynchronises the same way. The sequence window bounds how far one command may move
+/// the anchor while its session is live, so one far-future seq (a corrupted or forged packet)
+/// is refused and counted, never adopted. state_seq only ever grows within a plant run, across
+/// controller sessions, so a recorded command replayed later is STALE.
 ///
 /// Mailbox: a triple buffer (one writer, one reader). The writer fills its private buffer and
 /// swaps it with the shared "middle" one in one atomic exchange that also sets a "fresh" bit;
@@ -63,8 +80,16 @@ typedef enum {
     CDPR_LCM_REJECT_STALE = 6,
     CDPR_LCM_REJECT_REPLAYED = 7,
     CDPR_LCM_REJECT_FUTURE = 8,
-    CDPR_LCM_N_REJECT = 9
+    CDPR_LCM_REJECT_NO_SESSION = 9,
+    CDPR_LCM_REJECT_OTHER_PLANT = 10,
+    CDPR_LCM_REJECT_SESSION_BUSY = 11,
+    CDPR_LCM_REJECT_SEQ_WINDOW = 12,
+    CDPR_LCM_N_REJECT = 13
 } cdpr_lcm_reject_t;
+
+/// How far ahead of the last accepted seq a command of the live session may be (equal to
+/// winch_command_t.SEQ_WINDOW): more than any controller sends within one watchdog timeout.
+#define CDPR_LCM_SEQ_WINDOW 65536
 
 /// Name of a reason ("accepted", "malformed", "wrong type", ...); never NULL.
 const char *cdpr_lcm_reject_str(cdpr_lcm_reject_t reason);
@@ -72,6 +97,7 @@ const char *cdpr_lcm_reject_str(cdpr_lcm_reject_t reason);
 /// A decoded, validated command (what the real-time thread reads).
 typedef struct {
     int64_t seq;                   ///< command sequence number; -1 for the hold command
+    int64_t controller_session;    ///< session of the controller; 0 for the hold command
     int64_t state_seq;             ///< state it answers; -1 for the hold command
     int64_t utime_us;              ///< controller time in the message [us]
     int64_t rx_time_ns;            ///< CLOCK_MONOTONIC receive time [ns] (0 for the hold command)
@@ -99,6 +125,11 @@ cdpr_status_t cdpr_lcm_limits_from_winch(cdpr_lcm_limits_t *lim, int n_cables,
 /// Validator state (receiver thread) and its counters (atomic; any thread may read them).
 typedef struct {
     cdpr_lcm_limits_t lim;                ///< validated copy
+    int64_t plant_session;                ///< this plant run's session (> 0)
+    int64_t takeover_ns;                  ///< silence after which another session may take over
+    int64_t controller_session;           ///< active controller session (0: none yet; atomic)
+    int64_t last_accept_ns;               ///< receive time of the last accepted command
+    uint64_t sessions;                    ///< controller sessions taken over (atomic)
     int64_t last_seq;                     ///< last accepted seq (-1: none yet)
     int64_t last_state_seq;               ///< state_seq of the last accepted command (-1)
     int64_t published_state_seq;          ///< newest state seq published (-1: none yet)
@@ -107,20 +138,25 @@ typedef struct {
     unsigned char fingerprint[8];         ///< winch_command_t's first 8 encoded bytes
 } cdpr_lcm_validator_t;
 
-/// Initialise with validated limits (cdpr_lcm_limits_from_winch); counters zero, no command
-/// and no state seen yet. CDPR_E_INVALID_ARG for NULL or a limits struct that fails the same
-/// checks. Takes the type fingerprint from a test encoding, which also makes the generated
-/// code compute and cache its hash here rather than in a later (concurrent) call.
+/// Initialise with validated limits (cdpr_lcm_limits_from_winch), the plant's session
+/// (> 0) and the silence after which another controller session may take over (> 0 ns; the
+/// watchdog timeout); counters zero, no command and no state seen yet. CDPR_E_INVALID_ARG for
+/// NULL or a limits struct that fails the same checks, CDPR_E_NOT_POSITIVE for the session
+/// ("plant_session") or the silence ("takeover_ns"). Takes the type fingerprint from a test
+/// encoding, which also makes the generated code compute and cache its hash here rather than
+/// in a later (concurrent) call.
 cdpr_status_t cdpr_lcm_validator_init(cdpr_lcm_validator_t *v, const cdpr_lcm_limits_t *lim,
+                                      int64_t plant_session, int64_t takeover_ns,
                                       cdpr_diag_t *diag);
 
 /// Record that state `seq` was published (commands may answer states up to the newest one).
 void cdpr_lcm_validator_note_published(cdpr_lcm_validator_t *v, int64_t seq);
 
-/// Check a decoded message against every rule except decoding (pure: no counter, no state
-/// change). Returns CDPR_LCM_ACCEPTED or the first failing reason. O(CDPR_MAX_CABLES).
+/// Check a decoded message received at `rx_time_ns` (CLOCK_MONOTONIC [ns]) against every
+/// rule except decoding (pure: no counter, no state change). Returns CDPR_LCM_ACCEPTED or the
+/// first failing reason. O(CDPR_MAX_CABLES).
 cdpr_lcm_reject_t cdpr_lcm_validator_check(const cdpr_lcm_validator_t *v,
-                                           const cdpr_winch_command_t *msg);
+                                           const cdpr_winch_command_t *msg, int64_t rx_time_ns);
 
 /// Decode `len` bytes (one LCM message payload) with the generated decoder, check it, count
 /// the outcome and, when accepted, advance the sequence state and write the command into
@@ -128,6 +164,11 @@ cdpr_lcm_reject_t cdpr_lcm_validator_check(const cdpr_lcm_validator_t *v,
 /// reads at most `len` bytes of `buf` (any bytes: this is the fuzzed entry point). O(len).
 cdpr_lcm_reject_t cdpr_lcm_validator_accept(cdpr_lcm_validator_t *v, const void *buf, size_t len,
                                             int64_t rx_time_ns, cdpr_lcm_command_t *out);
+
+/// Session snapshot (any thread): the active controller session (0: none yet) and how many
+/// sessions have taken over (the first controller counts 1).
+void cdpr_lcm_validator_sessions(const cdpr_lcm_validator_t *v, int64_t *controller_session,
+                                 uint64_t *sessions);
 
 /// Counters snapshot (any thread).
 void cdpr_lcm_validator_counts(const cdpr_lcm_validator_t *v, uint64_t *accepted,
@@ -172,7 +213,7 @@ void cdpr_lcm_mailbox_write(cdpr_lcm_mailbox_t *mb, const cdpr_lcm_command_t *cm
 /// Wait-free, O(1), no allocation, no system call, no lcm_* call.
 int cdpr_lcm_mailbox_read(cdpr_lcm_mailbox_t *mb, int64_t now_ns, cdpr_lcm_command_t *out);
 
-/// The hold command for `n_cables` winches: rate mode, values 0, seq/state_seq -1.
+/// The hold command for `n_cables` winches: rate mode, values 0, seq/state_seq -1, session 0.
 void cdpr_lcm_command_hold(int n_cables, cdpr_lcm_command_t *out);
 
 #endif /* CDPR_LCM_COMMAND_H */

@@ -30,7 +30,21 @@
 /// over LCM computes exactly what the in-process loop computes.
 ///
 /// A failed step (integrator error or trial budget, plant.h) keeps the previous state: it is
-/// published again with FLAG_STEP_FAILED and the same time; the next period tries again.
+/// published again with FLAG_STEP_FAILED and the same time; the next period tries again. The
+/// run length is plant time: the run ends when the plant has advanced run.duration_s (failed
+/// periods do not count), or -- a plant that cannot advance -- after CDPR_RT_STALL_S of
+/// periods in a row have failed (the run then ends with the step's error).
+///
+/// Sessions (docs/realtime.md, "Sessions"): the node draws a plant session at init and puts it
+/// in every message; the validator accepts commands of one controller session at a time
+/// (lcm/command.h). A state of another plant session on the node's state channel means two
+/// plants share the channels: counted, reported through lcm.on_other_plant, and the run ends
+/// with CDPR_E_CONFLICT (it ran to its end, but its commands may have been meant for the other
+/// plant).
+///
+/// Overload: when, one second into a free-running run (or at its end, if shorter), more than
+/// CDPR_RT_OVERLOAD_RATIO of the periods have missed their deadline, the node calls
+/// on_overload once (the machine does not hold this rate) and says so in the telemetry.
 #ifndef CDPR_RT_PLANT_NODE_H
 #define CDPR_RT_PLANT_NODE_H
 
@@ -42,6 +56,12 @@
 /// Compute-time histogram: 1 us bins up to this many us, plus an overflow bin.
 #define CDPR_RT_HIST_US 20000
 
+/// A run stops when its plant could not advance for this much plant time in a row [s].
+#define CDPR_RT_STALL_S 1.0
+
+/// Fraction of missed deadlines over the first second that reports an overload.
+#define CDPR_RT_OVERLOAD_RATIO 0.1
+
 /// Options of the node (inputs). cdpr_rt_opts_default fills the defaults. The run settings
 /// are the scenario's: control period run.period_s, plant time run.duration_s, work bound
 /// integrator.max_trials x max_attempts (command-line overrides: cdpr_scenario_override).
@@ -50,8 +70,10 @@ typedef struct {
     double lockstep_timeout_s;    ///< lockstep: wait this long for the answer [s]; default 2
     int realtime;                 ///< 1: try SCHED_FIFO + mlockall; default 0
     int rt_priority;              ///< SCHED_FIFO priority 1..99; default 80
-    double shape_rate_hz;         ///< cable shape messages [Hz] (0: none); default 10
-    double diag_rate_hz;          ///< diagnostics messages [Hz] (0: only at the end); default 1
+    double shape_rate_hz;         ///< cable shape messages [Hz] (0: none; at or above the
+                                  ///< control rate: every period); default 10
+    double diag_rate_hz;          ///< diagnostics messages [Hz] (0: only at the end; at or
+                                  ///< above the control rate: every period); default 1
     double start_delay_s;         ///< free-running: wait this long before the first period [s],
                                   ///< e.g. for a controller to subscribe; default 0
     cdpr_lcm_bridge_params_t lcm; ///< URL, prefix, watchdog timeout, hooks (n_cables and the
@@ -61,6 +83,11 @@ typedef struct {
     /// (phase 0) and right after its last (phase 1): tests count allocations/lcm calls there.
     void (*on_rt_thread)(int phase, void *ctx);
     void *on_rt_thread_ctx;
+    /// Optional: called once on the caller's thread (inside cdpr_rt_run) when the first second
+    /// of a free-running run (or the whole run, if shorter) missed more than
+    /// CDPR_RT_OVERLOAD_RATIO of its deadlines.
+    void (*on_overload)(long periods, long misses, double rate_hz, void *ctx);
+    void *on_overload_ctx;
 } cdpr_rt_opts_t;
 
 /// Telemetry (outputs of cdpr_rt_run).
@@ -89,6 +116,11 @@ typedef struct {
     char rt_note[256];             ///< why SCHED_FIFO/mlockall were not used ("" if they were
                                    ///< or were not asked for)
     double final_time_s;           ///< plant time reached [s]
+    int overloaded;                ///< 1: the first second missed > CDPR_RT_OVERLOAD_RATIO
+    long overload_periods;         ///< periods of that first second
+    long overload_misses;          ///< deadline misses in it
+    long stalled;                  ///< 1: the run ended because the plant could not advance
+    int64_t plant_session;         ///< this run's plant session
 } cdpr_rt_telemetry_t;
 
 /// The node (caller-owned, large: declare it static).
@@ -103,13 +135,20 @@ typedef struct {
     cdpr_diagnostics_t diag_msg;
     cdpr_cable_shape_t shape_msg;
     cdpr_robot_out_t out;
-    int64_t seq;         ///< seq of the newest state published
-    int64_t command_seq; ///< seq of the command applied in the last step (-1: none)
-    long n_periods;      ///< periods to run
-    long shape_every;    ///< periods between shape messages (0: none)
-    long diag_every;     ///< periods between diagnostics (0: none)
+    int64_t seq;                ///< seq of the newest state published
+    int64_t command_seq;        ///< seq of the command applied in the last step (-1: none)
+    int64_t command_session;    ///< its controller session (0: none)
+    long n_periods;             ///< plant periods to run (plant time run.duration_s)
+    long advanced;              ///< periods the plant advanced (plant time = advanced x T)
+    long stall_periods;         ///< failed periods in a row that end the run
+    cdpr_status_t stall_status; ///< the error of the last failed step
+    long shape_every;           ///< periods between shape messages (0: none)
+    long diag_every;            ///< periods between diagnostics (0: none)
     int64_t period_ns;
-    int hold; ///< the last step used the hold command
+    int hold;         ///< the last step used the hold command
+    long mon_periods; ///< periods and misses for the overload check (atomic; RT thread)
+    long mon_misses;
+    int done; ///< the periodic thread has finished (atomic)
 } cdpr_rt_t;
 
 /// Defaults (see the field comments).
@@ -124,8 +163,11 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
                            cdpr_scenario_error_t *err);
 
 /// Run: bridge thread, periodic thread, until run.duration_s of plant time or *stop. Returns
-/// CDPR_OK when the run completed, CDPR_E_INTERRUPTED when *stop ended it early, CDPR_E_IO
-/// when the bridge or the thread could not start (`err` says why). Telemetry in rt->tel.
+/// CDPR_OK when the run completed, CDPR_E_INTERRUPTED when *stop ended it early, the step's
+/// error when the plant could not advance for CDPR_RT_STALL_S (`err` says so),
+/// CDPR_E_CONFLICT when another plant's states were seen on the channel (the run completed),
+/// CDPR_E_IO when the bridge or the thread could not start (`err` says why). Telemetry in
+/// rt->tel.
 cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
 
 /// Print the telemetry summary (human-readable) to `f`.

@@ -19,6 +19,15 @@
 /// never answered). With `answer_in_handler` the tensions handler calls service itself (the
 /// in-process memq mode, where the handlers run on the plant's bridge thread).
 ///
+/// Sessions (docs/realtime.md, "Sessions"): the node draws a controller session at init and
+/// puts it, with the plant session of the state answered, in every command. It follows one
+/// plant session: the first it sees, then a new one only after the current plant has sent no
+/// state for `plant_silence_s` -- a **plant restart**: counted, on_plant_restart is called, the
+/// controller starts again from t = 0 (a new plant starts at t = 0) and answers the new
+/// plant's states from seq 0. States of another session while the current one is live are
+/// ignored and counted (`other_plant_states`; on_other_plant once per session): two plants
+/// share the channels.
+///
 /// Threads: every function on the thread that owns the lcm_t. The generated *_publish
 /// allocates (liblcm); this node is not real-time code and is never run on the plant's RT
 /// thread.
@@ -44,20 +53,40 @@ typedef void (*cdpr_rt_tracker_step_fn)(const cdpr_tracker_meas_t *m, const cdpr
 
 /// Counters (outputs).
 typedef struct {
-    uint64_t states;          ///< cabin states received
-    uint64_t tensions;        ///< tension messages received
-    uint64_t decode_errors;   ///< messages on our channels that did not decode
-    uint64_t answered;        ///< commands published
-    uint64_t publish_errors;  ///< publications that failed
-    uint64_t superseded;      ///< states replaced by a newer one before they were answered
-    uint64_t bad_measurement; ///< pairs refused (non-finite, cable count, time)
-    uint64_t ik_failures;     ///< periods whose feed-forward IK failed (last good held)
-    uint64_t resent;          ///< commands sent again for a state the plant sent again
+    uint64_t states;             ///< cabin states received
+    uint64_t tensions;           ///< tension messages received
+    uint64_t decode_errors;      ///< messages on our channels that did not decode
+    uint64_t answered;           ///< commands published
+    uint64_t publish_errors;     ///< publications that failed
+    uint64_t superseded;         ///< states replaced by a newer one before they were answered
+    uint64_t bad_measurement;    ///< pairs refused (non-finite, cable count, time)
+    uint64_t ik_failures;        ///< periods whose feed-forward IK failed (last good held)
+    uint64_t resent;             ///< commands sent again for a state the plant sent again
+    uint64_t plant_restarts;     ///< new plant sessions followed after the first
+    uint64_t other_plant_states; ///< states (and tensions) of a plant session not followed
 } cdpr_rt_tracker_stats_t;
+
+/// Session events (optional callbacks; on the lcm thread). `old_session` 0: none.
+typedef void (*cdpr_rt_tracker_session_fn)(int64_t old_session, int64_t new_session, void *ctx);
+
+/// A plant that sent no state for this long may have been restarted [s] (default of
+/// cdpr_rt_tracker_t.plant_silence_s).
+#define CDPR_RT_PLANT_SILENCE_S 0.5
 
 /// The node (caller-owned; about 50 kB: declare it static).
 typedef struct {
     cdpr_tracker_t tracker;
+    const cdpr_robot_params_t *model; ///< for a restart (caller-owned, outlives the node)
+    const cdpr_traj_t *traj;          ///< for a restart (caller-owned, outlives the node)
+    cdpr_tracker_gains_t gains;       ///< for a restart
+    int64_t controller_session;       ///< this controller run (> 0)
+    int64_t plant_session;            ///< plant session followed (0: none yet)
+    int64_t last_state_ns;            ///< CLOCK_MONOTONIC receive time of its last state
+    double plant_silence_s;           ///< see CDPR_RT_PLANT_SILENCE_S (settable after init)
+    int64_t other_reported;           ///< last other session passed to on_other_plant
+    cdpr_rt_tracker_session_fn on_plant_restart; ///< optional
+    cdpr_rt_tracker_session_fn on_other_plant;   ///< optional (old_session = the one followed)
+    void *on_session_ctx;
     double period_s;
     int n_cables;
     char ch_state[64];
@@ -86,7 +115,9 @@ typedef struct {
 /// whose period_s is the control period, t0 = 0), the winch speed limits `winch[j]` (rates are
 /// clamped to +-u_max before publishing: the plant refuses larger ones, and clamps them itself
 /// in the in-process loop, so the result is the same) and the channel names from `prefix`
-/// (NULL: "CDPR_"). Errors as cdpr_tracker_init; CDPR_E_INVALID_ARG for a prefix too long.
+/// (NULL: "CDPR_"), and draws the controller session. `model` and `traj` must outlive the
+/// node (a plant restart re-initialises the controller from them). Errors as
+/// cdpr_tracker_init; CDPR_E_INVALID_ARG for a prefix too long.
 cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params_t *model,
                                    const cdpr_winch_params_t *winch, const cdpr_traj_t *traj,
                                    const cdpr_tracker_gains_t *g, double period_s,
@@ -124,6 +155,9 @@ typedef struct {
 
 /// on_step callback: record one period into ((cdpr_rt_record_t *)ctx)->rec. Tensions, payout
 /// rates and node counts come from the tensions message (the plant's values at that state).
+/// Rows at run.output_rate_hz by plant time (record.h: a row when the state's time reaches the
+/// next output instant, so states the node skipped do not cost rows) and at the run's end. A
+/// CSV write failure stops the rows, not the controller; cdpr_sim_rec_close reports it.
 void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracker_cmd_t *c,
                                  const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
                                  void *ctx);

@@ -1,0 +1,42 @@
+#!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
+# Fault H3: forged commands next to a live controller (inject.py): one with
+# seq = INT64_MAX - 10 of the live session, one of a second controller session, one answering
+# another plant. Each must be refused and counted under its own reason (seq beyond window,
+# session busy, other plant) while the honest controller keeps the winches: free-running,
+# 100 Hz, 4 s, on hold < 0.5 s of periods in all, no command refused as stale. Before the
+# sequence window, the poisoned seq was adopted and every honest command after it was stale:
+# the plant held until the end.
+# Runs inside a private network namespace (udpm on loopback).
+set -eu
+. "$(dirname "$0")/lib.sh" "$@"
+py=${CDPR_PYTHON3:-/usr/bin/python3}
+if ! "$py" -c 'import lcm, cdpr.winch_command_t' 2> "$w/import.txt"; then
+    cat "$w/import.txt"
+    echo "SKIPPED: LCM's Python module is not importable (PYTHONPATH=${PYTHONPATH:-})"
+    exit 77
+fi
+sc=$src/scenarios/paper-line.yaml
+common="--rate 100 --duration 4 --lcm-url $url"
+
+"$bin/cdpr-tracker" "$sc" $common --quiet --idle-exit 30 > "$w/t.txt" 2>&1 &
+t=$!
+sleep 0.5
+"$bin/cdpr-rt" "$sc" $common --watchdog 0.1 > "$w/rt.txt" 2> "$w/rt.err" &
+rt=$!
+wait_for "$w/rt.err" "running" 60
+sleep 0.5
+"$py" "$(dirname "$0")/inject.py" "$url" > "$w/inject.txt" 2>&1 || { cat "$w/inject.txt"; fail "inject.py"; }
+rc=0
+wait "$rt" || rc=$?
+wait "$t" || true
+cat "$w/rt.txt" "$w/inject.txt"
+expect_exit 0 "$rc" "cdpr-rt under forged commands"
+received=$(grep "^  received" "$w/rt.txt")
+for r in "seq beyond window 1" "session busy 1" "other plant 1"; do
+    echo "$received" | grep -q "\[$r\]" || fail "not refused and counted once: $r"
+done
+echo "$received" | grep -q "stale" && fail "honest commands were refused as stale"
+hold=$(before "$w/rt.txt" commands "on hold")
+[ "$hold" -lt 50 ] || fail "$hold periods on hold: the forged commands took the winches"
+echo "PASS: forged commands refused and counted; the honest controller kept the winches"
