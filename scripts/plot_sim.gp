@@ -6,7 +6,7 @@
 #   KIND  circle -> DIR/figure4.png (the paper's Figure 4: path and tracking error)
 #                   and DIR/errors.png (error per coordinate)
 #         line   -> DIR/figure5.png (the paper's Figure 5: error per coordinate)
-#         hold   -> DIR/errors.png  (error per coordinate)
+#         hold, cyclic -> DIR/errors.png  (error per coordinate)
 #   every kind   -> DIR/tensions.png (tensions, lengths, payout rates, node counts)
 # Columns are addressed by their header names (timeseries.csv's first row).
 dir = (ARGC >= 1) ? ARG1 : 'out/paper-circle'

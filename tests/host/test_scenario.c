@@ -15,6 +15,7 @@
 
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sim.h"
+#include "cdpr/host/yaml.h"
 #include "text_files.h"
 #include "unity.h"
 
@@ -329,6 +330,16 @@ static const bad_case_t BAD[] = {
      "  duration_s: 12.0", 0},
     {"output rate", "output_rate_hz: 25", "output_rate_hz: 30", "run.output_rate_hz",
      "output_rate_hz:", 0},
+    /* Validation at load (issue 10). */
+    {"period count overflow (M1)", "period_s: 0.02", "period_s: 1e-20", "run.period_s",
+     "period_s:", 0},
+    {"output rate 0 (L5)", "output_rate_hz: 25", "output_rate_hz: 0", "run.output_rate_hz",
+     "output_rate_hz:", 0},
+    {"inertia triangle (L5)", "[50.0, 46.0, 91.0]", "[1.0, 1.0, 10.0]", "robot.cabin.inertia_kg_m2",
+     "inertia_kg_m2:", 0},
+    {"undamped cables (L8)", "damping_Ns: 160.0", "damping_Ns: 0.0", "robot.cable", "  cable:", 1},
+    {"cables beyond 1000 m (L5)", "    radius_m: 26.0\n    exit_height_m: 31.0\n",
+     "    radius_m: 2000.0\n    exit_height_m: 1500.0\n", "trajectory.line", "  line:", 1},
     {"unreachable start", "pose: [0.1, 0.2, 10.0", "pose: [0.1, 0.2, 35.0", "initial.pose",
      "  pose:", 1},
     {"unreachable trajectory", "to: [0.5, -0.3, 11.0", "to: [40.0, -0.3, 11.0", "trajectory.line",
@@ -436,7 +447,9 @@ static void test_unreadable_files(void)
     write_text(path, "robot: [1, 2\n");
     TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_scenario_load(path, &sc, &err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, path), err.msg);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "robot"), err.msg);
+    /* A syntax error is found by libyaml's pass before the schema: line and column of the
+     * construct that opened it. */
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "broken.yaml:1:8: unclosed list '['"), err.msg);
 }
 
 static void test_command_line(void)
@@ -464,6 +477,80 @@ static void test_command_line(void)
 #endif
 }
 
+/* The cyclic trajectory's keys resolve; the saturating period count never overflows. */
+static void test_cyclic_and_counts(void)
+{
+    make_tmp();
+    static char text[sizeof GOOD_LINE + 512];
+    replace(GOOD_LINE, "  type: line\n  line:\n", "  type: cyclic\n  cyclic:\n    cycles: 3\n",
+            text, sizeof text);
+    static char text2[sizeof GOOD_LINE + 512];
+    replace(text, "    back_and_forth: true\n", "", text2, sizeof text2);
+    char path[700];
+    snprintf(path, sizeof path, "%s/cyclic.yaml", tmp_dir);
+    write_text(path, text2);
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    err.msg[0] = '\0';
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(CDPR_TRAJ_CYCLIC, sc.traj.type);
+    TEST_ASSERT_EQUAL_STRING("cyclic", cdpr_traj_type_name(sc.traj.type));
+    TEST_ASSERT_EQUAL_DOUBLE(10.0, sc.traj.duration_s);
+    TEST_ASSERT_EQUAL_DOUBLE(1.5, sc.traj.pause_s);
+    TEST_ASSERT_EQUAL_INT(3, (int)sc.traj.cycles);
+    TEST_ASSERT_EQUAL_DOUBLE(11.0, sc.traj.to[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(3.0 * 23.0, cdpr_traj_end_time(&sc.traj));
+    /* cycles must be a whole number. */
+    static char text3[sizeof GOOD_LINE + 512];
+    replace(text2, "cycles: 3", "cycles: 2.5", text3, sizeof text3);
+    write_text(path, text3);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "trajectory.cyclic.cycles: 2.5 is not a whole"),
+                                 err.msg);
+    /* Counts: rounded, 0 for NaN and negatives, saturated at the limit (no overflowing cast). */
+    TEST_ASSERT_EQUAL_INT(2, (int)cdpr_scenario_count(2.4));
+    TEST_ASSERT_EQUAL_INT(3, (int)cdpr_scenario_count(2.5));
+    TEST_ASSERT_EQUAL_INT(0, (int)cdpr_scenario_count((double)NAN));
+    TEST_ASSERT_EQUAL_INT(0, (int)cdpr_scenario_count(-5.0));
+    TEST_ASSERT_TRUE(cdpr_scenario_count(5e19) == CDPR_SCENARIO_MAX_PERIODS);
+    TEST_ASSERT_TRUE(cdpr_scenario_count((double)INFINITY) == CDPR_SCENARIO_MAX_PERIODS);
+    /* A scenario changed in code to a period the file check refuses still counts safely. */
+    write_text(path, text2);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
+    sc.period_s = 1e-20;
+    TEST_ASSERT_TRUE(cdpr_scenario_periods(&sc) == CDPR_SCENARIO_MAX_PERIODS);
+    TEST_ASSERT_NOT_EQUAL(CDPR_OK, cdpr_scenario_check(&sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "run.period_s: 1e-20 s gives"), err.msg);
+}
+
+/* Files refused before any parse (issue 10, L6 and L9): a directory, a file over 1 MiB. */
+static void test_file_checks_before_parsing(void)
+{
+    make_tmp();
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    char path[700];
+    snprintf(path, sizeof path, "%s/a-dir.yaml", tmp_dir);
+    (void)mkdir(path, 0755);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "a-dir.yaml: is a directory"), err.msg);
+    snprintf(path, sizeof path, "%s/big.yaml", tmp_dir);
+    FILE *f = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL(f);
+    fputs(MINIMAL, f);
+    fputs("description: \"", f);
+    for (long i = 0; i < CDPR_YAML_MAX_FILE_BYTES; ++i) {
+        fputc('A', f);
+    }
+    fputs("\"\n", f);
+    fclose(f);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(err.msg, "bytes: larger than the limit of YAML input files (1048576 bytes, 1 MiB)"),
+        err.msg);
+    TEST_ASSERT_TRUE(strlen(err.msg) < 200 + strlen(path));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -474,5 +561,7 @@ int main(void)
     RUN_TEST(test_bad_files_name_file_key_and_line);
     RUN_TEST(test_unreadable_files);
     RUN_TEST(test_command_line);
+    RUN_TEST(test_cyclic_and_counts);
+    RUN_TEST(test_file_checks_before_parsing);
     return UNITY_END() ? 1 : 0;
 }

@@ -297,6 +297,93 @@ static void test_line_and_hold_accelerations(void)
     TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_v3_norm(s.dw_rad_per_s2));
 }
 
+/* The cyclic deploy/retrieve type against its closed form: each leg is the cycloid
+ * s(u) = u - sin(2 pi u) / (2 pi); continuous position, velocity and acceleration at every
+ * leg and cycle boundary; periodic; held at `from` after the last cycle. */
+static cdpr_traj_t cyclic_traj(void)
+{
+    cdpr_traj_t tr;
+    memset(&tr, 0, sizeof tr);
+    tr.type = CDPR_TRAJ_CYCLIC;
+    const double from[6] = {0.0, 0.0, 4.0, 0.0, 0.0, 0.0};
+    const double to[6] = {1.0, -2.0, 15.0, 0.1, 0.0, -0.2};
+    memcpy(tr.from, from, sizeof from);
+    memcpy(tr.to, to, sizeof to);
+    tr.duration_s = 8.0;
+    tr.pause_s = 2.0;
+    tr.cycles = 3;
+    return tr;
+}
+
+static void test_cyclic_closed_form_continuity_and_period(void)
+{
+    const cdpr_traj_t tr = cyclic_traj();
+    const double P = 20.0; /* 2 (8 + 2) */
+    TEST_ASSERT_EQUAL_DOUBLE(P, cdpr_traj_cycle_s(&tr));
+    TEST_ASSERT_EQUAL_DOUBLE(3.0 * P, cdpr_traj_end_time(&tr));
+    cdpr_traj_sample_t a;
+    cdpr_traj_sample_t b;
+    /* Closed form at a quarter of the way out (u = 1/4: s = 1/4 - 1/(2 pi), s' = 1/T,
+     * s'' = 2 pi / T^2) and of the way back (t = 10 + 2, u = 1/4, reversed). Tolerance:
+     * a few ulps of the arithmetic (1e-12 of values O(10)). */
+    cdpr_traj_eval(&tr, 2.0, &a);
+    cdpr_traj_eval(&tr, 12.0, &b);
+    const double s = 0.25 - 1.0 / (2.0 * PI);
+    for (int i = 0; i < 6; ++i) {
+        const double d = tr.to[i] - tr.from[i];
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, tr.from[i] + s * d, a.pose[i]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, d / 8.0, a.rate[i]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 2.0 * PI * d / 64.0, a.accel[i]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, tr.to[i] - s * d, b.pose[i]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, -d / 8.0, b.rate[i]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, -2.0 * PI * d / 64.0, b.accel[i]);
+    }
+    /* Continuity across every boundary (leg ends, pauses, cycle ends): the jump over +-1e-7 s
+     * is bounded by the largest derivative times 2e-7 s (|d| <= 11 m: v <= 2.75 m/s,
+     * a <= 1.08 m/s^2, jerk <= 0.85 m/s^3), so 1e-6 is far above it and far below a real jump
+     * (a leg's peak rate is 2.75 m/s, its peak acceleration 1.08 m/s^2). */
+    const double edges[] = {0.0, 8.0, 10.0, 18.0, 20.0, 28.0, 40.0, 58.0, 60.0};
+    for (size_t e = 0; e < sizeof edges / sizeof edges[0]; ++e) {
+        cdpr_traj_eval(&tr, edges[e] - 1e-7, &a);
+        cdpr_traj_eval(&tr, edges[e] + 1e-7, &b);
+        for (int i = 0; i < 6; ++i) {
+            TEST_ASSERT_DOUBLE_WITHIN(1e-6, a.pose[i], b.pose[i]);
+            TEST_ASSERT_DOUBLE_WITHIN(1e-6, a.rate[i], b.rate[i]);
+            TEST_ASSERT_DOUBLE_WITHIN(1e-6, a.accel[i], b.accel[i]);
+        }
+    }
+    /* Periodic: t and t + P agree (within the rounding of fmod at t ~ 40 s) in every cycle. */
+    for (double t = 0.05; t < 2.0 * P; t += 0.37) {
+        cdpr_traj_eval(&tr, t, &a);
+        cdpr_traj_eval(&tr, t + P, &b);
+        for (int i = 0; i < 6; ++i) {
+            TEST_ASSERT_DOUBLE_WITHIN(1e-9, a.pose[i], b.pose[i]);
+            TEST_ASSERT_DOUBLE_WITHIN(1e-9, a.rate[i], b.rate[i]);
+            TEST_ASSERT_DOUBLE_WITHIN(1e-9, a.accel[i], b.accel[i]);
+        }
+    }
+    /* After the last cycle, and before the start: at `from`, at rest. */
+    const double outside[2] = {-1.0, 3.0 * P + 5.0};
+    for (int k = 0; k < 2; ++k) {
+        cdpr_traj_eval(&tr, outside[k], &a);
+        for (int i = 0; i < 6; ++i) {
+            TEST_ASSERT_EQUAL_DOUBLE(tr.from[i], a.pose[i]);
+            TEST_ASSERT_EQUAL_DOUBLE(0.0, a.rate[i]);
+            TEST_ASSERT_EQUAL_DOUBLE(0.0, a.accel[i]);
+        }
+    }
+    /* cycles = 0 repeats for ever. */
+    cdpr_traj_t forever = tr;
+    forever.cycles = 0;
+    TEST_ASSERT_TRUE(isinf(cdpr_traj_end_time(&forever)));
+    cdpr_traj_eval(&forever, 2.0 + 1000.0 * P, &a);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, tr.from[2] + s * 11.0, a.pose[2]);
+    /* The rates are the derivatives of the pose (central differences, as for the others). */
+    for (double t = 0.3; t < P; t += 1.1) {
+        check_rates(&tr, t);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -307,5 +394,6 @@ int main(void)
     RUN_TEST(test_rotation_vector);
     RUN_TEST(test_circle_accelerations);
     RUN_TEST(test_line_and_hold_accelerations);
+    RUN_TEST(test_cyclic_closed_form_continuity_and_period);
     return UNITY_END() ? 1 : 0;
 }

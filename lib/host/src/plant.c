@@ -20,10 +20,9 @@ static const char *initial_key(const cdpr_scenario_t *sc)
             return "initial.offset";
         }
     }
-    return (sc->traj.type == CDPR_TRAJ_CIRCLE)
-               ? "trajectory.circle"
-               : ((sc->traj.type == CDPR_TRAJ_LINE) ? "trajectory.line.from"
-                                                    : "trajectory.hold.pose");
+    static const char *const keys[] = {"trajectory.hold.pose", "trajectory.circle",
+                                       "trajectory.line.from", "trajectory.cyclic.from"};
+    return keys[(sc->traj.type <= CDPR_TRAJ_CYCLIC) ? sc->traj.type : CDPR_TRAJ_HOLD];
 }
 
 static cdpr_status_t fail(const cdpr_scenario_t *sc, const char *key, const char *what,
@@ -99,10 +98,18 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
         return d->status;
     }
     if (strcmp(f, "settle") == 0) {
-        snprintf(what, sizeof what,
-                 "the initial state did not settle to rest (%s after %ld steps, "
-                 "residual %g m/s^2)",
-                 cdpr_status_str(d->status), p->settle.steps, p->settle.max_acc_m_per_s2);
+        if (d->status == CDPR_E_NO_CONVERGENCE) {
+            snprintf(what, sizeof what,
+                     "the initial state did not settle to rest: gave up after %ld steps (the "
+                     "bound; residual %g m/s^2 > %g): stiff or lightly damped cables settle "
+                     "slowly: lower robot.cable.ea_N or raise robot.cable.damping_ratio",
+                     p->settle.steps, p->settle.max_acc_m_per_s2, p->pp.settle.acc_tol_m_per_s2);
+        } else {
+            snprintf(what, sizeof what,
+                     "the initial state did not settle to rest (%s after %ld steps, "
+                     "residual %g m/s^2)",
+                     cdpr_status_str(d->status), p->settle.steps, p->settle.max_acc_m_per_s2);
+        }
         cdpr_scenario_error(sc, initial_key(sc), what, err);
         /* The scenario cannot start, whatever stopped the settling (the message says which). */
         return CDPR_E_NO_CONVERGENCE;
@@ -125,6 +132,29 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
     return fail(sc, "robot", "rejected by the model", d, err);
 }
 
+/* What provably cannot settle, refused before any settling step: a cable with no axial damping
+ * (c = 0 and no damping ratio). The kinetic-damping resets alone leave its modes ringing: the
+ * deploy-retrieve scenario with robot.cable.damping_Ns: 0 still had 1.8e-4 m/s^2 of residual
+ * acceleration after the 2e6 steps of the core's default bound (issue 10, L8). */
+static cdpr_status_t check_settleable(const cdpr_plant_params_t *pp, const cdpr_scenario_t *sc,
+                                      cdpr_scenario_error_t *err)
+{
+    const int preset = (sc->robot_source == CDPR_ROBOT_FROM_PRESET) ? 1 : 0;
+    for (int j = 0; j < pp->robot.n_cables; ++j) {
+        const cdpr_cable_params_t *c = &pp->robot.cables[j].cable;
+        if (!(c->damping_Ns > 0.0) && !(c->damping_ratio > 0.0)) {
+            char what[512];
+            snprintf(what, sizeof what,
+                     "cable %d undamped (damping 0): the settle cannot converge; set %s", j + 1,
+                     (preset != 0) ? "robot.cable.damping_ratio (or damping_Ns)"
+                                   : "rope.damping_ratio (or damping_Ns) of that cable");
+            cdpr_scenario_error(sc, (preset != 0) ? "robot.cable" : "robot", what, err);
+            return CDPR_E_NO_CONVERGENCE;
+        }
+    }
+    return CDPR_OK;
+}
+
 /* Build the model only (full = 0: cdpr_plant_init_model) or the whole plant (cdpr_plant_init),
  * timing it into *wall_s when asked. */
 static cdpr_status_t build(cdpr_plant_t *p, const cdpr_scenario_t *sc, int full, double *wall_s,
@@ -135,6 +165,13 @@ static cdpr_status_t build(cdpr_plant_t *p, const cdpr_scenario_t *sc, int full,
     const cdpr_status_t st = cdpr_host_plant_params(sc, &pp, err);
     if (st != CDPR_OK) {
         return st;
+    }
+    if (full != 0 && pp.start == CDPR_PLANT_START_SETTLED) {
+        const cdpr_status_t ss = check_settleable(&pp, sc, err);
+        if (ss != CDPR_OK) {
+            return ss;
+        }
+        pp.settle.max_steps = CDPR_HOST_SETTLE_MAX_STEPS;
     }
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);

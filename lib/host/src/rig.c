@@ -529,6 +529,33 @@ void cdpr_rig_principal_moments(const double m[3][3], double eig[3])
     memcpy(eig, e, sizeof e);
 }
 
+cdpr_status_t cdpr_rig_inertia_plausible(const double I[3][3], char *what, size_t cap)
+{
+    const double scale = fabs(I[0][0]) + fabs(I[1][1]) + fabs(I[2][2]);
+    const double m1 = I[0][0];
+    const double m2 = I[0][0] * I[1][1] - I[0][1] * I[0][1];
+    const double m3 = I[0][0] * (I[1][1] * I[2][2] - I[1][2] * I[1][2]) -
+                      I[0][1] * (I[0][1] * I[2][2] - I[1][2] * I[0][2]) +
+                      I[0][2] * (I[0][1] * I[1][2] - I[1][1] * I[0][2]);
+    double e[3];
+    cdpr_rig_principal_moments(I, e);
+    if (!(m1 > 0.0) || !(m2 > 0.0) || !(m3 > 0.0) || !(e[0] > 0.0)) {
+        snprintf(what, cap,
+                 "not positive definite (principal moments %g, %g, %g kg m^2): every moment of "
+                 "a rigid body is > 0",
+                 e[0], e[1], e[2]);
+        return CDPR_E_NOT_POSITIVE;
+    }
+    if (e[0] + e[1] < e[2] - 1e-9 * scale) {
+        snprintf(what, cap,
+                 "principal moments %g, %g, %g kg m^2 break the triangle inequality "
+                 "(%g + %g < %g): no rigid body has them",
+                 e[0], e[1], e[2], e[0], e[1], e[2]);
+        return CDPR_E_OUT_OF_RANGE;
+    }
+    return CDPR_OK;
+}
+
 /* Symmetric, positive definite, physical (triangle inequalities of the principal moments). */
 static void check_inertia(rctx_t *v, const double I[3][3])
 {
@@ -554,27 +581,9 @@ static void check_inertia(rctx_t *v, const double I[3][3])
             }
         }
     }
-    const double m1 = I[0][0];
-    const double m2 = I[0][0] * I[1][1] - I[0][1] * I[0][1];
-    const double m3 = I[0][0] * (I[1][1] * I[2][2] - I[1][2] * I[1][2]) -
-                      I[0][1] * (I[0][1] * I[2][2] - I[1][2] * I[0][2]) +
-                      I[0][2] * (I[0][1] * I[1][2] - I[1][1] * I[0][2]);
-    double e[3];
-    cdpr_rig_principal_moments(I, e);
-    if (!(m1 > 0.0) || !(m2 > 0.0) || !(m3 > 0.0) || !(e[0] > 0.0)) {
-        snprintf(what, sizeof what,
-                 "not positive definite (principal moments %g, %g, %g kg m^2): every moment of "
-                 "a rigid body is > 0",
-                 e[0], e[1], e[2]);
-        fail(v, "cabin.inertia_kg_m2", what, CDPR_E_NOT_POSITIVE);
-        return;
-    }
-    if (e[0] + e[1] < e[2] - 1e-9 * scale) {
-        snprintf(what, sizeof what,
-                 "principal moments %g, %g, %g kg m^2 break the triangle inequality "
-                 "(%g + %g < %g): no rigid body has them",
-                 e[0], e[1], e[2], e[0], e[1], e[2]);
-        fail(v, "cabin.inertia_kg_m2", what, CDPR_E_OUT_OF_RANGE);
+    const cdpr_status_t st = cdpr_rig_inertia_plausible(I, what, sizeof what);
+    if (st != CDPR_OK) {
+        fail(v, "cabin.inertia_kg_m2", what, st);
     }
 }
 

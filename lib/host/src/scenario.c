@@ -96,6 +96,14 @@ typedef struct {
 } raw_line_t;
 
 typedef struct {
+    double from[6];
+    double to[6];
+    double duration_s;
+    double *pause_s;
+    double *cycles; /* whole number, see segments */
+} raw_cyclic_t;
+
+typedef struct {
     double pose[6];
 } raw_hold_t;
 
@@ -104,6 +112,7 @@ typedef struct {
     raw_circle_t *circle;
     raw_line_t *line;
     raw_hold_t *hold;
+    raw_cyclic_t *cyclic;
 } raw_traj_t;
 
 typedef struct {
@@ -171,6 +180,7 @@ static const cyaml_strval_t traj_names[] = {
     {"hold", CDPR_TRAJ_HOLD},
     {"circle", CDPR_TRAJ_CIRCLE},
     {"line", CDPR_TRAJ_LINE},
+    {"cyclic", CDPR_TRAJ_CYCLIC},
 };
 static const cyaml_strval_t direction_names[] = {
     {"ccw", DIR_CCW},
@@ -258,6 +268,14 @@ static const cyaml_schema_field_t line_fields[] = {
     CYAML_FIELD_BOOL_PTR("back_and_forth", OPT, raw_line_t, back_and_forth),
     CYAML_FIELD_END,
 };
+static const cyaml_schema_field_t cyclic_fields[] = {
+    REQ_VEC("from", raw_cyclic_t, from, 6),
+    REQ_VEC("to", raw_cyclic_t, to, 6),
+    CYAML_FIELD_FLOAT("duration_s", REQ_NUM, raw_cyclic_t, duration_s),
+    OPT_NUMP("pause_s", raw_cyclic_t, pause_s),
+    OPT_NUMP("cycles", raw_cyclic_t, cycles),
+    CYAML_FIELD_END,
+};
 static const cyaml_schema_field_t hold_fields[] = {
     REQ_VEC("pose", raw_hold_t, pose, 6),
     CYAML_FIELD_END,
@@ -268,6 +286,7 @@ static const cyaml_schema_field_t traj_fields[] = {
     CYAML_FIELD_MAPPING_PTR("circle", OPT, raw_traj_t, circle, circle_fields),
     CYAML_FIELD_MAPPING_PTR("line", OPT, raw_traj_t, line, line_fields),
     CYAML_FIELD_MAPPING_PTR("hold", OPT, raw_traj_t, hold, hold_fields),
+    CYAML_FIELD_MAPPING_PTR("cyclic", OPT, raw_traj_t, cyclic, cyclic_fields),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_field_t controller_fields[] = {
@@ -343,6 +362,8 @@ const char *cdpr_traj_type_name(cdpr_traj_type_t type)
         return "circle";
     case CDPR_TRAJ_LINE:
         return "line";
+    case CDPR_TRAJ_CYCLIC:
+        return "cyclic";
     default:
         return "hold";
     }
@@ -508,6 +529,14 @@ static void resolve_motion(const raw_t *r, cdpr_scenario_t *sc)
     if (r->trajectory.hold != NULL) {
         take(t->hold_pose, r->trajectory.hold->pose, 6);
     }
+    if (r->trajectory.cyclic != NULL) {
+        const raw_cyclic_t *cy = r->trajectory.cyclic;
+        take(t->from, cy->from, 6);
+        take(t->to, cy->to, 6);
+        t->duration_s = cy->duration_s;
+        take(&t->pause_s, cy->pause_s, 1);
+        t->cycles = (cy->cycles != NULL) ? (long)*cy->cycles : 0; /* check_whole_numbers */
+    }
 }
 
 /* controller, integrator and run sections, and the description. */
@@ -621,9 +650,11 @@ static cdpr_status_t resolve_rig(const cdpr_raw_rig_t *rr, cdpr_scenario_t *sc,
 static cdpr_status_t check_traj_blocks(const raw_t *r, cdpr_scenario_t *sc,
                                        cdpr_scenario_error_t *err)
 {
-    const void *blocks[3] = {r->trajectory.hold, r->trajectory.circle, r->trajectory.line};
-    const cdpr_traj_type_t types[3] = {CDPR_TRAJ_HOLD, CDPR_TRAJ_CIRCLE, CDPR_TRAJ_LINE};
-    for (int i = 0; i < 3; ++i) {
+    const void *blocks[4] = {r->trajectory.hold, r->trajectory.circle, r->trajectory.line,
+                             r->trajectory.cyclic};
+    const cdpr_traj_type_t types[4] = {CDPR_TRAJ_HOLD, CDPR_TRAJ_CIRCLE, CDPR_TRAJ_LINE,
+                                       CDPR_TRAJ_CYCLIC};
+    for (int i = 0; i < 4; ++i) {
         char key[64];
         snprintf(key, sizeof key, "trajectory.%s", cdpr_traj_type_name(types[i]));
         if (types[i] == r->trajectory.type && blocks[i] == NULL) {
@@ -673,8 +704,20 @@ static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *
                        (double)CDPR_PLANT_MAX_ATTEMPTS, err);
         }
     }
+    if (st == CDPR_OK && r->trajectory.cyclic != NULL) {
+        st = whole(sc, "trajectory.cyclic.cycles", r->trajectory.cyclic->cycles, 0.0, 1e9, err);
+    }
     if (st != CDPR_OK) {
         return st;
+    }
+    if (r->run.output_rate_hz != NULL && isfinite(*r->run.output_rate_hz) &&
+        !(*r->run.output_rate_hz > 0.0)) {
+        char what[256];
+        snprintf(what, sizeof what,
+                 "%g Hz: a rate must be > 0 (omit the key for one row per control period)",
+                 *r->run.output_rate_hz);
+        cdpr_scenario_error(sc, "run.output_rate_hz", what, err);
+        return CDPR_E_OUT_OF_RANGE;
     }
     if (r->controller.period_s != NULL) {
         cdpr_scenario_error(sc, "controller.period_s",
@@ -690,6 +733,16 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
 {
     memset(sc, 0, sizeof *sc);
     snprintf(sc->path, sizeof sc->path, "%s", path);
+    /* Size, type and syntax before anything parses the file (the key lookup below does). */
+    const cdpr_status_t fs = cdpr_yaml_check_file(path, err->msg, sizeof err->msg);
+    if (fs == CDPR_E_IO) {
+        char why[256];
+        (void)cdpr_yaml_check_file(path, why, sizeof why);
+        snprintf(err->msg, sizeof err->msg, "%s: cannot open: %s", path, why);
+    }
+    if (fs != CDPR_OK) {
+        return fs;
+    }
     cdpr_yaml_log_t lg;
     void *data = NULL;
     /* A robot section with a preset: the override schema; else a robot file or an embedded
@@ -829,6 +882,18 @@ static void check_robot(vctx_t *vp)
     range(&v, "robot.cabin.inertia_kg_m2", c->cabin_inertia_kg_m2, 3, 0.0, 1e12, 1);
     range(&v, "robot.cabin.products_kg_m2", c->cabin_products_kg_m2, 3, -1e12, 1e12, 0);
     range(&v, "robot.cabin.com_m", c->cabin_com_m, 3, -1e3, 1e3, 0);
+    if (v.failed == CDPR_OK) {
+        /* The 3x3 tensor of the moments and products (as cdpr_rig_from_preset builds it). */
+        const double *I = c->cabin_inertia_kg_m2;
+        const double *P = c->cabin_products_kg_m2;
+        const double m[3][3] = {{I[0], P[0], P[1]}, {P[0], I[1], P[2]}, {P[1], P[2], I[2]}};
+        char what[256];
+        const cdpr_status_t st = cdpr_rig_inertia_plausible(m, what, sizeof what);
+        if (st != CDPR_OK) {
+            cdpr_scenario_error(v.sc, "robot.cabin.inertia_kg_m2", what, v.err);
+            v.failed = st;
+        }
+    }
     range(&v, "robot.cable.d0_m", &c->cable.d0_m, 1, 0.0, 1.0, 1);
     range(&v, "robot.cable.rho_kg_per_m", &c->cable.rho_kg_per_m, 1, 0.0, 1e4, 1);
     range(&v, "robot.cable.ea_N", &c->cable.ea_N, 1, 0.0, 1e13, 1);
@@ -874,6 +939,12 @@ static void check_motion(vctx_t *vp)
         pose_range(&v, "trajectory.line.to", t->to);
         range(&v, "trajectory.line.duration_s", &t->duration_s, 1, 0.0, 1e6, 1);
         range(&v, "trajectory.line.pause_s", &t->pause_s, 1, 0.0, 1e6, 0);
+        break;
+    case CDPR_TRAJ_CYCLIC:
+        pose_range(&v, "trajectory.cyclic.from", t->from);
+        pose_range(&v, "trajectory.cyclic.to", t->to);
+        range(&v, "trajectory.cyclic.duration_s", &t->duration_s, 1, 0.0, 1e6, 1);
+        range(&v, "trajectory.cyclic.pause_s", &t->pause_s, 1, 0.0, 1e6, 0);
         break;
     default:
         pose_range(&v, "trajectory.hold.pose", t->hold_pose);
@@ -940,7 +1011,15 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
     if (v.failed == CDPR_OK) {
         /* Whole control periods, and whole periods per output row. */
         const double periods = sc->duration_s / sc->period_s;
-        if (fabs(periods - floor(periods + 0.5)) > 1e-6 * periods || periods < 0.5) {
+        if (!(periods <= (double)CDPR_SCENARIO_MAX_PERIODS)) {
+            char what[512];
+            snprintf(what, sizeof what,
+                     "%g s gives %g control periods over run.duration_s = %g s: more than the "
+                     "%g a run may have",
+                     sc->period_s, periods, sc->duration_s, (double)CDPR_SCENARIO_MAX_PERIODS);
+            cdpr_scenario_error(sc, "run.period_s", what, err);
+            v.failed = CDPR_E_OUT_OF_RANGE;
+        } else if (fabs(periods - floor(periods + 0.5)) > 1e-6 * periods || periods < 0.5) {
             char what[512];
             snprintf(what, sizeof what, "%g s is not a whole number of control periods (%g s)",
                      sc->duration_s, sc->period_s);
@@ -948,7 +1027,8 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
             v.failed = CDPR_E_OUT_OF_RANGE;
         } else if (sc->output_rate_hz > 0.0) {
             const double every = 1.0 / (sc->output_rate_hz * sc->period_s);
-            if (every < 0.5 || fabs(every - floor(every + 0.5)) > 1e-6 * every) {
+            if (every < 0.5 || !(every <= (double)CDPR_SCENARIO_MAX_PERIODS) ||
+                fabs(every - floor(every + 0.5)) > 1e-6 * every) {
                 char what[512];
                 snprintf(what, sizeof what,
                          "%g Hz is not the control rate (%g Hz) divided by a whole "
@@ -1006,9 +1086,19 @@ void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6])
     }
 }
 
+long cdpr_scenario_count(double n)
+{
+    /* NaN and negative counts are 0; beyond the limit saturate (no overflowing cast). */
+    if (!(n > 0.0)) {
+        return 0;
+    }
+    const double r = floor(n + 0.5);
+    return (r < (double)CDPR_SCENARIO_MAX_PERIODS) ? (long)r : CDPR_SCENARIO_MAX_PERIODS;
+}
+
 long cdpr_scenario_periods(const cdpr_scenario_t *sc)
 {
-    return (long)floor(sc->duration_s / sc->period_s + 0.5);
+    return cdpr_scenario_count(sc->duration_s / sc->period_s);
 }
 
 long cdpr_scenario_output_every(const cdpr_scenario_t *sc)
@@ -1016,7 +1106,7 @@ long cdpr_scenario_output_every(const cdpr_scenario_t *sc)
     if (!(sc->output_rate_hz > 0.0)) {
         return 1;
     }
-    const long every = (long)floor(1.0 / (sc->output_rate_hz * sc->period_s) + 0.5);
+    const long every = cdpr_scenario_count(1.0 / (sc->output_rate_hz * sc->period_s));
     return (every >= 1) ? every : 1;
 }
 

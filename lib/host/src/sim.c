@@ -30,20 +30,123 @@ void cdpr_sim_opts_default(cdpr_sim_opts_t *o)
 
 static const char *traj_key(const cdpr_scenario_t *sc)
 {
-    return (sc->traj.type == CDPR_TRAJ_CIRCLE)
-               ? "trajectory.circle"
-               : ((sc->traj.type == CDPR_TRAJ_LINE) ? "trajectory.line" : "trajectory.hold");
+    static const char *const keys[] = {"trajectory.hold", "trajectory.circle", "trajectory.line",
+                                       "trajectory.cyclic"};
+    return keys[(sc->traj.type <= CDPR_TRAJ_CYCLIC) ? sc->traj.type : CDPR_TRAJ_HOLD];
 }
 
-/* The trajectory (every 0.1 s and at the end) must be statically feasible (the initial pose is
- * checked by cdpr_plant_init); returns CDPR_OK or the error with err filled. */
-static cdpr_status_t check_reachable(sim_t *s, const cdpr_scenario_t *sc, double duration,
-                                     cdpr_scenario_error_t *err)
+/* Straight-cable tensions T (6) that balance the load the IK is asked to balance (the weight
+ * plus the wrench f, tau about the CoM) at pose m: A T = (M g z - f, -tau), columns (u_j,
+ * r_j x u_j) with u_j the unit chord attachment -> exit point and r_j the attachment from the
+ * CoM. Gaussian elimination with partial pivoting; 0 if singular. */
+static int straight_tensions(const cdpr_robot_t *r, const cdpr_cabin_motion_t *m, cdpr_vec3_t f,
+                             cdpr_vec3_t tau, double T[6])
+{
+    double a[6][7];
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(m->q, &R);
+    const cdpr_vec3_t com = cdpr_v3_add(m->p_m, cdpr_m3_mul_v3(&R, r->p.cabin.com_body_m));
+    for (int j = 0; j < 6; ++j) {
+        cdpr_vec3_t at;
+        cdpr_vec3_t vel;
+        cdpr_robot_attachment(r, j, m, &at, &vel);
+        const cdpr_vec3_t chord = cdpr_v3_sub(r->p.cables[j].exit_point_m, at);
+        const cdpr_vec3_t u = cdpr_v3_scale(chord, 1.0 / cdpr_v3_norm(chord));
+        const cdpr_vec3_t t = cdpr_v3_cross(cdpr_v3_sub(at, com), u);
+        const double col[6] = {u.x, u.y, u.z, t.x, t.y, t.z};
+        for (int i = 0; i < 6; ++i) {
+            a[i][j] = col[i];
+        }
+    }
+    const double b[6] = {-f.x,   -f.y,   r->p.cabin.mass_kg * r->p.g_m_per_s2 - f.z,
+                         -tau.x, -tau.y, -tau.z};
+    for (int i = 0; i < 6; ++i) {
+        a[i][6] = b[i];
+    }
+    for (int c = 0; c < 6; ++c) {
+        int piv = c;
+        for (int i = c + 1; i < 6; ++i) {
+            piv = (fabs(a[i][c]) > fabs(a[piv][c])) ? i : piv;
+        }
+        if (!(fabs(a[piv][c]) > 1e-12)) {
+            return 0;
+        }
+        for (int k = 0; k < 7; ++k) {
+            const double tmp = a[c][k];
+            a[c][k] = a[piv][k];
+            a[piv][k] = tmp;
+        }
+        for (int i = 0; i < 6; ++i) {
+            const double q = (i != c) ? a[i][c] / a[c][c] : 0.0;
+            for (int k = c; k < 7; ++k) {
+                a[i][k] -= q * a[c][k];
+            }
+        }
+    }
+    for (int j = 0; j < 6; ++j) {
+        T[j] = a[j][6] / a[j][j];
+    }
+    return 1;
+}
+
+/* Why the IK of the desired motion at t failed, into `what`: the cable whose straight-cable
+ * tension is lowest, when it would have to push. */
+static void infeasible_reason(const cdpr_robot_t *r, const cdpr_traj_sample_t *ds, double t,
+                              cdpr_vec3_t f, cdpr_vec3_t tau, cdpr_status_t st, char *what,
+                              size_t cap)
+{
+    double T[6];
+    int worst = 0;
+    const int solved = straight_tensions(r, &ds->motion, f, tau, T);
+    for (int j = 1; j < 6 && solved != 0; ++j) {
+        worst = (T[j] < T[worst]) ? j : worst;
+    }
+    const int n =
+        snprintf(what, cap,
+                 "desired pose at t = %g s (%g, %g, %g m, %g, %g, %g rad) is not "
+                 "reachable (no equilibrium with every cable pulling",
+                 t, ds->pose[0], ds->pose[1], ds->pose[2], ds->pose[3], ds->pose[4], ds->pose[5]);
+    if (n < 0 || (size_t)n >= cap) {
+        return;
+    }
+    if (solved != 0 && T[worst] <= 0.0) {
+        snprintf(what + n, cap - (size_t)n,
+                 " under the weight and the feed-forward's inertial load): cable %d would need "
+                 "a tension of %.4g N (pushing; straight-cable estimate): %s",
+                 worst + 1, T[worst], cdpr_status_str(st));
+    } else {
+        snprintf(what + n, cap - (size_t)n, "): %s", cdpr_status_str(st));
+    }
+}
+
+/* Unstretched lengths of an IK result within the winch and length-command limits. */
+static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_statics_result_t *res,
+                                   const cdpr_winch_params_t *w, double t,
+                                   cdpr_scenario_error_t *err)
+{
+    for (int j = 0; j < res->n_cables; ++j) {
+        const double L = res->cable[j].length_m;
+        if (L > CDPR_SIM_MAX_LENGTH_M || L < w[j].min_length_m) {
+            char what[512];
+            snprintf(what, sizeof what,
+                     "cable %d would be %.6g m long at t = %g s: outside [%g, %g] m (the winch's "
+                     "min_length_m, the longest length command)",
+                     j + 1, L, t, w[j].min_length_m, CDPR_SIM_MAX_LENGTH_M);
+            cdpr_scenario_error(sc, traj_key(sc), what, err);
+            return CDPR_E_OUT_OF_RANGE;
+        }
+    }
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_sim_check_trajectory(const cdpr_scenario_t *sc, double duration,
+                                        cdpr_robot_t *model, cdpr_scenario_error_t *err)
 {
     cdpr_robot_params_t mp;
+    cdpr_winch_params_t w[CDPR_MAX_CABLES];
     cdpr_diag_t d;
-    if (cdpr_scenario_build_robot(sc, NULL, &mp, NULL, &d) != CDPR_OK ||
-        cdpr_robot_init(&s->model, &mp, &d) != CDPR_OK) {
+    if (cdpr_scenario_build_robot(sc, NULL, &mp, w, &d) != CDPR_OK ||
+        cdpr_robot_init(model, &mp, &d) != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "rejected by the model: field '%s': %s", d.field,
                  cdpr_status_str(d.status));
@@ -52,23 +155,29 @@ static cdpr_status_t check_reachable(sim_t *s, const cdpr_scenario_t *sc, double
     }
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
-    const long n = (long)ceil(duration / 0.1);
+    const long n = cdpr_scenario_count(ceil(duration / 0.1));
     for (long k = 0; k <= n; ++k) {
         const double t = (k < n) ? 0.1 * (double)k : duration + sc->period_s;
         cdpr_traj_sample_t ds;
         cdpr_traj_eval(&sc->traj, t, &ds);
+        cdpr_vec3_t f = cdpr_v3(0.0, 0.0, 0.0);
+        cdpr_vec3_t tau = f;
+        if (sc->gains.inertial_ff > 0.0) {
+            cdpr_tracker_inertial_wrench(model, &ds, &f, &tau);
+            f = cdpr_v3_scale(f, sc->gains.inertial_ff);
+            tau = cdpr_v3_scale(tau, sc->gains.inertial_ff);
+        }
         cdpr_statics_result_t res;
-        const cdpr_status_t st = cdpr_statics_ik(&s->model, &ds.motion, &o, &res);
+        const cdpr_status_t st = cdpr_statics_ik_wrench(model, &ds.motion, f, tau, &o, &res);
         if (st != CDPR_OK) {
-            char what[512];
-            snprintf(what, sizeof what,
-                     "desired pose at t = %g s (%g, %g, %g m, %g, %g, %g rad) is not "
-                     "statically reachable (no equilibrium with every cable "
-                     "pulling): %s",
-                     t, ds.pose[0], ds.pose[1], ds.pose[2], ds.pose[3], ds.pose[4], ds.pose[5],
-                     cdpr_status_str(st));
+            char what[768];
+            infeasible_reason(model, &ds, t, f, tau, st, what, sizeof what);
             cdpr_scenario_error(sc, traj_key(sc), what, err);
             return st;
+        }
+        const cdpr_status_t ls = check_lengths(sc, &res, w, t, err);
+        if (ls != CDPR_OK) {
+            return ls;
         }
     }
     return CDPR_OK;
@@ -103,7 +212,7 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
         return ps;
     }
     /* The trajectory before the controller: its error names the time and pose. */
-    const cdpr_status_t ts = check_reachable(s, sc, duration, err);
+    const cdpr_status_t ts = cdpr_sim_check_trajectory(sc, duration, &s->model, err);
     if (ts != CDPR_OK) {
         return ts;
     }
@@ -141,7 +250,7 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
     const cdpr_robot_t *r = &p->robot;
     const int nc = r->p.n_cables;
     const double dt = sc->period_s;
-    const long n_periods = (long)floor(duration / dt + 0.5);
+    const long n_periods = cdpr_scenario_count(duration / dt);
     double next_progress = wall0 + o->progress_after_s;
     int shown = 0;
     double l_ff[CDPR_MAX_CABLES] = {0.0};

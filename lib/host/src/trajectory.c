@@ -44,6 +44,11 @@ cdpr_vec3_t cdpr_euler_accel_to_body(const double euler[3], const double rates[3
     return cdpr_m3t_mul_v3(&R, dw_world);
 }
 
+double cdpr_traj_cycle_s(const cdpr_traj_t *tr)
+{
+    return (tr->type == CDPR_TRAJ_CYCLIC) ? 2.0 * (tr->duration_s + tr->pause_s) : 0.0;
+}
+
 double cdpr_traj_end_time(const cdpr_traj_t *tr)
 {
     switch (tr->type) {
@@ -51,6 +56,8 @@ double cdpr_traj_end_time(const cdpr_traj_t *tr)
         return (double)INFINITY;
     case CDPR_TRAJ_LINE:
         return (tr->back_and_forth != 0) ? 2.0 * tr->duration_s + tr->pause_s : tr->duration_s;
+    case CDPR_TRAJ_CYCLIC:
+        return (tr->cycles > 0) ? (double)tr->cycles * cdpr_traj_cycle_s(tr) : (double)INFINITY;
     default:
         return 0.0;
     }
@@ -122,6 +129,39 @@ static void line(const cdpr_traj_t *tr, double t, cdpr_traj_sample_t *o)
     }
 }
 
+/* One cycloidal leg a -> b at u = leg time / T in [0, 1]: s = u - sin(2 pi u) / (2 pi),
+ * ds/dt = (1 - cos 2 pi u) / T, d2s/dt2 = 2 pi sin(2 pi u) / T^2. */
+static void cycloid(const double *a, const double *b, double u, double T, cdpr_traj_sample_t *o)
+{
+    const double w = 2.0 * CDPR_PI * u;
+    const double s = u - sin(w) / (2.0 * CDPR_PI);
+    const double sd = (1.0 - cos(w)) / T;
+    const double sdd = 2.0 * CDPR_PI * sin(w) / (T * T);
+    for (int i = 0; i < 6; ++i) {
+        const double d = b[i] - a[i];
+        o->pose[i] = a[i] + s * d;
+        o->rate[i] = sd * d;
+        o->accel[i] = sdd * d;
+    }
+}
+
+static void cyclic(const cdpr_traj_t *tr, double t, cdpr_traj_sample_t *o)
+{
+    const double T = tr->duration_s;
+    const double P = cdpr_traj_cycle_s(tr);
+    const int ended = (tr->cycles > 0 && t >= (double)tr->cycles * P) ? 1 : 0;
+    const double tau = (t > 0.0 && ended == 0) ? fmod(t, P) : 0.0; /* time within the cycle */
+    if (tau < T) {
+        cycloid(tr->from, tr->to, tau / T, T, o); /* out (at `from`, at rest, for tau = 0) */
+    } else if (tau < T + tr->pause_s) {
+        cycloid(tr->from, tr->to, 1.0, T, o); /* pausing at `to` */
+    } else if (tau < 2.0 * T + tr->pause_s) {
+        cycloid(tr->to, tr->from, (tau - T - tr->pause_s) / T, T, o); /* back */
+    } else {
+        cycloid(tr->to, tr->from, 1.0, T, o); /* pausing at `from` */
+    }
+}
+
 void cdpr_traj_eval(const cdpr_traj_t *tr, double t_s, cdpr_traj_sample_t *out)
 {
     memset(out, 0, sizeof *out);
@@ -131,6 +171,9 @@ void cdpr_traj_eval(const cdpr_traj_t *tr, double t_s, cdpr_traj_sample_t *out)
         break;
     case CDPR_TRAJ_LINE:
         line(tr, t_s, out);
+        break;
+    case CDPR_TRAJ_CYCLIC:
+        cyclic(tr, t_s, out);
         break;
     default:
         memcpy(out->pose, tr->hold_pose, sizeof out->pose);

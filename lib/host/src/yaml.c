@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <yaml.h>
 
 /* Error-level lines, appended in order, truncated at the buffer's end. */
@@ -38,18 +39,118 @@ static cyaml_config_t config(cyaml_cfg_flags_t flags, cdpr_yaml_log_t *log)
     return cfg;
 }
 
+/* Up to CDPR_YAML_ECHO_MAX characters of `s` (one line) into out, with "…" when cut. */
+void cdpr_yaml_echo(char *out, size_t cap, const char *s)
+{
+    size_t n = 0;
+    while (s[n] != '\0' && s[n] != '\n' && n < CDPR_YAML_ECHO_MAX) {
+        ++n;
+    }
+    const int cut = (s[n] != '\0' && s[n] != '\n') ? 1 : 0;
+    snprintf(out, cap, "%.*s%s", (int)n, s, (cut != 0) ? "\u2026" : "");
+}
+
+/* libyaml's syntax error as "FILE:LINE:COLUMN: what": the problem where it was found, the
+ * construct it was in (an unclosed list or mapping names where it opened). */
+static void syntax_error(const char *path, const yaml_parser_t *ps, char *out, size_t cap)
+{
+    const char *problem = (ps->problem != NULL) ? ps->problem : "malformed YAML";
+    const int line = (int)ps->problem_mark.line + 1;
+    const int col = (int)ps->problem_mark.column + 1;
+    const char *ctx = (ps->context != NULL) ? ps->context : "";
+    const int cline = (int)ps->context_mark.line + 1;
+    const int ccol = (int)ps->context_mark.column + 1;
+    if (strstr(ctx, "flow sequence") != NULL || strstr(ctx, "flow mapping") != NULL) {
+        const int list = (strstr(ctx, "sequence") != NULL) ? 1 : 0;
+        snprintf(out, cap,
+                 "%s:%d:%d: unclosed %s '%c' (opened at line %d, column %d): %s at line %d, "
+                 "column %d",
+                 path, cline, ccol, (list != 0) ? "list" : "mapping", (list != 0) ? '[' : '{',
+                 cline, ccol, problem, line, col);
+    } else if (strstr(ctx, "quoted scalar") != NULL) {
+        snprintf(out, cap,
+                 "%s:%d:%d: unterminated quoted string (opened at line %d, column %d): %s", path,
+                 cline, ccol, cline, ccol, problem);
+    } else if (strstr(problem, "cannot start any token") != NULL && ps->problem_value == '\t') {
+        snprintf(out, cap, "%s:%d:%d: a tab character: YAML indents with spaces only", path, line,
+                 col);
+    } else if (ctx[0] != '\0') {
+        snprintf(out, cap, "%s:%d:%d: %s (%s at line %d, column %d)", path, line, col, problem, ctx,
+                 cline, ccol);
+    } else {
+        snprintf(out, cap, "%s:%d:%d: %s", path, line, col, problem);
+    }
+}
+
+/* A syntax pass of libyaml over the whole file (every event, nothing kept). */
+static cdpr_status_t syntax_check(const char *path, FILE *fp, char *out, size_t cap)
+{
+    yaml_parser_t ps;
+    if (yaml_parser_initialize(&ps) == 0) {
+        snprintf(out, cap, "%s: out of memory", path);
+        return CDPR_E_IO;
+    }
+    yaml_parser_set_input_file(&ps, fp);
+    cdpr_status_t st = CDPR_OK;
+    /* Bounded by the file (<= CDPR_YAML_MAX_FILE_BYTES): each iteration consumes one event. */
+    for (int done = 0; done == 0;) {
+        yaml_event_t ev;
+        if (yaml_parser_parse(&ps, &ev) == 0) {
+            syntax_error(path, &ps, out, cap);
+            st = CDPR_E_PARSE;
+            break;
+        }
+        done = (ev.type == YAML_STREAM_END_EVENT) ? 1 : 0;
+        yaml_event_delete(&ev);
+    }
+    yaml_parser_delete(&ps);
+    return st;
+}
+
+cdpr_status_t cdpr_yaml_check_file(const char *path, char *out, size_t cap)
+{
+    out[0] = '\0';
+    struct stat sb;
+    FILE *fp = fopen(path, "rb");
+    if (fp == NULL || fstat(fileno(fp), &sb) != 0) {
+        snprintf(out, cap, "%s", strerror(errno));
+        if (fp != NULL) {
+            fclose(fp);
+        }
+        return CDPR_E_IO;
+    }
+    cdpr_status_t st = CDPR_OK;
+    if (S_ISDIR(sb.st_mode)) {
+        snprintf(out, cap, "%s: is a directory, not a YAML file", path);
+        st = CDPR_E_PARSE;
+    } else if (!S_ISREG(sb.st_mode)) {
+        snprintf(out, cap, "%s: not a regular file (a pipe or a device): the file is read twice",
+                 path);
+        st = CDPR_E_PARSE;
+    } else if (sb.st_size > (off_t)CDPR_YAML_MAX_FILE_BYTES) {
+        snprintf(out, cap,
+                 "%s: %lld bytes: larger than the limit of YAML input files (%ld bytes, 1 MiB)",
+                 path, (long long)sb.st_size, (long)CDPR_YAML_MAX_FILE_BYTES);
+        st = CDPR_E_PARSE;
+    } else {
+        st = syntax_check(path, fp, out, cap);
+    }
+    fclose(fp);
+    return st;
+}
+
 cdpr_status_t cdpr_yaml_load(const char *path, const cyaml_schema_value_t *schema,
                              cyaml_cfg_flags_t flags, void **data, cdpr_yaml_log_t *log)
 {
     memset(log, 0, sizeof *log);
     *data = NULL;
-    FILE *probe = fopen(path, "rb");
-    if (probe == NULL) {
-        snprintf(log->text, sizeof log->text, "%s", strerror(errno));
+    const cdpr_status_t cs = cdpr_yaml_check_file(path, log->text, sizeof log->text);
+    if (cs != CDPR_OK) {
         log->len = strlen(log->text);
-        return CDPR_E_IO;
+        log->whole = (cs == CDPR_E_IO) ? 0 : 1;
+        log->what_at = (log->whole != 0) ? strlen(path) + 1 : 0;
+        return cs;
     }
-    fclose(probe);
     const cyaml_config_t cfg = config(flags, log);
     cyaml_data_t *out = NULL;
     log->err = cyaml_load_file(path, &cfg, schema, &out, NULL);
@@ -66,7 +167,9 @@ cdpr_status_t cdpr_yaml_load(const char *path, const cyaml_schema_value_t *schem
 
 const char *cdpr_yaml_first_error(const cdpr_yaml_log_t *log, char *buf, size_t cap)
 {
-    snprintf(buf, cap, "%s", (log->text[0] != '\0') ? log->text : cyaml_strerror(log->err));
+    const char *what = log->text + ((log->what_at < log->len) ? log->what_at : 0);
+    what += (what[0] == ' ') ? 1 : 0;
+    snprintf(buf, cap, "%s", (log->text[0] != '\0') ? what : cyaml_strerror(log->err));
     char *nl = strchr(buf, '\n');
     if (nl != NULL) {
         *nl = '\0';
@@ -270,6 +373,10 @@ static int parse_trace_line(const char *s, trace_t *t)
 
 void cdpr_yaml_error_message(const char *path, const cdpr_yaml_log_t *lb, char *out, size_t cap)
 {
+    if (lb->whole != 0) {
+        snprintf(out, cap, "%s", lb->text); /* the file check's message, whole */
+        return;
+    }
     char message[512] = "";
     trace_t trace[PATH_DEPTH];
     memset(trace, 0, sizeof trace);
@@ -344,6 +451,14 @@ void cdpr_yaml_error_message(const char *path, const cdpr_yaml_log_t *lb, char *
     } else if (named != NULL) {
         snprintf(what, sizeof what, "missing required key");
     } else if (message[0] != '\0') {
+        /* libcyaml echoes the offending value after ": " ("Invalid FLOAT value: heavy"): keep
+         * it short. */
+        char *value = strstr(message, ": ");
+        if (value != NULL) {
+            char echo[CDPR_YAML_ECHO_MAX + 8];
+            cdpr_yaml_echo(echo, sizeof echo, value + 2);
+            snprintf(value + 2, sizeof message - (size_t)(value + 2 - message), "%s", echo);
+        }
         snprintf(what, sizeof what, "%s", message);
     } else {
         snprintf(what, sizeof what, "%s", cyaml_strerror(lb->err));

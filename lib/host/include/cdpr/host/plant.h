@@ -13,6 +13,11 @@
 #include "cdpr/plant.h"
 #include "cdpr/host/scenario.h"
 
+/// Most settling steps a host plant takes before it refuses to start [accepted steps]: 10x the
+/// most a shipped scenario needs (19 892, example-rig-circle), a tenth of the core's default
+/// (2e6), so a robot that settles too slowly is refused in seconds, not minutes.
+#define CDPR_HOST_SETTLE_MAX_STEPS 200000L
+
 /// Fill the core plant parameters of scenario `sc` (checked). O(cables); no allocation.
 /// Errors (`err` names the key): the robot's values rejected by the core (CDPR_E_NOT_FINITE,
 /// CDPR_E_NOT_POSITIVE, CDPR_E_OUT_OF_RANGE, CDPR_E_GEOMETRY, ...: key "robot").

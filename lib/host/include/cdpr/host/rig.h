@@ -19,6 +19,8 @@
 #ifndef CDPR_HOST_RIG_H
 #define CDPR_HOST_RIG_H
 
+#include <stddef.h>
+
 #include "cdpr/cable.h"
 #include "cdpr/config.h"
 #include "cdpr/robot.h"
@@ -85,6 +87,13 @@ cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t 
 /// positive definite) or the core's status.
 cdpr_status_t cdpr_rig_check(const cdpr_rig_t *rig, const char *path, const char *prefix,
                              cdpr_rig_error_t *err);
+
+/// Physical plausibility of a symmetric inertia matrix [kg m^2]: positive definite (its leading
+/// minors and principal moments > 0: CDPR_E_NOT_POSITIVE) and principal moments e1 <= e2 <= e3
+/// with e3 <= e1 + e2 (within 1e-9 of the trace; the triangle inequality every rigid body
+/// obeys, equality for a flat plate: CDPR_E_OUT_OF_RANGE). On failure `what` says why
+/// (moments named). O(1). Returns CDPR_OK otherwise.
+cdpr_status_t cdpr_rig_inertia_plausible(const double I[3][3], char *what, size_t cap);
 
 /// Principal moments of a symmetric 3x3 matrix, ascending (closed form). O(1).
 void cdpr_rig_principal_moments(const double m[3][3], double eig[3]);

@@ -142,7 +142,17 @@ cdpr_status_t cdpr_scenario_build_robot(const cdpr_scenario_t *sc, const double 
 /// Initial pose: initial.pose (or the trajectory at t = 0) plus initial.offset.
 void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6]);
 
-/// Number of control periods of the run and control periods per output row.
+/// Most control periods a run may have (run.duration_s / run.period_s; also the bound on the
+/// control periods per output row): 1e9, 11.6 days at 1 kHz, and it fits a 32-bit long, so no
+/// count overflows.
+#define CDPR_SCENARIO_MAX_PERIODS 1000000000L
+
+/// A count from a double: round(n), 0 for NaN or n <= 0, CDPR_SCENARIO_MAX_PERIODS beyond it
+/// (never an overflowing cast).
+long cdpr_scenario_count(double n);
+
+/// Number of control periods of the run and control periods per output row (saturating, see
+/// cdpr_scenario_count; cdpr_scenario_check keeps both within CDPR_SCENARIO_MAX_PERIODS).
 long cdpr_scenario_periods(const cdpr_scenario_t *sc);
 long cdpr_scenario_output_every(const cdpr_scenario_t *sc);
 

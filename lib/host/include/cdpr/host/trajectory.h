@@ -17,7 +17,12 @@
 #include "cdpr/cabin.h"
 
 /// Trajectory kinds.
-typedef enum { CDPR_TRAJ_HOLD = 0, CDPR_TRAJ_CIRCLE = 1, CDPR_TRAJ_LINE = 2 } cdpr_traj_type_t;
+typedef enum {
+    CDPR_TRAJ_HOLD = 0,
+    CDPR_TRAJ_CIRCLE = 1,
+    CDPR_TRAJ_LINE = 2,
+    CDPR_TRAJ_CYCLIC = 3 ///< repeated `from` -> `to` -> `from` (deploy and retrieve), see below
+} cdpr_traj_type_t;
 
 /// Trajectory parameters (inputs).
 typedef struct {
@@ -37,6 +42,12 @@ typedef struct {
     double duration_s;  ///< time from `from` to `to` [s] (> 0)
     double pause_s;     ///< wait at `to` before returning [s] (>= 0)
     int back_and_forth; ///< 1: return to `from` after the pause
+    /* cyclic: from, to, duration_s (one leg) and pause_s (at each end) as above; each leg
+     * follows the cycloidal profile s(u) = u - sin(2 pi u) / (2 pi), u = leg time / duration_s,
+     * so position, velocity and acceleration are continuous everywhere (zero velocity and
+     * acceleration at both ends of a leg) and the motion is periodic with period
+     * 2 (duration_s + pause_s): out, pause at `to`, back, pause at `from`. */
+    long cycles; ///< cyclic: cycles to run, then held at `from` (0: repeats for ever)
 } cdpr_traj_t;
 
 /// Desired state at one instant (outputs).
@@ -65,7 +76,10 @@ cdpr_vec3_t cdpr_euler_rates_to_body(const double euler[3], const double rates[3
 cdpr_vec3_t cdpr_euler_accel_to_body(const double euler[3], const double rates[3],
                                      const double accels[3]);
 
-/// Time at which the trajectory stops moving [s] (circle: never, returns +Inf).
+/// Period of a cyclic trajectory, 2 (duration_s + pause_s) [s] (0 for the other types).
+double cdpr_traj_cycle_s(const cdpr_traj_t *tr);
+
+/// Time at which the trajectory stops moving [s] (circle and an endless cyclic: never, +Inf).
 double cdpr_traj_end_time(const cdpr_traj_t *tr);
 
 /// Planned transfer from a measured start onto a trajectory (issue 14; controller.transfer_s).

@@ -21,13 +21,38 @@ typedef struct {
     size_t len;      ///< length of text
     cyaml_err_t err; ///< libcyaml's result (CYAML_OK for an unreadable or empty file)
     int empty;       ///< 1: the file holds no document
+    int whole;       ///< 1: text is the whole message of cdpr_yaml_check_file ("FILE...: what")
+    size_t what_at;  ///< whole: where the part after "FILE:" starts in text
 } cdpr_yaml_log_t;
 
-/// Load `path` against `schema` (a CYAML_FLAG_POINTER mapping) into *data. `flags`: libcyaml
-/// configuration flags (CYAML_CFG_DEFAULT, CYAML_CFG_IGNORE_UNKNOWN_KEYS, ...). Returns
-/// CDPR_OK (*data set: free it with cdpr_yaml_free), CDPR_E_IO (the file cannot be opened;
-/// log->text holds strerror) or CDPR_E_PARSE (libcyaml refused it, log->err and log->text say
-/// why; or the file is empty, log->empty = 1); *data is NULL on error.
+/// Largest YAML input file [bytes] (1 MiB; the shipped scenarios and robot files are < 4 kB,
+/// and the key-line lookups parse the file again for every error, so the work of a refusal is
+/// bounded by it). Checked with fstat before anything parses the file.
+#define CDPR_YAML_MAX_FILE_BYTES (1024L * 1024L)
+
+/// Longest piece of a file's text echoed in an error message [characters]; longer pieces are
+/// cut and end in "…".
+#define CDPR_YAML_ECHO_MAX 60
+
+/// The checks before any parse: the file opens (CDPR_E_IO, out = strerror), is a regular file
+/// ("FILE: is a directory, not a YAML file"), at most CDPR_YAML_MAX_FILE_BYTES, and valid YAML
+/// syntax (one libyaml pass; "FILE:LINE:COLUMN: what", the construct named where it opened:
+/// "unclosed list '[' (opened at line 7, column 11)", "a tab character: YAML indents with
+/// spaces only"); those give CDPR_E_PARSE with the whole message in `out`. Work: one read of
+/// at most 1 MiB; no allocation beyond libyaml's parser. Returns CDPR_OK otherwise.
+cdpr_status_t cdpr_yaml_check_file(const char *path, char *out, size_t cap);
+
+/// At most CDPR_YAML_ECHO_MAX characters of `s` (up to its first newline) into out, "…"
+/// appended when cut.
+void cdpr_yaml_echo(char *out, size_t cap, const char *s);
+
+/// Load `path` against `schema` (a CYAML_FLAG_POINTER mapping) into *data, after
+/// cdpr_yaml_check_file. `flags`: libcyaml configuration flags (CYAML_CFG_DEFAULT,
+/// CYAML_CFG_IGNORE_UNKNOWN_KEYS, ...). Returns CDPR_OK (*data set: free it with
+/// cdpr_yaml_free), CDPR_E_IO (the file cannot be opened; log->text holds strerror) or
+/// CDPR_E_PARSE (the file check refused it: log->whole = 1, log->text its message; or libcyaml
+/// refused it, log->err and log->text say why; or the file is empty, log->empty = 1); *data is
+/// NULL on error.
 cdpr_status_t cdpr_yaml_load(const char *path, const cyaml_schema_value_t *schema,
                              cyaml_cfg_flags_t flags, void **data, cdpr_yaml_log_t *log);
 

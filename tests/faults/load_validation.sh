@@ -1,0 +1,137 @@
+#!/bin/bash
+# SPDX-License-Identifier: BSD-3-Clause
+# Validation at load (issue 10, M1 L5 L6 L8 L9): each hostile scenario is refused by cdpr-sim
+# with exit status 2 and the exact message (file, line[:column], key, reason), and nothing is
+# run: no timeseries.csv, no summary.json. Work bounds are asserted from what the code counts
+# (the settle's step count in its message), never from wall time.
+# usage: load_validation.sh BUILD_DIR SOURCE_DIR WORK_DIR [CASE]   (CASE: run only that case)
+set -u
+build=$(cd "$1" && pwd)
+src=$(cd "$2" && pwd)
+work=$3
+only=${4:-}
+sim="$build/apps/cdpr-sim/cdpr-sim"
+[ -x "$sim" ] || sim="$build/apps/cdpr-sim"
+rm -rf "$work"
+mkdir -p "$work"
+cd "$work" || exit 1
+fails=0
+
+# A small valid scenario (the deploy-retrieve move, 0.1 s): every case changes one thing.
+base() {
+    cat <<'YAML'
+robot:
+  preset: paper-50m
+  segments: 20
+trajectory:
+  type: line
+  line:
+    from: [0.0, 0.0, 4.0, 0.0, 0.0, 0.0]
+    to:   [0.0, 0.0, 15.0, 0.0, 0.0, 0.0]
+    duration_s: 8.0
+controller:
+  kp: 0.0
+  k_length_per_s: 5.0
+  filter_s: 0.1
+integrator:
+  max_trials: 2000
+run:
+  duration_s: 0.1
+  period_s: 0.01
+YAML
+}
+
+# refused NAME FILE EXPECTED-STDERR-SUBSTRING...: exit 2, every substring on stderr, no output.
+refused() {
+    local name=$1 file=$2
+    shift 2
+    if [ -n "$only" ] && [ "$only" != "$name" ]; then
+        return
+    fi
+    # (a guard against a hang, not a time assertion: the old code settled for minutes)
+    timeout 300 "$sim" "$file" --out "out-$name" --no-plot --quiet >"$name.stdout" 2>"$name.stderr"
+    local rc=$?
+    local ok=1
+    [ "$rc" -eq 2 ] || { echo "FAIL $name: exit $rc, expected 2"; ok=0; }
+    for want in "$@"; do
+        grep -qF -- "$want" "$name.stderr" || { echo "FAIL $name: stderr lacks: $want"; ok=0; }
+    done
+    if [ -e "out-$name/timeseries.csv" ] || [ -e "out-$name/summary.json" ]; then
+        echo "FAIL $name: something was run (outputs written)"
+        ok=0
+    fi
+    if [ "$ok" -eq 1 ]; then
+        echo "ok   $name: $(head -c 400 "$name.stderr")"
+    else
+        echo "     stderr: $(head -c 600 "$name.stderr")"
+        fails=$((fails + 1))
+    fi
+}
+
+# short NAME: the message of a case that ran is at most 200 bytes (short echoes).
+short() {
+    [ -e "$1.stderr" ] || return 0
+    local n
+    n=$(wc -c <"$1.stderr")
+    [ "$n" -le 200 ] || { echo "FAIL $1: message is $n bytes (> 200)"; fails=$((fails + 1)); }
+}
+
+# M1: a period so short that the period count overflows a long.
+base | sed 's/period_s: 0.01/period_s: 1e-20/' >m1.yaml
+refused m1_period_overflow m1.yaml \
+    "m1.yaml:18: run.period_s: 1e-20 s gives 1e+19 control periods over run.duration_s = 0.1 s: more than the 1e+09 a run may have"
+
+# L5: an inertia no rigid body has, a zero output rate, 5 km cables.
+base | sed 's/^  segments: 20$/  segments: 20\n  cabin: {inertia_kg_m2: [1, 1, 10]}/' >l5a.yaml
+refused l5_inertia_triangle l5a.yaml \
+    "l5a.yaml:4: robot.cabin.inertia_kg_m2: principal moments 1, 1, 10 kg m^2 break the triangle inequality (1 + 1 < 10): no rigid body has them"
+{ base; echo "  output_rate_hz: 0"; } >l5b.yaml
+refused l5_output_rate_zero l5b.yaml \
+    "l5b.yaml:19: run.output_rate_hz: 0 Hz: a rate must be > 0 (omit the key for one row per control period)"
+base | sed 's/^  segments: 20$/  segments: 20\n  towers: {radius_m: 8000}/' >l5c.yaml
+refused l5_cable_too_long l5c.yaml \
+    "l5c.yaml:7: trajectory.line: cable 1 would be 5173.97 m long at t = 0 s: outside [0.5, 1000] m (the winch's min_length_m, the longest length command)"
+# ... and a robot file with the same inertia as a full 3x3 matrix.
+sed 's/^    - \[45.0, 0.0, 0.0\]$/    - [1, 0, 0]/; s/^    - \[0.0, 45.0, 0.0\]$/    - [0, 1, 0]/;
+     s/^    - \[0.0, 0.0, 90.0\]$/    - [0, 0, 10]/' "$src/robots/paper-50m.yaml" >l5-robot.yaml
+base | sed 's/^  preset: paper-50m$/  file: l5-robot.yaml/; /^  segments: 20$/d' >l5d.yaml
+[ "$(grep -c "^    - \[[01]*, [01]*, [01]*\]$" l5-robot.yaml)" -eq 3 ] || { echo "FAIL l5_robot_file: robots/paper-50m.yaml changed form"; fails=$((fails + 1)); }
+refused l5_robot_file l5d.yaml "l5-robot.yaml:" \
+    "cabin.inertia_kg_m2: principal moments 1, 1, 10 kg m^2 break the triangle inequality"
+
+# L6: a 2 MiB one-line description: refused by its size before any parse; a 1000-character
+# value inside the limit is echoed in at most 60 characters and an ellipsis.
+{ printf 'description: "'; head -c 2097152 /dev/zero | tr '\0' 'A'; printf '"\n'; base; } >l6a.yaml
+refused l6_file_size l6a.yaml \
+    "l6a.yaml: $(wc -c <l6a.yaml) bytes: larger than the limit of YAML input files (1048576 bytes, 1 MiB)"
+short l6_file_size
+{ printf 'description: "'; head -c 1000 /dev/zero | tr '\0' 'A'; printf '"\n'; base; } >l6b.yaml
+refused l6_short_echo l6b.yaml \
+    "l6b.yaml:1: description: STRING length > 255: $(head -c 60 /dev/zero | tr '\0' 'A')…"
+short l6_short_echo
+
+# L8: undamped cables are refused before any settling step; stiff ones give up within the
+# documented step bound (CDPR_HOST_SETTLE_MAX_STEPS), the count from the code.
+base | sed 's/^  segments: 20$/  segments: 20\n  cable: {damping_Ns: 0}/' >l8a.yaml
+refused l8_undamped l8a.yaml \
+    "l8a.yaml:4: robot.cable: cable 1 undamped (damping 0): the settle cannot converge; set robot.cable.damping_ratio (or damping_Ns)"
+base | sed 's/^  segments: 20$/  segments: 20\n  cable: {ea_N: 1e13}/' >l8b.yaml
+refused l8_stiff l8b.yaml "l8b.yaml:8: trajectory.line.from: the initial state did not settle to rest: gave up after 200000 steps (the bound;" \
+    "stiff or lightly damped cables settle slowly: lower robot.cable.ea_N or raise robot.cable.damping_ratio"
+
+# L9: a directory, a tab, an unclosed list, an infeasible fast circle.
+mkdir -p l9-dir.yaml
+refused l9_directory l9-dir.yaml "l9-dir.yaml: is a directory, not a YAML file"
+base | sed '3s/^  /\t/' >l9b.yaml
+refused l9_tab l9b.yaml "l9b.yaml:3:1: found a tab character"
+base | sed 's/^    from: \[0.0, 0.0, 4.0, 0.0, 0.0, 0.0\]$/    from: [0.0, 0.0, 4.0, 0.0, 0.0, 0.0/' >l9c.yaml
+refused l9_unclosed_list l9c.yaml \
+    "l9c.yaml:7:11: unclosed list '[' (opened at line 7, column 11): did not find expected ',' or ']' at line 8, column 7"
+sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 12.0/; s/duration_s: 12.6 .*/duration_s: 1.0/' \
+    "$src/scenarios/paper-circle.yaml" >l9d.yaml
+refused l9_infeasible_circle l9d.yaml \
+    "l9d.yaml:48: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad) is not reachable" \
+    "cable 3 would need a tension of -2615 N (pushing; straight-cable estimate): CDPR_E_INFEASIBLE"
+
+[ "$fails" -eq 0 ] || { echo "$fails case(s) failed"; exit 1; }
+echo "all cases passed"
