@@ -12,6 +12,7 @@
 #include <sys/mman.h>
 #include <time.h>
 
+#include "cdpr/host/sim.h"
 #include "cdpr/lcm/pack.h"
 
 /* Lockstep: how often the periodic thread looks at the mailbox while it waits [ns]. */
@@ -70,12 +71,11 @@ static cdpr_status_t init_bridge(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
 {
     cdpr_lcm_bridge_params_t bp = rt->o.lcm;
     bp.n_cables = rt->plant.robot.p.n_cables;
-    double longest = 0.0;
     for (int j = 0; j < bp.n_cables; ++j) {
         bp.winch[j] = rt->plant.pp.winch[j];
-        longest = fmax(longest, rt->plant.initial.cable[j].length_m);
     }
-    bp.max_length_m = fmax(bp.max_length_m, 4.0 * longest);
+    /* Length commands within the lengths a scenario may have (cdpr_sim_check_trajectory). */
+    bp.max_length_m = CDPR_SIM_MAX_LENGTH_M;
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
     const cdpr_status_t st = cdpr_lcm_bridge_init(&rt->bridge, &bp, &d);
@@ -125,6 +125,11 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
     rt->diag_every = every(rate_hz, rt->o.diag_rate_hz);
     rt->stall_periods = (long)ceil(CDPR_RT_STALL_S / sc->period_s);
     st = cdpr_host_plant_init(&rt->plant, sc, NULL, err);
+    if (st != CDPR_OK) {
+        return st;
+    }
+    /* The trajectory check of cdpr-sim: feasible, lengths within the limits. */
+    st = cdpr_sim_check_trajectory(sc, sc->duration_s, &rt->check_model, err);
     if (st != CDPR_OK) {
         return st;
     }

@@ -31,8 +31,13 @@ cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_ca
         all_finite(ten->length_m, n_cables) == 0) {
         return CDPR_E_NOT_FINITE;
     }
-    /* n = round(utime 1e-6 / dt); t = n dt is the plant's own k dt. */
-    const double n = (double)llround((double)st->utime_us * 1e-6 / period_s);
+    /* n = round(utime 1e-6 / dt); t = n dt is the plant's own k dt. A time beyond 2^53
+     * periods (a garbled message) has no such n: refused. */
+    const double periods = (double)st->utime_us * 1e-6 / period_s;
+    if (!(periods <= 9007199254740992.0)) {
+        return CDPR_E_INVALID_ARG;
+    }
+    const double n = (double)llround(periods);
     m->t_s = n * period_s;
     m->cabin.p_m = cdpr_v3(st->position_m[0], st->position_m[1], st->position_m[2]);
     m->cabin.q.w = st->orientation[0];

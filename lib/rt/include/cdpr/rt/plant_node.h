@@ -135,6 +135,7 @@ typedef struct {
     cdpr_diagnostics_t diag_msg;
     cdpr_cable_shape_t shape_msg;
     cdpr_robot_out_t out;
+    cdpr_robot_t check_model;   ///< storage of the trajectory check at init
     int64_t seq;                ///< seq of the newest state published
     int64_t command_seq;        ///< seq of the command applied in the last step (-1: none)
     int64_t command_session;    ///< its controller session (0: none)
