@@ -8,6 +8,7 @@
 #         line   -> DIR/figure5.png (the paper's Figure 5: error per coordinate)
 #         hold, cyclic -> DIR/errors.png  (error per coordinate)
 #   every kind   -> DIR/tensions.png (tensions, lengths, payout rates, node counts)
+#   periodic (a DIR/laps.csv) -> DIR/laps.png (RMS and largest error per lap)
 # Columns are addressed by their header names (timeseries.csv's first row).
 dir = (ARGC >= 1) ? ARG1 : 'out/paper-circle'
 kind = (ARGC >= 2) ? ARG2 : 'circle'
@@ -99,3 +100,17 @@ set ylabel 'n'
 set yrange [*:*]
 plot for [j=1:6] data using 't_s':'n'.j with steps title 'cable '.j
 unset multiplot
+
+# Per-lap errors of a periodic trajectory (laps.csv is written only when a lap completed).
+if (system('test -s '.dir.'/laps.csv && echo 1') eq "1") {
+    set output dir.'/laps.png'
+    set terminal pngcairo size 900,500 font 'sans,10'
+    set title name."\nPosition error per lap" noenhanced
+    set xlabel 'lap'
+    set ylabel 'error [m]'
+    set yrange [0:*]
+    set xtics 1
+    set key top right
+    plot dir.'/laps.csv' using 'lap':'rms_m' with linespoints pt 7 title 'RMS', \
+         dir.'/laps.csv' using 'lap':'max_m' with linespoints pt 6 dt 2 title 'largest'
+}

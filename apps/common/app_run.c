@@ -108,6 +108,11 @@ cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc
         fprintf(stderr, "%s: %s: cannot write: %s\n", prog, path, strerror(errno));
         return CDPR_E_IO;
     }
+    if (cdpr_fs_path(path, sizeof path, out_dir, "laps.csv") != CDPR_OK ||
+        cdpr_sim_write_laps(path, sum) != CDPR_OK) {
+        fprintf(stderr, "%s: %s: cannot write: %s\n", prog, path, strerror(errno));
+        return CDPR_E_IO;
+    }
     if (plot_script != NULL) {
         (void)cdpr_sim_plot(prog, plot_script, out_dir, cdpr_traj_type_name(sc->traj.type),
                             cdpr_app_title(sc));

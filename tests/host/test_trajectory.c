@@ -384,6 +384,37 @@ static void test_cyclic_closed_form_continuity_and_period(void)
     }
 }
 
+/* Laps against the closed form: the paper circle (r 2 m, 2 m/s, no ramp) turns once per
+ * 2 pi r / v = 6.283 s; with a 1 s ramp the path is v (t - 0.5) after the ramp, so lap 1
+ * starts half a second later; cyclic: one lap per cycle P = 20 s, -1 after the last; not
+ * periodic: -1. */
+static void test_laps(void)
+{
+    cdpr_traj_t tr = paper_circle();
+    const double lap_s = 2.0 * PI * tr.radius_m / tr.speed_m_per_s;
+    TEST_ASSERT_EQUAL_INT(-1, (int)cdpr_traj_lap(&tr, -0.1));
+    TEST_ASSERT_EQUAL_INT(0, (int)cdpr_traj_lap(&tr, 0.0));
+    TEST_ASSERT_EQUAL_INT(0, (int)cdpr_traj_lap(&tr, lap_s - 1e-9));
+    TEST_ASSERT_EQUAL_INT(1, (int)cdpr_traj_lap(&tr, lap_s + 1e-9));
+    TEST_ASSERT_EQUAL_INT(9, (int)cdpr_traj_lap(&tr, 9.5 * lap_s));
+    tr.ramp_s = 1.0;
+    TEST_ASSERT_EQUAL_INT(0, (int)cdpr_traj_lap(&tr, lap_s + 0.5 - 1e-9));
+    TEST_ASSERT_EQUAL_INT(1, (int)cdpr_traj_lap(&tr, lap_s + 0.5 + 1e-9));
+    TEST_ASSERT_EQUAL_INT(0, (int)cdpr_traj_lap(&tr, 0.5)); /* inside the ramp */
+    tr.speed_m_per_s = 0.0;
+    TEST_ASSERT_EQUAL_INT(-1, (int)cdpr_traj_lap(&tr, 3.0));
+    const cdpr_traj_t cy = cyclic_traj();
+    TEST_ASSERT_EQUAL_INT(0, (int)cdpr_traj_lap(&cy, 19.999));
+    TEST_ASSERT_EQUAL_INT(1, (int)cdpr_traj_lap(&cy, 20.001));
+    TEST_ASSERT_EQUAL_INT(2, (int)cdpr_traj_lap(&cy, 59.999));
+    TEST_ASSERT_EQUAL_INT(-1, (int)cdpr_traj_lap(&cy, 60.001));
+    cdpr_traj_t line;
+    memset(&line, 0, sizeof line);
+    line.type = CDPR_TRAJ_LINE;
+    line.duration_s = 10.0;
+    TEST_ASSERT_EQUAL_INT(-1, (int)cdpr_traj_lap(&line, 5.0));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -395,5 +426,6 @@ int main(void)
     RUN_TEST(test_circle_accelerations);
     RUN_TEST(test_line_and_hold_accelerations);
     RUN_TEST(test_cyclic_closed_form_continuity_and_period);
+    RUN_TEST(test_laps);
     return UNITY_END() ? 1 : 0;
 }

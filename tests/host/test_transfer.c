@@ -8,6 +8,9 @@
 /// computation, the feed-forward's slack demands on a case whose windward cable must push, and
 /// the recorder's plant slack periods on rows with known slack ends.
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/stat.h>
 #include <string.h>
 
 #include "cdpr/host/presets.h"
@@ -346,6 +349,77 @@ static void test_plant_slack_periods(void)
     TEST_ASSERT_EQUAL_INT(0, sum.first_slack_demand_cable);
 }
 
+/* Per-lap statistics of the recorder on a cyclic trajectory (P = 1 s) with fabricated rows
+ * at 10 Hz: the error is 0.1 m in lap 0, then 0.3 m and 0.4 m alternately in lap 1, 0.2 m in
+ * lap 2 (unfinished: not stored). RMS of lap 1 = sqrt((0.09 + 0.16) / 2) = 0.35355 m; largest
+ * 0.4 m. laps.csv holds the same. A time that goes back (a restarted plant) starts again. */
+static void test_lap_statistics(void)
+{
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(
+        CDPR_OK, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/paper-line.yaml", &sc, &err));
+    memset(&sc.traj, 0, sizeof sc.traj);
+    sc.traj.type = CDPR_TRAJ_CYCLIC;
+    sc.traj.duration_s = 0.5;
+    sc.traj.pause_s = 0.0;
+    static cdpr_sim_rec_t rec;
+    static cdpr_sim_summary_t sum;
+    memset(&sum, 0, sizeof sum);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, NULL, 6, &sum, &err));
+    cdpr_traj_sample_t d;
+    memset(&d, 0, sizeof d);
+    d.motion.q.w = 1.0;
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.cabin.q.w = 1.0;
+    const double tc[6] = {50, 50, 50, 50, 50, 50}, lff[6] = {30, 30, 30, 30, 30, 30};
+    const double u[6] = {0.0};
+    const int seg[6] = {20, 20, 20, 20, 20, 20};
+    for (long k = 0; k <= 25; ++k) {
+        const double t = 0.1 * (double)k;
+        double e = 0.1;
+        if (k >= 10 && k < 20) {
+            e = (k % 2 == 0) ? 0.3 : 0.4;
+        } else if (k >= 20) {
+            e = 0.2;
+        }
+        meas.cabin.p_m = cdpr_v3(e, 0.0, 0.0);
+        const cdpr_sim_row_t row = {t, &d, &meas, tc, tc, lff, u, seg};
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_period(&rec, k, k == 25, &row));
+    }
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(2, sum.n_laps);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.1, sum.lap_rms_m[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, sqrt((0.09 + 0.16) / 2.0), sum.lap_rms_m[1]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.4, sum.lap_max_m[1]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.0, sum.lap_rms_rad[1]);
+    (void)mkdir(CDPR_TEST_TMP, 0775);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_laps(CDPR_TEST_TMP "/laps.csv", &sum));
+    FILE *f = fopen(CDPR_TEST_TMP "/laps.csv", "r");
+    TEST_ASSERT_NOT_NULL(f);
+    char line[256];
+    TEST_ASSERT_NOT_NULL(fgets(line, sizeof line, f));
+    TEST_ASSERT_EQUAL_STRING("lap,rms_m,max_m,rms_rad\n", line);
+    TEST_ASSERT_NOT_NULL(fgets(line, sizeof line, f));
+    TEST_ASSERT_NOT_NULL(fgets(line, sizeof line, f));
+    TEST_ASSERT_EQUAL_INT('2', line[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.4, strtod(strchr(strchr(line, ',') + 1, ',') + 1, NULL));
+    TEST_ASSERT_NULL(fgets(line, sizeof line, f));
+    fclose(f);
+    /* Time going back: lap 0 again, the interrupted lap is not stored. */
+    memset(&sum, 0, sizeof sum);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, NULL, 6, &sum, &err));
+    const double ts[5] = {0.0, 0.5, 0.9, 0.1, 1.2}; /* 0.9 -> 0.1: a restart */
+    for (int i = 0; i < 5; ++i) {
+        meas.cabin.p_m = cdpr_v3(0.1, 0.0, 0.0);
+        const cdpr_sim_row_t row = {ts[i], &d, &meas, tc, tc, lff, u, seg};
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_period(&rec, i, i == 4, &row));
+    }
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(1, sum.n_laps); /* only the lap 0 after the restart, at t = 1.2 */
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -355,5 +429,6 @@ int main(void)
     RUN_TEST(test_wind_wrench_hand);
     RUN_TEST(test_slack_demand_counted);
     RUN_TEST(test_plant_slack_periods);
+    RUN_TEST(test_lap_statistics);
     return UNITY_END();
 }

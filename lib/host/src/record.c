@@ -123,6 +123,8 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
 {
     memset(rec, 0, sizeof *rec);
     rec->prev_k = -1;
+    rec->traj = sc->traj;
+    rec->lap = -1;
     rec->last_row_k = -1;
     cdpr_sim_provenance_init(&sum->prov, sc->path, pp);
     rec->n_cables = n_cables;
@@ -161,6 +163,35 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
     return CDPR_OK;
 }
 
+/* The lap statistics: a lap is stored when the first period of the next lap arrives (so the
+ * last, unfinished lap is not); time going back (a plant restart seen by a tracker) starts
+ * the laps again without storing the interrupted one. */
+static void lap_period(cdpr_sim_rec_t *rec, double t_s, const sample_t *smp)
+{
+    const long lap = cdpr_traj_lap(&rec->traj, t_s);
+    if (lap != rec->lap) {
+        cdpr_sim_summary_t *sum = rec->sum;
+        if (rec->lap >= 0 && lap > rec->lap && rec->lap_n > 0 && sum->n_laps < CDPR_SIM_MAX_LAPS) {
+            const double n = (double)rec->lap_n;
+            sum->lap_rms_m[sum->n_laps] = sqrt(rec->lap_sum2_pos / n);
+            sum->lap_rms_rad[sum->n_laps] = sqrt(rec->lap_sum2_rot / n);
+            sum->lap_max_m[sum->n_laps] = rec->lap_max;
+            sum->n_laps++;
+        }
+        rec->lap = lap;
+        rec->lap_sum2_pos = 0.0;
+        rec->lap_sum2_rot = 0.0;
+        rec->lap_max = 0.0;
+        rec->lap_n = 0;
+    }
+    if (lap >= 0) {
+        rec->lap_sum2_pos += smp->epos_m * smp->epos_m;
+        rec->lap_sum2_rot += smp->erot_rad * smp->erot_rad;
+        rec->lap_max = fmax(rec->lap_max, smp->epos_m);
+        rec->lap_n++;
+    }
+}
+
 cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row)
 {
     cdpr_sim_summary_t *sum = rec->sum;
@@ -181,6 +212,7 @@ cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const c
         rec->sum2_pos_after += smp.epos_m * smp.epos_m;
         rec->n_after++;
     }
+    lap_period(rec, row->t_s, &smp);
     sum->max_error_m = fmax(sum->max_error_m, smp.epos_m);
     sum->max_error_rad = fmax(sum->max_error_rad, smp.erot_rad);
     sum->final_error_m = smp.epos_m;

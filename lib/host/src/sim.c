@@ -404,7 +404,9 @@ static cdpr_status_t write_outputs(sim_t *s, const cdpr_scenario_t *sc, const cd
     }
     char path[1100];
     if (cdpr_fs_path(path, sizeof path, o->out_dir, "summary.json") != CDPR_OK ||
-        cdpr_sim_write_summary(path, sc, sum) != CDPR_OK) {
+        cdpr_sim_write_summary(path, sc, sum) != CDPR_OK ||
+        cdpr_fs_path(path, sizeof path, o->out_dir, "laps.csv") != CDPR_OK ||
+        cdpr_sim_write_laps(path, sum) != CDPR_OK) {
         const char *why = strerror(errno);
         if (rc != CDPR_OK) {
             const size_t n = strlen(err->msg);

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cdpr/version.h"
+#include "cdpr/host/csv.h"
 #include "cdpr/host/yaml.h"
 
 /* CMAKE_BUILD_TYPE of this library (lib/host/CMakeLists.txt). */
@@ -137,6 +138,44 @@ static cdpr_status_t close_summary(FILE *f)
 }
 
 /* A per-cable count list ("key": [c1, ...]), or null when the cable count is unknown. */
+cdpr_status_t cdpr_sim_write_laps(const char *path, const cdpr_sim_summary_t *sum)
+{
+    cdpr_csv_t csv;
+    if (sum->n_laps <= 0) {
+        return CDPR_OK;
+    }
+    if (cdpr_csv_open(&csv, path) != CDPR_OK) {
+        return CDPR_E_IO;
+    }
+    static const char *const head[] = {"lap", "rms_m", "max_m", "rms_rad"};
+    for (size_t i = 0; i < sizeof head / sizeof head[0]; ++i) {
+        cdpr_csv_name(&csv, head[i]);
+    }
+    cdpr_csv_end_row(&csv);
+    for (int i = 0; i < sum->n_laps && i < CDPR_SIM_MAX_LAPS; ++i) {
+        cdpr_csv_num(&csv, (double)(i + 1));
+        cdpr_csv_num(&csv, sum->lap_rms_m[i]);
+        cdpr_csv_num(&csv, sum->lap_max_m[i]);
+        cdpr_csv_num(&csv, sum->lap_rms_rad[i]);
+        cdpr_csv_end_row(&csv);
+    }
+    if (cdpr_csv_close(&csv) != CDPR_OK) {
+        errno = (csv.error != 0) ? csv.error : EIO;
+        return CDPR_E_IO;
+    }
+    return CDPR_OK;
+}
+
+/* A list of n reals (%.17g; [] for none). */
+static void write_reals(FILE *f, const char *key, int n, const double *v)
+{
+    fprintf(f, ",\n  \"%s\": [", key);
+    for (int i = 0; i < n && i < CDPR_SIM_MAX_LAPS; ++i) {
+        fprintf(f, "%s%.17g", (i == 0) ? "" : ", ", v[i]);
+    }
+    fputc(']', f);
+}
+
 static void write_counts(FILE *f, const char *key, int n, const unsigned long *c)
 {
     fprintf(f, ",\n  \"%s\": ", key);
@@ -241,6 +280,9 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
     }
     write_counts(f, "slack_periods", sum->n_cables, sum->slack_periods);
     write_counts(f, "slack_demand_periods", sum->n_cables, sum->slack_demand_periods);
+    write_reals(f, "lap_rms_m", sum->n_laps, sum->lap_rms_m);
+    write_reals(f, "lap_max_m", sum->n_laps, sum->lap_max_m);
+    write_reals(f, "lap_rms_rad", sum->n_laps, sum->lap_rms_rad);
     fprintf(f, "\n}\n");
     return close_summary(f);
 }
@@ -423,6 +465,21 @@ static void print_slack(FILE *f, const cdpr_sim_summary_t *s)
     }
 }
 
+/* RMS position error per complete lap (periodic trajectories), at most 12 shown. */
+static void print_laps(FILE *f, const cdpr_sim_summary_t *s)
+{
+    if (s->n_laps <= 0) {
+        return;
+    }
+    fprintf(f, "  per lap (%d)     rms", s->n_laps);
+    const int shown = (s->n_laps > 12) ? 12 : s->n_laps;
+    for (int i = 0; i < shown; ++i) {
+        fprintf(f, " %.3g", s->lap_rms_m[i]);
+    }
+    fprintf(f, "%s m; last lap %.4g m\n", (shown < s->n_laps) ? " ..." : "",
+            s->lap_rms_m[s->n_laps - 1]);
+}
+
 void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s)
 {
     fprintf(f, "%s: %s%s%s\n", title, cdpr_sim_status_name(s->status),
@@ -459,6 +516,7 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
                 s->ik_failures);
     }
     print_slack(f, s);
+    print_laps(f, s);
     if (isfinite(s->settle_wall_time_s)) {
         fprintf(f, "  time            %.3g s simulated in %.3g s wall (settling %.3g s)\n",
                 s->sim_time_s, s->wall_time_s, s->settle_wall_time_s);

@@ -63,6 +63,25 @@ double cdpr_traj_end_time(const cdpr_traj_t *tr)
     }
 }
 
+long cdpr_traj_lap(const cdpr_traj_t *tr, double t_s)
+{
+    if (!(t_s >= 0.0)) {
+        return -1;
+    }
+    double laps = -1.0;
+    if (tr->type == CDPR_TRAJ_CIRCLE && tr->speed_m_per_s > 0.0 && tr->radius_m > 0.0) {
+        const double s = (t_s < tr->ramp_s) ? 0.5 * tr->speed_m_per_s * t_s * t_s / tr->ramp_s
+                                            : tr->speed_m_per_s * (t_s - 0.5 * tr->ramp_s);
+        laps = floor(s / (2.0 * CDPR_PI * tr->radius_m));
+    } else if (tr->type == CDPR_TRAJ_CYCLIC && cdpr_traj_cycle_s(tr) > 0.0) {
+        laps = floor(t_s / cdpr_traj_cycle_s(tr));
+        if (tr->cycles > 0 && laps >= (double)tr->cycles) {
+            laps = -1.0;
+        }
+    }
+    return (laps >= 0.0 && laps < 1e9) ? (long)laps : -1;
+}
+
 static void circle(const cdpr_traj_t *tr, double t, cdpr_traj_sample_t *o)
 {
     const double tt = (t > 0.0) ? t : 0.0;

@@ -46,6 +46,10 @@ typedef struct {
     double duration_s;
     double sum2_pos, sum2_rot, sum2_pos_late, sum2_pos_after;
     long n, n_late, n_after;
+    cdpr_traj_t traj; ///< for the laps (cdpr_traj_lap)
+    long lap;         ///< lap of the last period (-1: none)
+    double lap_sum2_pos, lap_sum2_rot, lap_max;
+    long lap_n;
     double transfer_s; ///< controller.transfer_s: rms_error_after_transfer_m counts t >= it
     cdpr_sim_summary_t *sum;
     long prev_k; ///< period of the last recorded row (-1: none yet)

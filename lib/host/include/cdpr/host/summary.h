@@ -42,6 +42,9 @@ const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator);
 void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_path,
                               const cdpr_plant_params_t *pp);
 
+/// Laps of a periodic trajectory the summary keeps statistics of (the first ones).
+#define CDPR_SIM_MAX_LAPS 100
+
 /// Run status (summary.json "status": the name of cdpr_sim_status_name).
 typedef enum {
     CDPR_SIM_OK = 0,          ///< "ok": ran to the end, no warning
@@ -91,12 +94,17 @@ typedef struct {
                                                          ///< or winch-end tension <= 0 (the plant)
     unsigned long slack_demand_periods[CDPR_MAX_CABLES]; ///< periods whose feed-forward
                                                          ///< demanded tension <= 0 of cable j
-    int first_slack_demand_cable;  ///< 1-based cable of the first slack demand (0: none)
-    double first_slack_demand_t_s; ///< its time [s] (NaN: none)
-    double first_slack_demand_N;   ///< its straight-cable tension [N] (NaN: none)
-    cdpr_sim_status_t status;      ///< see cdpr_sim_status_t
-    char message[256];             ///< what failed or warned, "" if nothing
-    cdpr_sim_provenance_t prov;    ///< where the outputs come from
+    int first_slack_demand_cable;          ///< 1-based cable of the first slack demand (0: none)
+    double first_slack_demand_t_s;         ///< its time [s] (NaN: none)
+    double first_slack_demand_N;           ///< its straight-cable tension [N] (NaN: none)
+    int n_laps;                            ///< complete laps of a periodic trajectory recorded
+                                           ///< (cdpr_traj_lap; at most CDPR_SIM_MAX_LAPS; 0: none)
+    double lap_rms_m[CDPR_SIM_MAX_LAPS];   ///< RMS position error of each complete lap [m]
+    double lap_max_m[CDPR_SIM_MAX_LAPS];   ///< largest position error of each lap [m]
+    double lap_rms_rad[CDPR_SIM_MAX_LAPS]; ///< RMS attitude error of each lap [rad]
+    cdpr_sim_status_t status;              ///< see cdpr_sim_status_t
+    char message[256];                     ///< what failed or warned, "" if nothing
+    cdpr_sim_provenance_t prov;            ///< where the outputs come from
 } cdpr_sim_summary_t;
 
 /// Name of a status as written in summary.json ("ok", "warnings", "failed", "interrupted",
@@ -108,6 +116,11 @@ const char *cdpr_sim_status_name(cdpr_sim_status_t st);
 /// file that could not be written whole is emptied (no torn JSON is left behind).
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum);
+
+/// Write `path` (laps.csv: columns lap, rms_m, max_m, rms_rad; one row per complete lap) when
+/// the summary has laps (sum->n_laps > 0; else nothing is written). Rows whole (csv.h).
+/// Returns CDPR_OK, or CDPR_E_IO with errno set.
+cdpr_status_t cdpr_sim_write_laps(const char *path, const cdpr_sim_summary_t *sum);
 
 /// Read a summary.json written by cdpr_sim_write_summary (JSON is YAML, so libcyaml reads it;
 /// keys it does not know are ignored). Fills the numeric fields, the status (a name this

@@ -82,6 +82,12 @@ double cdpr_traj_cycle_s(const cdpr_traj_t *tr);
 /// Time at which the trajectory stops moving [s] (circle and an endless cyclic: never, +Inf).
 double cdpr_traj_end_time(const cdpr_traj_t *tr);
 
+/// Lap of a periodic trajectory at t [s]: 0, 1, 2, ...; -1 when the trajectory is not periodic
+/// (hold, line, a circle at speed 0) or t is outside its laps (t < 0; a cyclic trajectory after
+/// its last cycle). Circle: lap i holds the path lengths [2 pi r i, 2 pi r (i + 1)) from the
+/// start (the speed ramp included); cyclic: t in [i P, (i + 1) P), P = cdpr_traj_cycle_s.
+long cdpr_traj_lap(const cdpr_traj_t *tr, double t_s);
+
 /// Planned transfer from a measured start onto a trajectory (issue 14; controller.transfer_s).
 ///
 /// Over [t0, t0 + T] the offset of the measured start from the trajectory decays:
