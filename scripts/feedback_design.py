@@ -56,6 +56,7 @@ def load(d):
     n, nz, nu, nm = (int(meta[k]) for k in ("n", "nz", "nu", "nm"))
     shapes = {"A": (n, n), "B": (n, nu), "Kx": (nu, n), "Kz": (nu, nz), "Zx": (nz, n),
               "Zz": (nz, nz), "Cm": (nm, n)}
+    shapes.update({"Ku": (nu, nu), "Zu": (nz, nu)})
     m = {k: np.fromfile(os.path.join(d, k + ".bin"), dtype="<f8").reshape(s)
          for k, s in shapes.items()}
     m["T"] = meta["period_s"]
@@ -106,6 +107,20 @@ def cabin_modes(loop, m, share_min=0.05, fmax=20.0):
     return sorted(out)
 
 
+def cabin_closed_loop(cabin, ev, T, share_min=0.2):
+    """For each open-loop mode with a cabin share >= share_min: the closed-loop eigenvalue
+    nearest to it (s = ln z / T): frequency [Hz] and damping ratio."""
+    s = np.log(ev[(np.abs(ev) > 0.0) & (np.angle(ev) > 0.0)].astype(complex)) / T
+    out = []
+    for f, _, share in cabin:
+        if share < share_min or s.size == 0:
+            continue
+        k = int(np.argmin(np.abs(s.imag / (2 * np.pi) - f) + np.abs(s.real) / (2 * np.pi)))
+        out.append([f, round(float(s[k].imag / (2 * np.pi)), 4),
+                    float("%.3g" % (-s[k].real / abs(s[k])))])
+    return out
+
+
 class Loop:
     """The loop broken at the rate commands, evaluated through the modes of A."""
 
@@ -130,8 +145,8 @@ class Loop:
         out = np.empty((z.size, 6, 6), dtype=complex)
         for i, zi in enumerate(z):
             X = self.W / (zi - self.mu)[:, None]  # modal plant state per input
-            Zp = sla.solve(zi * np.eye(nz) - self.m["Zz"], self.ZxV @ X)
-            out[i] = self.KxV @ X + self.m["Kz"] @ Zp
+            Zp = sla.solve(zi * np.eye(nz) - self.m["Zz"], self.ZxV @ X + self.m["Zu"] / zi)
+            out[i] = self.KxV @ X + self.m["Kz"] @ Zp + self.m["Ku"] / zi
         return out
 
     def H_direct(self, f_hz):
@@ -139,20 +154,24 @@ class Loop:
         n = self.Phi.shape[0]
         X = sla.solve(z * np.eye(n) - self.Phi, self.Gam)
         nz = self.m["Zz"].shape[0]
-        Zp = sla.solve(z * np.eye(nz) - self.m["Zz"], self.m["Zx"] @ X)
-        return self.m["Kx"] @ X + self.m["Kz"] @ Zp
+        Zp = sla.solve(z * np.eye(nz) - self.m["Zz"], self.m["Zx"] @ X + self.m["Zu"] / z)
+        return self.m["Kx"] @ X + self.m["Kz"] @ Zp + self.m["Ku"] / z
 
 
 def closed_loop(m, Phi, Gam, scale=None):
-    K = np.hstack([m["Kx"], m["Kz"]])
+    """Eigenvalues of the loop with state (x, z, u_prev): u_k = Kx x + Kz z + Ku u_{k-1} (the
+    payout rates in force at t_k enter the measured tensions)."""
+    K = np.hstack([m["Kx"], m["Kz"], m["Ku"]])
     if scale is not None:
         K = scale[:, None] * K
-    n, nz = Phi.shape[0], m["Zz"].shape[0]
-    Acl = np.zeros((n + nz, n + nz))
+    n, nz, nu = Phi.shape[0], m["Zz"].shape[0], m["Ku"].shape[0]
+    Acl = np.zeros((n + nz + nu, n + nz + nu))
     Acl[:n, :n] = Phi
-    Acl[n:, :n] = m["Zx"]
-    Acl[n:, n:] = m["Zz"]
+    Acl[n:n + nz, :n] = m["Zx"]
+    Acl[n:n + nz, n:n + nz] = m["Zz"]
+    Acl[n:n + nz, n + nz:] = m["Zu"]
     Acl[:n, :] += Gam @ K
+    Acl[n + nz:, :] = K
     return sla.eigvals(Acl)
 
 
@@ -257,6 +276,9 @@ def main():
     # plant's transverse cable modes have zeta ~ 1e-7) sit on the unit circle to within the
     # central differences' accuracy: growth below GROWTH_TOL counts as not growing.
     growth = np.log(np.abs(ev)) / T
+    np.save(os.path.join(a.out, "closed_loop_eig.npy"), ev)
+    rep["closed_loop_cabin_modes_hz_zeta"] = cabin_closed_loop(rep["cabin_modes_hz_zeta_share"],
+                                                              ev, T)
     rep["closed_loop_max_abs_eig"] = rho
     rep["closed_loop_max_growth_per_s"] = float(growth[k])
     rep["closed_loop_worst_hz"] = float(abs(np.angle(ev[k])) / (2 * np.pi * T))

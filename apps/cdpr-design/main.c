@@ -11,7 +11,11 @@
 ///   Kx.bin 6 x n, Kz.bin 6 x 24, Zx.bin 24 x n, Zz.bin 24 x 24: one cdpr_tracker_step
 ///          linearised (central differences of the real step on copies of the tracker):
 ///          u_k = Kx x_k + Kz z_k, z_{k+1} = Zx x_k + Zz z_k, with x the plant state at t_k
-///          (measured by cdpr_plant_measure) and z the 24 filter states (err_f1, err_f)
+///          (measured by cdpr_plant_measure) and z the 30 filter states (err_f1, err_f,
+///          ten_f)
+///   Ku.bin 6 x 6, Zu.bin 30 x 6: the same step's dependence on the payout rates in force
+///          at t_k (the previous period's command: the measured winch-end tensions carry
+///          the rope's damping of the payout), u_k += Ku u_{k-1}, z_{k+1} += Zu u_{k-1}
 ///   Cm.bin 18 x n  the pose (p, rotation vector of q q0^-1), v, ω (world) and the six
 ///          measured lengths, linearised (for the validation step)
 /// With --step-test J: OUT/step.csv, the nonlinear plant (cdpr_plant_step, rate mode) from
@@ -34,7 +38,7 @@
 #include "cdpr/host/trajectory.h"
 #include "cdpr/vec3.h"
 
-#define NZ 24 /* filter states of the tracker */
+#define NZ 30 /* filter states of the tracker: err_f1, err_f (12 each), ten_f (6) */
 #define NM 18 /* linearised outputs of Cm */
 #define NU 6  /* payout rates */
 
@@ -86,27 +90,35 @@ static void outputs_at(const double *y, const cdpr_quat_t q0, double *o)
     }
 }
 
-/* One tracker step from the held tracker with filter state z at plant state y: the six rate
- * commands into u, the new filter state into zn. */
-static void ctrl_at(const double *y, const double *z, double *u, double *zn)
+/* One tracker step from the held tracker with filter state z at plant state y and payout
+ * rates in force up: the six rate commands into u, the new filter state into zn. */
+static void ctrl_at(const double *y, const double *z, const double *up, double *u, double *zn)
 {
     const int n = g_plant.robot.dim;
     double save[CDPR_ROBOT_STATE_MAX];
     memcpy(save, g_plant.y, sizeof(double) * (size_t)n);
     memcpy(g_plant.y, y, sizeof(double) * (size_t)n);
+    for (int j = 0; j < NU; ++j) {
+        g_plant.robot.in.payout_m_per_s[j] = up[j];
+    }
     cdpr_plant_meas_t m;
     cdpr_plant_measure(&g_plant, &m);
+    for (int j = 0; j < NU; ++j) {
+        g_plant.robot.in.payout_m_per_s[j] = 0.0;
+    }
     memcpy(g_plant.y, save, sizeof(double) * (size_t)n);
     m.t_s = g_tr0.t_next_s;
     g_tr = g_tr0;
     memcpy(g_tr.err_f1, z, sizeof(double) * 12);
     memcpy(g_tr.err_f, z + 12, sizeof(double) * 12);
+    memcpy(g_tr.ten_f, z + 24, sizeof(double) * 6);
     g_tr.filter_primed = 1;
     cdpr_tracker_cmd_t cmd;
     (void)cdpr_tracker_step(&g_tr, &m, &cmd);
     memcpy(u, cmd.rate_m_per_s, sizeof(double) * NU);
     memcpy(zn, g_tr.err_f1, sizeof(double) * 12);
     memcpy(zn + 12, g_tr.err_f, sizeof(double) * 12);
+    memcpy(zn + 24, g_tr.ten_f, sizeof(double) * 6);
 }
 
 /* A and B by central differences of cdpr_robot_rhs (payout rates zero at the settled state). */
@@ -147,7 +159,7 @@ static void plant_jacobians(double *A, double *B)
 /* Kx, Zx, Cm (columns: plant state) and Kz, Zz (columns: filter state) by central
  * differences of the real tracker step and measurement about (y0, z0). */
 static void ctrl_jacobians(const double *z0, double *Kx, double *Kz, double *Zx, double *Zz,
-                           double *Cm)
+                           double *Cm, double *Ku, double *Zu)
 {
     const int n = g_plant.robot.dim;
     const cdpr_quat_t q0 = cdpr_quat_normalize(g_plant.pp.initial.q);
@@ -155,26 +167,29 @@ static void ctrl_jacobians(const double *z0, double *Kx, double *Kz, double *Zx,
     memcpy(y, g_plant.y, sizeof(double) * (size_t)n);
     double z[NZ];
     memcpy(z, z0, sizeof z);
+    double u0[NU] = {0.0};
     double up[NU], um[NU], zp[NZ], zm[NZ], op[NM], om[NM];
-    for (int i = 0; i < n + NZ; ++i) {
-        double *slot = (i < n) ? &y[i] : &z[i - n];
+    for (int i = 0; i < n + NZ + NU; ++i) {
+        double *slot = (i < n) ? &y[i] : (i < n + NZ) ? &z[i - n] : &u0[i - n - NZ];
         const double v0 = *slot;
-        const double h = step_of(v0, 1e-6);
+        const double h = (i < n + NZ) ? step_of(v0, 1e-6) : 1e-6;
         *slot = v0 + h;
-        ctrl_at(y, z, up, zp);
+        ctrl_at(y, z, u0, up, zp);
         if (i < n) {
             outputs_at(y, q0, op);
         }
         *slot = v0 - h;
-        ctrl_at(y, z, um, zm);
+        ctrl_at(y, z, u0, um, zm);
         if (i < n) {
             outputs_at(y, q0, om);
         }
         *slot = v0;
-        const size_t nc = (i < n) ? (size_t)n : NZ;
-        const size_t c = (i < n) ? (size_t)i : (size_t)(i - n);
-        double *K = (i < n) ? Kx : Kz;
-        double *Z = (i < n) ? Zx : Zz;
+        const size_t nc = (i < n) ? (size_t)n : (i < n + NZ) ? NZ : NU;
+        const size_t c = (i < n)        ? (size_t)i
+                         : (i < n + NZ) ? (size_t)(i - n)
+                                        : (size_t)(i - n - NZ);
+        double *K = (i < n) ? Kx : (i < n + NZ) ? Kz : Ku;
+        double *Z = (i < n) ? Zx : (i < n + NZ) ? Zz : Zu;
         for (int k = 0; k < NU; ++k) {
             K[(size_t)k * nc + c] = (up[k] - um[k]) / (2.0 * h);
         }
@@ -241,6 +256,7 @@ static void operating_filter(double *z0)
     (void)cdpr_tracker_step(&g_tr, &m, &cmd);
     memcpy(z0, g_tr.err_f1, sizeof(double) * 12);
     memcpy(z0 + 12, g_tr.err_f, sizeof(double) * 12);
+    memcpy(z0 + 24, g_tr.ten_f, sizeof(double) * 6);
 }
 
 /* Open-loop step of 1 mm/s on cable j for 2 s, nonlinear plant: outputs minus initial. */
@@ -286,14 +302,17 @@ static int write_all(const char *dir, const double *pose)
     double *Cm = calloc(NM * nn, sizeof(double));
     double Kz[NU * NZ];
     double Zz[NZ * NZ];
+    double Ku[NU * NU];
+    double Zu[NZ * NU];
     double z0[NZ];
     operating_filter(z0);
     plant_jacobians(A, B);
-    ctrl_jacobians(z0, Kx, Kz, Zx, Zz, Cm);
+    ctrl_jacobians(z0, Kx, Kz, Zx, Zz, Cm, Ku, Zu);
     int rc = write_bin(dir, "A.bin", A, nn * nn) | write_bin(dir, "B.bin", B, nn * NU) |
              write_bin(dir, "Kx.bin", Kx, NU * nn) | write_bin(dir, "Kz.bin", Kz, NU * NZ) |
              write_bin(dir, "Zx.bin", Zx, NZ * nn) | write_bin(dir, "Zz.bin", Zz, NZ * NZ) |
-             write_bin(dir, "Cm.bin", Cm, NM * nn);
+             write_bin(dir, "Cm.bin", Cm, NM * nn) | write_bin(dir, "Ku.bin", Ku, NU * NU) |
+             write_bin(dir, "Zu.bin", Zu, NZ * NU);
     char path[1200];
     snprintf(path, sizeof path, "%s/meta.txt", dir);
     FILE *f = fopen(path, "w");

@@ -109,7 +109,8 @@ static void test_command_law(void)
     model_params(&p);
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
-    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                              0.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     /* Feed-forward lengths computed here independently of the tracker. */
     cdpr_statics_opts_t o;
@@ -159,6 +160,60 @@ static void test_command_law(void)
     TEST_ASSERT_EQUAL_STRING("period_s", d.field);
 }
 
+/* Winch tension feedback against its closed form: at a hold (u_ff = 0, lengths exact) the
+ * command is u_j = k_T e_T,j with e_T the first-order low-pass of T_j - T_ff,j, T_ff the winch
+ * tension of the IK computed here; after priming with zero error, a held 10 N step on cable 2
+ * gives e_T(k) = 10 N (1 - exp(-k T / tau)) (exact for a held input), the other cables 0. */
+static void test_tension_feedback_law(void)
+{
+    cdpr_robot_params_t p;
+    model_params(&p);
+    const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
+    const cdpr_traj_t tr = hold_at(pose);
+    const double kt = 2e-3;
+    const double tau = 0.05;
+    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    kt,  tau};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    cdpr_statics_result_t ik;
+    const cdpr_cabin_motion_t m0 = cdpr_cabin_motion_at_pose(pose);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &ik));
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.cabin = m0;
+    cdpr_tracker_cmd_t cmd;
+    for (int k = 0; k <= 20; ++k) {
+        meas.t_s = (double)k * PERIOD_S;
+        for (int j = 0; j < 6; ++j) {
+            meas.length_m[j] = ik.cable[j].length_m;
+            meas.tension_winch_N[j] =
+                ik.cable[j].tension_winch_N + ((j == 2 && k > 0) ? 10.0 : 0.0);
+        }
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &meas, &cmd));
+        const double e = 10.0 * (1.0 - exp(-(double)k * PERIOD_S / tau));
+        for (int j = 0; j < 6; ++j) {
+            /* IK tensions of a few hundred N to ~1e-9 relative: 1e-6 N, times k_T */
+            TEST_ASSERT_DOUBLE_WITHIN(kt * 1e-6, (j == 2) ? kt * e : 0.0, cmd.rate_m_per_s[j]);
+        }
+    }
+    /* With the feedback on, a non-finite tension is refused; off, tensions are not read. */
+    meas.tension_winch_N[4] = NAN_D;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_tracker_step(&tracker, &meas, &cmd));
+    cdpr_tracker_gains_t off = g;
+    off.tension_gain_m_per_s_per_N = 0.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &off, PERIOD_S, 0.0, NULL));
+    meas.t_s = 0.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &meas, &cmd));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, cmd.rate_m_per_s[4]);
+    cdpr_diag_t d;
+    off.tension_filter_s = -1.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &off, PERIOD_S, 0.0, &d));
+    TEST_ASSERT_EQUAL_STRING("tension_filter_s", d.field);
+}
+
 static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
 {
     cdpr_robot_params_t p;
@@ -172,7 +227,8 @@ static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
     memcpy(tr.from, from, sizeof from);
     memcpy(tr.to, to, sizeof to);
     tr.duration_s = 1.0;
-    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     int failed_at = -1;
     double l_before[6] = {0};
@@ -213,8 +269,8 @@ static void test_step_makes_no_heap_allocation(void)
     cdpr_robot_params_t p;
     model_params(&p);
     const cdpr_traj_t tr = test_paper_circle();
-    const cdpr_tracker_gains_t g = {0.5,  0.05, 5.0, 0.1, 1.0,
-                                    40.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    const cdpr_tracker_gains_t g = {0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_alloc_reset();
     for (int k = 0; k < 100; ++k) {
@@ -384,7 +440,8 @@ static void test_feedforward_carries_the_centripetal_load(void)
     tr.speed_m_per_s = 2.0;
     tr.start_angle_rad = 1.5707963267948966;
     tr.direction = 1.0;
-    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                              0.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_cabin_motion_t m0 = cdpr_cabin_motion_at_pose(pose);
@@ -421,7 +478,8 @@ static void test_wrench_damping_command(void)
     model_params(&p);
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
-    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 80.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 80.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_tracker_meas_t meas;
     memset(&meas, 0, sizeof meas);
@@ -469,7 +527,8 @@ static void test_loop_solutions_are_not_commanded(void)
     }
     TEST_ASSERT_TRUE(worst > 1.5);
     const cdpr_traj_t tr = hold_at(pose);
-    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0};
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT(CDPR_E_INFEASIBLE,
                           cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
@@ -487,6 +546,7 @@ int main(void)
     RUN_TEST(test_infeasible_desired_pose_holds_the_last_feedforward);
     RUN_TEST(test_loop_solutions_are_not_commanded);
     RUN_TEST(test_step_makes_no_heap_allocation);
+    RUN_TEST(test_tension_feedback_law);
     RUN_TEST(test_closed_loop_holds_the_cabin_at_rest);
     return UNITY_END() ? 1 : 0;
 }

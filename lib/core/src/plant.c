@@ -215,6 +215,11 @@ void cdpr_plant_measure(const cdpr_plant_t *p, cdpr_plant_meas_t *m)
                              ? cdpr_cable_total_length(&r->cable[j], p->y + r->offset[j])
                              : CDPR_R(0.0);
     }
+    cdpr_robot_out_t out;
+    cdpr_robot_outputs(r, m->t_s, p->y, &out);
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        m->tension_winch_N[j] = (j < r->p.n_cables) ? out.tension_winch_N[j] : CDPR_R(0.0);
+    }
 }
 
 void cdpr_plant_outputs(const cdpr_plant_t *p, cdpr_robot_out_t *out)

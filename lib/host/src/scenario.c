@@ -126,6 +126,8 @@ typedef struct {
     double *damping_rot_N_m_s;
     double *transfer_s; /* issue 14: planned transfer, wind feed-forward */
     double *wind_ff;
+    double *tension_gain_m_per_s_per_N; /* issue 14 item 2: winch tension feedback */
+    double *tension_filter_s;
 } raw_controller_t;
 
 typedef struct {
@@ -300,6 +302,8 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("damping_rot_N_m_s", raw_controller_t, damping_rot_N_m_s),
     OPT_NUMP("transfer_s", raw_controller_t, transfer_s),
     OPT_NUMP("wind_ff", raw_controller_t, wind_ff),
+    OPT_NUMP("tension_gain_m_per_s_per_N", raw_controller_t, tension_gain_m_per_s_per_N),
+    OPT_NUMP("tension_filter_s", raw_controller_t, tension_filter_s),
     CYAML_FIELD_END,
 };
 static const cyaml_strval_t method_names[] = {
@@ -551,6 +555,8 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.damping_rot_N_m_s, r->controller.damping_rot_N_m_s, 1);
     take(&sc->gains.transfer_s, r->controller.transfer_s, 1); /* default 0: none */
     take(&sc->gains.wind_ff, r->controller.wind_ff, 1);       /* default 0: none */
+    take(&sc->gains.tension_gain_m_per_s_per_N, r->controller.tension_gain_m_per_s_per_N, 1);
+    take(&sc->gains.tension_filter_s, r->controller.tension_filter_s, 1); /* default 0: off */
     if (r->integrator != NULL) {
         const raw_integrator_t *in = r->integrator;
         take(&sc->integrator.rtol, in->rtol, 1);
@@ -967,6 +973,9 @@ static void check_run(vctx_t *vp)
     range(&v, "controller.damping_rot_N_m_s", &sc->gains.damping_rot_N_m_s, 1, 0.0, 1e6, 0);
     range(&v, "controller.transfer_s", &sc->gains.transfer_s, 1, 0.0, 1e6, 0);
     range(&v, "controller.wind_ff", &sc->gains.wind_ff, 1, 0.0, 1.0, 0);
+    range(&v, "controller.tension_gain_m_per_s_per_N", &sc->gains.tension_gain_m_per_s_per_N, 1,
+          0.0, 1.0, 0);
+    range(&v, "controller.tension_filter_s", &sc->gains.tension_filter_s, 1, 0.0, 1e3, 0);
     const cdpr_scenario_integrator_t *in = &sc->integrator;
     range(&v, "integrator.rtol", &in->rtol, 1, 0.0, 0.1, 1);
     range(&v, "integrator.atol_position_m", &in->atol_position_m, 1, 0.0, 1.0, 1);

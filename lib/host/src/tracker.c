@@ -62,7 +62,7 @@ void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sam
 
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s, cdpr_diag_t *diag)
 {
-    const double v[10] = {period_s,
+    const double v[12] = {period_s,
                           g->kp,
                           g->kd_s,
                           g->k_length_per_s,
@@ -71,8 +71,10 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s,
                           g->damping_N_s_per_m,
                           g->damping_rot_N_m_s,
                           g->transfer_s,
-                          g->wind_ff};
-    static const char *const names[10] = {"period_s",
+                          g->wind_ff,
+                          g->tension_gain_m_per_s_per_N,
+                          g->tension_filter_s};
+    static const char *const names[12] = {"period_s",
                                           "kp",
                                           "kd_s",
                                           "k_length_per_s",
@@ -81,11 +83,13 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s,
                                           "damping_N_s_per_m",
                                           "damping_rot_N_m_s",
                                           "transfer_s",
-                                          "wind_ff"};
+                                          "wind_ff",
+                                          "tension_gain_m_per_s_per_N",
+                                          "tension_filter_s"};
     if (!cdpr_v3_isfinite(g->wind_m_per_s)) {
         return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "wind_m_per_s", -1);
     }
-    for (int i = 0; i < 10; ++i) {
+    for (int i = 0; i < 12; ++i) {
         if (!isfinite(v[i])) {
             return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
         }
@@ -229,10 +233,10 @@ static void load_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add, cdpr_
     *tau = cdpr_v3_sub(*tau, tau_add);
 }
 
-/* Lengths at time t: IK of the reference pose under the weight and load_at's load. On
- * failure `L` is untouched. */
+/* Lengths at time t (and, if T is not NULL, the winch-end tensions): IK of the reference pose
+ * under the weight and load_at's load. On failure `L` and `T` are untouched. */
 static cdpr_status_t ik_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add,
-                           cdpr_vec3_t tau_add, double *L)
+                           cdpr_vec3_t tau_add, double *L, double *T)
 {
     cdpr_traj_sample_t d;
     cdpr_vec3_t f;
@@ -255,6 +259,9 @@ static cdpr_status_t ik_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add
     }
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
         L[j] = res.cable[j].length_m;
+        if (T != NULL) {
+            T[j] = res.cable[j].tension_winch_N;
+        }
     }
     return CDPR_OK;
 }
@@ -297,11 +304,12 @@ void cdpr_tracker_reference(const cdpr_tracker_t *tr, double t_s, cdpr_traj_samp
     }
 }
 
-/* Feed-forward lengths at time t; on failure `L` is untouched. */
-static cdpr_status_t feedforward(const cdpr_tracker_t *tr, double t, double *L)
+/* Feed-forward lengths (and winch-end tensions, T may be NULL) at time t; on failure `L` and
+ * `T` are untouched. */
+static cdpr_status_t feedforward(const cdpr_tracker_t *tr, double t, double *L, double *T)
 {
     const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
-    return ik_at(tr, t, zero, zero, L);
+    return ik_at(tr, t, zero, zero, L, T);
 }
 
 cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *model_params,
@@ -329,7 +337,7 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
     tr->g = *g;
     tr->period_s = period_s;
     cdpr_statics_opts_default(&tr->ik_opts);
-    const cdpr_status_t st = feedforward(tr, t0_s, tr->l_ff_m);
+    const cdpr_status_t st = feedforward(tr, t0_s, tr->l_ff_m, tr->t_ff_N);
     if (st != CDPR_OK) {
         return cdpr_diag_set(diag, st, "trajectory", -1);
     }
@@ -348,17 +356,21 @@ static int meas_finite(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
                  isfinite(m->cabin.q.z);
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
         finite = finite && isfinite(m->length_m[j]);
+        /* the tensions are read only with tension feedback on */
+        finite = finite &&
+                 (!(tr->g.tension_gain_m_per_s_per_N > 0.0) || isfinite(m->tension_winch_N[j]));
     }
     return finite;
 }
 
 /* Step 1: L_ff(t) (prepared by the previous period, unless the caller's clock jumped) and
- * L_ff(t + dt) into l_next (the last good value when the IK fails). */
+ * L_ff(t + dt) into l_next, its winch-end tensions into t_next (the last good values when the
+ * IK fails). */
 static void feedforward_step(cdpr_tracker_t *tr, double t, double dt, double *l_next,
-                             cdpr_tracker_cmd_t *cmd)
+                             double *t_next, cdpr_tracker_cmd_t *cmd)
 {
     if (fabs(t - tr->t_next_s) > 1e-9 * (1.0 + fabs(t))) {
-        if (feedforward(tr, t, tr->l_ff_m) != CDPR_OK) {
+        if (feedforward(tr, t, tr->l_ff_m, tr->t_ff_N) != CDPR_OK) {
             tr->ik_failures++;
             tr->l_ff_exact = 0;
         } else {
@@ -366,7 +378,8 @@ static void feedforward_step(cdpr_tracker_t *tr, double t, double dt, double *l_
         }
     }
     memcpy(l_next, tr->l_ff_m, sizeof(double) * CDPR_MAX_CABLES);
-    cmd->ik_status = feedforward(tr, t + dt, l_next);
+    memcpy(t_next, tr->t_ff_N, sizeof(double) * CDPR_MAX_CABLES);
+    cmd->ik_status = feedforward(tr, t + dt, l_next, t_next);
     if (cmd->ik_status != CDPR_OK) {
         tr->ik_failures++; /* l_next still holds the last good feed-forward */
         slack_demand(tr, t + dt, cmd);
@@ -434,9 +447,9 @@ static void damping_step(cdpr_tracker_t *tr, double t, cdpr_tracker_cmd_t *cmd, 
     double l_ref[CDPR_MAX_CABLES];
     double l_w[CDPR_MAX_CABLES];
     memcpy(l_ref, tr->l_ff_m, sizeof l_ref);
-    cmd->fb_status = (tr->l_ff_exact != 0) ? CDPR_OK : feedforward(tr, t, l_ref);
+    cmd->fb_status = (tr->l_ff_exact != 0) ? CDPR_OK : feedforward(tr, t, l_ref, NULL);
     if (cmd->fb_status == CDPR_OK) {
-        cmd->fb_status = ik_at(tr, t, f_add, tau_add, l_w);
+        cmd->fb_status = ik_at(tr, t, f_add, tau_add, l_w, NULL);
     }
     if (cmd->fb_status == CDPR_OK) {
         for (int j = 0; j < tr->model.p.n_cables; ++j) {
@@ -467,6 +480,23 @@ static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
         cmd->u_ff_m_per_s[j] = u_ff;
         cmd->dl_m[j] = dl;
         cmd->rate_m_per_s[j] = u_ff + tr->g.k_length_per_s * (tr->l_ff_m[j] + dl - m->length_m[j]);
+        if (tr->g.tension_gain_m_per_s_per_N > 0.0) {
+            cmd->rate_m_per_s[j] += tr->g.tension_gain_m_per_s_per_N * tr->ten_f[j];
+        }
+    }
+}
+
+/* Step 4b: the tension errors T_j - T_ff,j(t) through one first-order stage into tr->ten_f
+ * (primed by the first sample with the pose filter). Only with tension feedback on. */
+static void filter_tensions(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double dt)
+{
+    if (!(tr->g.tension_gain_m_per_s_per_N > 0.0)) {
+        return;
+    }
+    const double a = (tr->g.tension_filter_s > 0.0) ? 1.0 - exp(-dt / tr->g.tension_filter_s) : 1.0;
+    for (int j = 0; j < tr->model.p.n_cables; ++j) {
+        const double e = m->tension_winch_N[j] - tr->t_ff_N[j];
+        tr->ten_f[j] = (tr->filter_primed == 0) ? e : tr->ten_f[j] + a * (e - tr->ten_f[j]);
     }
 }
 
@@ -480,7 +510,7 @@ static void start_transfer(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
     cdpr_transfer_init(&tr->transfer, &tr->traj, m->t_s, tr->g.transfer_s, &m->cabin);
     tr->transfer_set = 1;
     tr->t_next_s = m->t_s;
-    if (feedforward(tr, m->t_s, tr->l_ff_m) != CDPR_OK) {
+    if (feedforward(tr, m->t_s, tr->l_ff_m, tr->t_ff_N) != CDPR_OK) {
         tr->ik_failures++;
         tr->l_ff_exact = 0;
     } else {
@@ -501,15 +531,18 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     const double dt = tr->period_s;
     const double t = m->t_s;
     double l_next[CDPR_MAX_CABLES];
+    double t_next[CDPR_MAX_CABLES];
     start_transfer(tr, m);
-    feedforward_step(tr, t, dt, l_next, cmd);
+    feedforward_step(tr, t, dt, l_next, t_next, cmd);
     double raw[12];
     pose_error(tr, m, t, cmd, raw);
+    filter_tensions(tr, m, dt); /* before filter_errors: both prime on the same sample */
     filter_errors(tr, raw, dt);
     double dl_w[CDPR_MAX_CABLES] = {0.0};
     damping_step(tr, t, cmd, dl_w);
     rate_commands(tr, m, dt, l_next, dl_w, cmd);
     memcpy(tr->l_ff_m, l_next, sizeof l_next);
+    memcpy(tr->t_ff_N, t_next, sizeof t_next);
     tr->l_ff_exact = (cmd->ik_status == CDPR_OK) ? 1 : 0;
     tr->t_next_s = t + dt;
     tr->steps++;

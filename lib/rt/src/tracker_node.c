@@ -28,7 +28,8 @@ cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_ca
     if (all_finite(st->position_m, 3) == 0 || all_finite(st->orientation, 4) == 0 ||
         all_finite(st->velocity_m_per_s, 3) == 0 ||
         all_finite(st->angular_velocity_rad_per_s, 3) == 0 ||
-        all_finite(ten->length_m, n_cables) == 0) {
+        all_finite(ten->length_m, n_cables) == 0 ||
+        all_finite(ten->tension_winch_N, n_cables) == 0) {
         return CDPR_E_NOT_FINITE;
     }
     /* n = round(utime 1e-6 / dt); t = n dt is the plant's own k dt. A time beyond 2^53
@@ -51,6 +52,7 @@ cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_ca
                 st->angular_velocity_rad_per_s[2]);
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
         m->length_m[j] = (j < n_cables) ? ten->length_m[j] : 0.0;
+        m->tension_winch_N[j] = (j < n_cables) ? ten->tension_winch_N[j] : 0.0;
     }
     return CDPR_OK;
 }

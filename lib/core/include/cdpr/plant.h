@@ -140,6 +140,9 @@ typedef struct {
     cdpr_real_t t_s;                       ///< plant time t_k [s]
     cdpr_cabin_motion_t cabin;             ///< cabin motion (quaternion normalised)
     cdpr_real_t length_m[CDPR_MAX_CABLES]; ///< total unstretched lengths [m] (0 past n_cables)
+    cdpr_real_t tension_winch_N[CDPR_MAX_CABLES]; ///< winch-end tensions T_{n-1} with the
+                                                  ///< payout rates in force (a load cell at
+                                                  ///< the winch; cdpr_robot_outputs) [N]
 } cdpr_plant_meas_t;
 
 /// The plant (caller-owned; read the fields, change them only through the functions).
@@ -206,7 +209,8 @@ cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cd
 cdpr_real_t cdpr_plant_time(const cdpr_plant_t *p);
 
 /// Measurements at t_k (cabin motion with the quaternion normalised, total unstretched
-/// lengths). O(total segments); no allocation; cannot fail. Real-time safe.
+/// lengths, winch-end tensions as cdpr_plant_outputs gives them). O(total segments); no
+/// allocation; cannot fail. Real-time safe.
 void cdpr_plant_measure(const cdpr_plant_t *p, cdpr_plant_meas_t *m);
 
 /// Cable forces on the cabin and end tensions at t_k with the payout rates in force

@@ -40,6 +40,15 @@
 ///     do not use it (docs/validation.md §8).
 ///  4. payout-rate command u_j = u_ff,j + k_L (L_ff,j(t) + δL_j - L_j). The plant's winch
 ///     (cdpr_winch_update) applies its speed and acceleration limits.
+///  4b. winch tension feedback (optional, tension_gain_m_per_s_per_N = k_T > 0): each winch
+///     pays out in proportion to its measured winch-end tension above the feed-forward's,
+///       u_j += k_T e_T,j,   e_T,j = low-pass(T_j - T_ff,j(t)),
+///     T_ff,j(t) the winch-end tension of the feed-forward IK's catenary at t (held with
+///     L_ff when the IK fails), the low-pass one first-order stage of time constant
+///     tension_filter_s (exact for a signal held over the period; the first sample primes
+///     it). Rate in, force out at the same winch: a collocated admittance (a damper 1/k_T in
+///     series with each cable, against the length loop's spring k_L/k_T), which damps the
+///     cabin-cable modes without the pose loop's phase problem (docs/validation.md §8).
 ///  5. (before step 1) the reference: the desired trajectory, or with transfer_s = T > 0 the
 ///     planned transfer (trajectory.h, cdpr_transfer_t) from the first measurement (the pose
 ///     at the first step: in process and over LCM, where a plant restart re-inits the
@@ -91,6 +100,9 @@ typedef struct {
                               ///< IK [-] (>= 0; 0 = none; cdpr_tracker_wind_wrench)
     cdpr_vec3_t wind_m_per_s; ///< the steady wind the feed-forward assumes [m/s] (finite; the
                               ///< plant's robot.wind_m_per_s: an ideal anemometer)
+    double tension_gain_m_per_s_per_N; ///< winch tension feedback k_T [m/s/N] (>= 0; 0 = off)
+    double tension_filter_s;           ///< time constant of the tension error's low-pass [s] (>= 0;
+                                       ///< 0 = none)
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,
@@ -123,6 +135,8 @@ typedef struct {
     double l_ff_m[CDPR_MAX_CABLES]; ///< L_ff at t_next_s (internal)
     double err_f1[12];              ///< first filter stage (internal)
     double err_f[12];               ///< filtered e_p, e_θ, ė_p, ė_θ (internal)
+    double ten_f[CDPR_MAX_CABLES];  ///< filtered tension errors T_j - T_ff,j [N] (internal)
+    double t_ff_N[CDPR_MAX_CABLES]; ///< feed-forward winch-end tensions at t_next_s (internal)
     int filter_primed;              ///< err_f holds a value (internal)
     double t_next_s;                ///< time L_ff refers to (internal)
     int l_ff_exact;                 ///< l_ff_m is the IK at t_next_s, not a held value (internal)
