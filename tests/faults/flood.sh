@@ -9,21 +9,8 @@
 # Runs inside a private network namespace (udpm on loopback).
 set -eu
 . "$(dirname "$0")/lib.sh" "$@"
-py=${CDPR_PYTHON3:-/usr/bin/python3}
-if ! "$py" -c 'import lcm, cdpr.winch_command_t' 2> "$w/import.txt"; then
-    cat "$w/import.txt"
-    echo "SKIPPED: LCM's Python module is not importable (PYTHONPATH=${PYTHONPATH:-})"
-    exit 77
-fi
-sc=$src/scenarios/paper-line.yaml
-common="--rate 100 --duration 5 --lcm-url $url"
-
-"$bin/cdpr-tracker" "$sc" $common --quiet --idle-exit 30 > "$w/t.txt" 2>&1 &
-t=$!
-sleep 0.5
-"$bin/cdpr-rt" "$sc" $common --watchdog 0.1 > "$w/rt.txt" 2> "$w/rt.err" &
-rt=$!
-wait_for "$w/rt.err" "running" 60
+python_or_skip
+tracker_then_plant "$src/scenarios/paper-line.yaml" "--rate 100 --duration 5 --lcm-url $url"
 sleep 0.5
 "$py" "$(dirname "$0")/inject.py" "$url" --flood 3 > "$w/inject.txt" 2>&1 ||
     { cat "$w/inject.txt"; fail "inject.py"; }

@@ -33,3 +33,23 @@ wait_for() {
         sleep 0.05
     done
 }
+# python_or_skip: $py = the Python with LCM's module and this build's message types, or exit 77.
+python_or_skip() {
+    py=${CDPR_PYTHON3:-/usr/bin/python3}
+    if ! "$py" -c 'import lcm, cdpr.winch_command_t' 2> "$w/import.txt"; then
+        cat "$w/import.txt"
+        echo "SKIPPED: LCM's Python module is not importable (PYTHONPATH=${PYTHONPATH:-})"
+        exit 77
+    fi
+}
+# tracker_then_plant SCENARIO OPTIONS: cdpr-tracker (output in $w/t.txt, pid $t), then a
+# free-running cdpr-rt with a 0.1 s watchdog ($w/rt.txt, $w/rt.err, pid $rt); returns once the
+# plant runs. OPTIONS (one word list) go to both.
+tracker_then_plant() {
+    "$bin/cdpr-tracker" "$1" $2 --quiet --idle-exit 30 > "$w/t.txt" 2>&1 &
+    t=$!
+    sleep 0.5
+    "$bin/cdpr-rt" "$1" $2 --watchdog 0.1 > "$w/rt.txt" 2> "$w/rt.err" &
+    rt=$!
+    wait_for "$w/rt.err" "running" 60
+}
