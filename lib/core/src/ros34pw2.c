@@ -504,7 +504,8 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
     ros_copy(yb, y, s->dim);
 
     cdpr_status_t st = CDPR_OK;
-    for (int trials = 0; (st == CDPR_OK) && (w.tc < w.t_end); ++trials) {
+    int trials = 0;
+    while ((st == CDPR_OK) && (w.tc < w.t_end)) {
         const int budget = max_trials - trials;
         if (budget < 1) {
             st = CDPR_E_SUBSTEP_LIMIT; /* not reached: the last trial is an equal step */
@@ -516,6 +517,7 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
         if (st == CDPR_OK) {
             st = ros_judge(s, &w, y, yn, h, err);
         }
+        ++trials;
     }
     if (st < 0) {
         ros_copy(y, yb, s->dim);

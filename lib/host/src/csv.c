@@ -103,8 +103,8 @@ void cdpr_csv_comment(cdpr_csv_t *c, const char *key, const char *value)
     const char *v = (value != NULL && value[0] != '\0') ? value : "null";
     for (; *v != '\0'; ++v) {
         const unsigned char ch = (unsigned char)*v;
-        const char out = (ch < 0x20U || ch == 0x7fU) ? '?' : *v;
-        put(c, &out, 1);
+        /* A control character would break the comment line: shown as '?'. */
+        put(c, (ch < 0x20U || ch == 0x7fU) ? "?" : v, 1);
     }
     cdpr_csv_end_row(c);
 }
