@@ -360,7 +360,7 @@ int main(int argc, char **argv)
                                              {"step-test", required_argument, NULL, 's'},
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
-    double at_s = NAN;
+    double at_s = (double)NAN;
     double cable = -1.0;
     int c;
     opterr = 0;

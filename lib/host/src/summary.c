@@ -472,12 +472,12 @@ static void print_laps(FILE *f, const cdpr_sim_summary_t *s)
         return;
     }
     fprintf(f, "  per lap (%d)     rms", s->n_laps);
-    const int shown = (s->n_laps > 12) ? 12 : s->n_laps;
+    const int more = (s->n_laps > 12) ? 1 : 0;
+    const int shown = (more != 0) ? 12 : s->n_laps;
     for (int i = 0; i < shown; ++i) {
         fprintf(f, " %.3g", s->lap_rms_m[i]);
     }
-    fprintf(f, "%s m; last lap %.4g m\n", (shown < s->n_laps) ? " ..." : "",
-            s->lap_rms_m[s->n_laps - 1]);
+    fprintf(f, "%s m; last lap %.4g m\n", (more != 0) ? " ..." : "", s->lap_rms_m[s->n_laps - 1]);
 }
 
 void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s)
