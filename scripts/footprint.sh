@@ -89,11 +89,14 @@ def load(cidir):
 
 # The integrator's indirect call is the robot RHS on the step path; the robot's own indirect
 # call is the optional prescribed-motion callback (user code, not counted).
-# ROS34PW2 calls the plant's three callbacks (plant.c): the RHS, the W factorisation and solve.
-INDIRECT = {"cdpr_rkf45_advance": "cdpr_robot_rhs", "cdpr_rkf45_step": "cdpr_robot_rhs",
-            "cdpr_rkf45_trial": "cdpr_robot_rhs", "trial": "cdpr_robot_rhs",
-            "ros_eval": "cdpr_robot_rhs", "ros_prepare_w": "cdpr_robot_w_factor",
-            "ros_solve": "cdpr_robot_w_solve"}
+# ROS34PW2 calls the plant's three callbacks (plant.c): the RHS, the W factorisation and solve
+# (from its helpers, or from ros_try where the compiler inlined them; all three count there).
+ROS_CALLBACKS = ["cdpr_robot_rhs", "cdpr_robot_w_factor", "cdpr_robot_w_solve"]
+INDIRECT = {"cdpr_rkf45_advance": ["cdpr_robot_rhs"], "cdpr_rkf45_step": ["cdpr_robot_rhs"],
+            "cdpr_rkf45_trial": ["cdpr_robot_rhs"], "trial": ["cdpr_robot_rhs"],
+            "ros_eval": ["cdpr_robot_rhs"], "ros_prepare_w": ["cdpr_robot_w_factor"],
+            "ros_solve": ["cdpr_robot_w_solve"], "ros_try": ROS_CALLBACKS,
+            "cdpr_ros_advance": ROS_CALLBACKS, "cdpr_ros_trial": ROS_CALLBACKS}
 
 def worst(fn, g, seen=()):
     frames, qual, edges = g
@@ -102,14 +105,13 @@ def worst(fn, g, seen=()):
     if "dynamic" in qual.get(fn, "static"):
         raise SystemExit(fn + " has a dynamic stack frame")
     best, path = 0, []
-    for callee in edges.get(fn, ()):
-        if callee == "__indirect_call":
-            callee = INDIRECT.get(fn)
-        if callee is None or callee not in frames:
-            continue  # user callback, or outside the core (libm)
-        w, p = worst(callee, g, seen + (fn,))
-        if w > best:
-            best, path = w, p
+    for callee0 in edges.get(fn, ()):
+        for callee in (INDIRECT.get(fn, []) if callee0 == "__indirect_call" else [callee0]):
+            if callee not in frames:
+                continue  # user callback, or outside the core (libm)
+            w, p = worst(callee, g, seen + (fn,))
+            if w > best:
+                best, path = w, p
     return frames.get(fn, 0) + best, [fn] + path
 
 def core_graph(preset, segments=None):
