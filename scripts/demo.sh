@@ -68,7 +68,7 @@ else
     "$bin/cdpr-rt" "$scenario" --rate 1000 --max-trials 50 --lcm-url memq:// --realtime --with-tracker \
         --tracker-out "$out"
 fi
-echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png"
+echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png, $out/laps.png (error per lap)"
 
 echo
 echo "==== scenarios/paper-line.yaml (batch run)"
