@@ -206,6 +206,12 @@ cdpr_real_t cdpr_plant_time(const cdpr_plant_t *p)
 
 void cdpr_plant_measure(const cdpr_plant_t *p, cdpr_plant_meas_t *m)
 {
+    cdpr_robot_out_t out;
+    cdpr_plant_measure_out(p, m, &out);
+}
+
+void cdpr_plant_measure_out(const cdpr_plant_t *p, cdpr_plant_meas_t *m, cdpr_robot_out_t *out)
+{
     const cdpr_robot_t *r = &p->robot;
     m->t_s = cdpr_plant_time(p);
     cdpr_cabin_get_motion(p->y, &m->cabin);
@@ -215,10 +221,9 @@ void cdpr_plant_measure(const cdpr_plant_t *p, cdpr_plant_meas_t *m)
                              ? cdpr_cable_total_length(&r->cable[j], p->y + r->offset[j])
                              : CDPR_R(0.0);
     }
-    cdpr_robot_out_t out;
-    cdpr_robot_outputs(r, m->t_s, p->y, &out);
+    cdpr_robot_outputs(r, m->t_s, p->y, out);
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
-        m->tension_winch_N[j] = (j < r->p.n_cables) ? out.tension_winch_N[j] : CDPR_R(0.0);
+        m->tension_winch_N[j] = out->tension_winch_N[j]; /* 0 past n_cables */
     }
 }
 

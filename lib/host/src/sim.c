@@ -260,7 +260,8 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
         cdpr_traj_sample_t des;
         cdpr_traj_eval(&sc->traj, t, &des);
         cdpr_tracker_meas_t meas;
-        cdpr_plant_measure(p, &meas);
+        cdpr_robot_out_t out; /* end forces at t_k, for the row below */
+        cdpr_plant_measure_out(p, &meas, &out);
         const int last = (k >= n_periods) ? 1 : 0;
         cdpr_tracker_cmd_t cmd;
         if (last == 0) {
@@ -273,8 +274,6 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
         }
         /* The row of t_k: state, tensions and the payout rates of the period that ended at t_k
          * (what the real-time node publishes for state k), L_ff(t_k). */
-        cdpr_robot_out_t out;
-        cdpr_robot_outputs(r, t, p->y, &out);
         int segments[CDPR_MAX_CABLES] = {0};
         for (int j = 0; j < nc; ++j) {
             segments[j] = r->cable[j].n;

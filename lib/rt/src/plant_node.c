@@ -44,8 +44,7 @@ static cdpr_status_t opt_error(const char *opt, double v, const char *what,
 }
 
 /* The node's own options (the run settings are the scenario's: cdpr_scenario_check). */
-static cdpr_status_t check_opts(const cdpr_rt_opts_t *op, double rate_hz,
-                                cdpr_scenario_error_t *err)
+static cdpr_status_t check_opts(const cdpr_rt_opts_t *op, cdpr_scenario_error_t *err)
 {
     if (!(op->lockstep_timeout_s > 0.0 && op->lockstep_timeout_s <= 3600.0)) {
         return opt_error("lockstep-timeout", op->lockstep_timeout_s, "must be in (0, 3600] s", err);
@@ -53,7 +52,7 @@ static cdpr_status_t check_opts(const cdpr_rt_opts_t *op, double rate_hz,
     if (op->rt_priority < 1 || op->rt_priority > 99) {
         return opt_error("priority", (double)op->rt_priority, "must be in 1..99", err);
     }
-    (void)rate_hz; /* a message rate above the control rate means every period */
+    /* A message rate above the control rate means every period (every()). */
     if (!(op->shape_rate_hz >= 0.0 && op->shape_rate_hz < 1e12)) {
         return opt_error("shape-rate", op->shape_rate_hz, "must be >= 0 Hz", err);
     }
@@ -111,7 +110,7 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
         return st;
     }
     const double rate_hz = 1.0 / sc->period_s;
-    st = check_opts(&rt->o, rate_hz, err);
+    st = check_opts(&rt->o, err);
     if (st != CDPR_OK) {
         return st;
     }
@@ -240,7 +239,7 @@ static void publish(cdpr_rt_t *rt, int plant_flags)
 {
     cdpr_plant_t *p = &rt->plant;
     cdpr_tracker_meas_t m;
-    cdpr_plant_measure(p, &m);
+    cdpr_plant_measure_out(p, &m, &rt->out); /* the tensions message's values too */
     int32_t flags = (int32_t)plant_flags;
     if (rt->hold != 0) {
         flags |= CDPR_CABIN_STATE_T_FLAG_HOLD;
@@ -253,7 +252,6 @@ static void publish(cdpr_rt_t *rt, int plant_flags)
     rt->st_msg.plant_session = session;
     rt->st_msg.controller_session = rt->command_session;
     (void)cdpr_lcm_bridge_push_cabin_state(&rt->bridge, &rt->st_msg);
-    cdpr_robot_outputs(&p->robot, m.t_s, p->y, &rt->out);
     cdpr_lcm_pack_tensions(&rt->ten_msg, &p->robot, p->y, &rt->out, m.t_s, rt->seq);
     rt->ten_msg.plant_session = session;
     (void)cdpr_lcm_bridge_push_tensions(&rt->bridge, &rt->ten_msg);

@@ -213,6 +213,11 @@ cdpr_real_t cdpr_plant_time(const cdpr_plant_t *p);
 /// allocation; cannot fail. Real-time safe.
 void cdpr_plant_measure(const cdpr_plant_t *p, cdpr_plant_meas_t *m);
 
+/// cdpr_plant_measure and cdpr_plant_outputs from one evaluation of the end forces (what a
+/// loop that needs both calls once per period). Same cost as cdpr_plant_measure; no
+/// allocation; cannot fail. Real-time safe.
+void cdpr_plant_measure_out(const cdpr_plant_t *p, cdpr_plant_meas_t *m, cdpr_robot_out_t *out);
+
 /// Cable forces on the cabin and end tensions at t_k with the payout rates in force
 /// (cdpr_robot_outputs). O(cables); no allocation; cannot fail. Real-time safe.
 void cdpr_plant_outputs(const cdpr_plant_t *p, cdpr_robot_out_t *out);
