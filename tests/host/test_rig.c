@@ -86,16 +86,12 @@ static void check_file_equals_preset(const char *file, cdpr_preset_t preset)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_get(preset, &cfg));
     static cdpr_robot_params_t p_preset;
     static cdpr_robot_params_t p_file;
-    static cdpr_robot_params_t p_rig;
     cdpr_winch_params_t w_preset;
     cdpr_winch_params_t w_file[CDPR_MAX_CABLES];
-    cdpr_winch_params_t w_rig[CDPR_MAX_CABLES];
     memset(&p_preset, 0, sizeof p_preset);
     memset(&p_file, 0, sizeof p_file);
-    memset(&p_rig, 0, sizeof p_rig);
     memset(&w_preset, 0, sizeof w_preset);
     memset(w_file, 0, sizeof w_file);
-    memset(w_rig, 0, sizeof w_rig);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&cfg, NULL, &p_preset, &w_preset, NULL));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rig_build(&rig, NULL, &p_file, w_file, NULL));
     assert_same_params(&p_preset, &p_file, file);
@@ -107,12 +103,8 @@ static void check_file_equals_preset(const char *file, cdpr_preset_t preset)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&cfg, lengths, &p_preset, NULL, NULL));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rig_build(&rig, lengths, &p_file, NULL, NULL));
     assert_same_params(&p_preset, &p_file, file);
-    /* The preset as a rig builds the same. */
-    static cdpr_rig_t from_preset;
-    cdpr_rig_from_preset(&cfg, &from_preset);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rig_build(&from_preset, lengths, &p_rig, w_rig, NULL));
-    assert_same_params(&p_preset, &p_rig, file);
-    TEST_ASSERT_EQUAL_MEMORY(&w_preset, &w_rig[5], sizeof w_preset);
+    /* (cdpr_preset_build is cdpr_rig_build of cdpr_rig_from_preset: the comparison above,
+     * with the robot file read independently, is what checks the conversion.) */
     /* Everything the file holds besides the core parameters: wind and the nominal pose. */
     TEST_ASSERT_EQUAL_MEMORY(cfg.wind_m_per_s, rig.wind_m_per_s, sizeof rig.wind_m_per_s);
     TEST_ASSERT_EQUAL_MEMORY(cfg.nominal_pose, rig.nominal_pose, sizeof rig.nominal_pose);

@@ -4,6 +4,7 @@
 #include "cdpr/host/presets.h"
 
 #include "cdpr/config.h"
+#include "cdpr/host/rig.h"
 
 #include <math.h>
 #include <string.h>
@@ -112,47 +113,13 @@ cdpr_status_t cdpr_preset_build(const cdpr_preset_config_t *cfg, const double *l
     if (cfg == NULL || p == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "config", -1);
     }
-    cdpr_robot_params_t rp;
-    cdpr_robot_params_default(&rp);
-    rp.n_cables = CDPR_ROBOT_CABLES;
-    rp.g_m_per_s2 = cfg->gravity_m_per_s2;
-    rp.mode = CDPR_CABIN_DYNAMIC;
-    rp.cabin.mass_kg = cfg->cabin_mass_kg;
-    rp.cabin.com_body_m = cdpr_v3(cfg->cabin_com_m[0], cfg->cabin_com_m[1], cfg->cabin_com_m[2]);
-    const double *I = cfg->cabin_inertia_kg_m2;
-    const double *P = cfg->cabin_products_kg_m2; /* Ixy, Ixz, Iyz */
-    const cdpr_mat3_t inertia = {{{I[0], P[0], P[1]}, {P[0], I[1], P[2]}, {P[1], P[2], I[2]}}};
-    rp.cabin.inertia_com_kg_m2 = inertia;
-    const cdpr_cabin_motion_t nominal = cdpr_cabin_motion_at_pose(cfg->nominal_pose);
-    cdpr_mat3_t R;
-    cdpr_quat_to_mat3(nominal.q, &R);
-    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
-        cdpr_robot_cable_params_t *c = &rp.cables[j];
-        c->cable = cfg->cable;
-        cdpr_preset_geometry(cfg, j, &c->exit_point_m, &c->attach_body_m);
-        c->n_segments = cfg->segments;
-        if (length_m != NULL) {
-            c->length_m = length_m[j];
-        } else {
-            const cdpr_vec3_t a = cdpr_v3_add(nominal.p_m, cdpr_m3_mul_v3(&R, c->attach_body_m));
-            c->length_m = cdpr_v3_norm(cdpr_v3_sub(c->exit_point_m, a));
-        }
+    /* One builder for every robot form: the preset as a rig (its six cables alike). */
+    cdpr_rig_t rig;
+    cdpr_winch_params_t winch[CDPR_MAX_CABLES];
+    cdpr_rig_from_preset(cfg, &rig);
+    const cdpr_status_t st = cdpr_rig_build(&rig, length_m, p, (w != NULL) ? winch : NULL, diag);
+    if (st == CDPR_OK && w != NULL) {
+        *w = winch[0];
     }
-    /* Validate with the core's own rules (scratch object: nothing is kept). */
-    static const cdpr_robot_t zero;
-    cdpr_robot_t scratch = zero;
-    const cdpr_status_t st = cdpr_robot_init(&scratch, &rp, diag);
-    if (st != CDPR_OK) {
-        return st;
-    }
-    if (w != NULL) {
-        cdpr_winch_t wt;
-        const cdpr_status_t ws = cdpr_winch_init(&wt, &cfg->winch, diag);
-        if (ws != CDPR_OK) {
-            return ws;
-        }
-        *w = cfg->winch;
-    }
-    *p = rp;
-    return cdpr_diag_set(diag, CDPR_OK, "", -1);
+    return st;
 }
