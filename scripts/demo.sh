@@ -7,7 +7,9 @@
 #  2. the paper's circle scenario (Duan et al. 2010, §4; scenarios/paper-circle.yaml) through
 #     the real-time loop: cdpr-rt (the plant, 1 kHz periodic thread) and cdpr-tracker (the
 #     external controller) as two processes exchanging cabin state, cable tensions and winch
-#     commands over LCM UDP multicast on loopback, recorded by lcm-logger. When multicast
+#     commands over LCM UDP multicast on loopback, recorded by lcm-logger. The plant integrates
+#     with ROS34PW2 and the scenario's integrator.ros34pw2 settings (at most 4 trials per 1 ms
+#     period; docs/performance.md "Which integrator to ship"). When multicast
 #     cannot be set up, both sides run in one process over memq:// instead, and it says so.
 #     Writes out/paper-circle-rt/ (timeseries.csv, summary.json, figure4.png, errors.png,
 #     tensions.png, circle.lcmlog) and prints the tracking summary and the plant telemetry;
@@ -52,10 +54,10 @@ if [[ $multicast -eq 1 ]]; then
 fi
 if [[ $multicast -eq 1 ]]; then
     echo "two processes over $url; lcm-logger records to $out/circle.lcmlog"
-    "$bin/cdpr-tracker" "$scenario" --rate 1000 --max-trials 50 --lcm-url "$url" --out "$out" &
+    "$bin/cdpr-tracker" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url "$url" --out "$out" &
     tracker=$!
     status=0
-    "$bin/cdpr-rt" "$scenario" --rate 1000 --max-trials 50 --lcm-url "$url" --start-delay 0.5 --realtime \
+    "$bin/cdpr-rt" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url "$url" --start-delay 0.5 --realtime \
         || status=$?
     wait "$tracker" || status=$?
     sleep 0.2
@@ -65,7 +67,7 @@ if [[ $multicast -eq 1 ]]; then
 else
     echo "NOTE: UDP multicast unavailable ($why):"
     echo "      running plant and tracker in one process over memq:// instead"
-    "$bin/cdpr-rt" "$scenario" --rate 1000 --max-trials 50 --lcm-url memq:// --realtime --with-tracker \
+    "$bin/cdpr-rt" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url memq:// --realtime --with-tracker \
         --tracker-out "$out"
 fi
 echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png, $out/laps.png (error per lap)"

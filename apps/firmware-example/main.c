@@ -191,6 +191,42 @@ static cdpr_status_t control_period(void)
     return st;
 }
 
+#ifdef FW_ROS34PW2
+/* The parts of an implicit period, measured once on the final state: one RHS evaluation, one
+ * factorisation of W (gamma h for the 1 ms step) and one solve. A trial is 4 RHS + 4 solves
+ * (+ 1 factorisation when W is renewed) + the stage arithmetic: the floor of any 4-stage
+ * W-method on this model (docs/performance.md). */
+#define FW_DIM_MAX (CDPR_CABIN_STATE_DIM + N_CABLES * (1 + 6 * (N_SEGMENTS + 3)))
+static cdpr_real_t scratch_f[FW_DIM_MAX];
+static cdpr_real_t scratch_x[FW_DIM_MAX];
+
+static void print_part_costs(uint64_t per_calib)
+{
+    cdpr_robot_t *robot = &plant.robot;
+    if (robot->dim > FW_DIM_MAX || per_calib == 0u) {
+        return;
+    }
+    const cdpr_real_t gamma_h = CDPR_R(0.435866521508459) * DT_S;
+    const cdpr_real_t t_s = (cdpr_real_t)plant.k * DT_S;
+    const uint64_t c0 = now_clocks();
+    const cdpr_status_t s1 = cdpr_robot_rhs(t_s, plant.y, scratch_f, robot);
+    const uint64_t c1 = now_clocks();
+    const cdpr_status_t s2 = cdpr_robot_w_factor(&plant.w, t_s, plant.y, gamma_h);
+    const uint64_t c2 = now_clocks();
+    const cdpr_status_t s3 = cdpr_robot_w_solve(&plant.w, scratch_f, scratch_x);
+    const uint64_t c3 = now_clocks();
+    if (s1 < 0 || s2 < 0 || s3 < 0) {
+        printf("parts: %s / %s / %s\n", cdpr_status_str(s1), cdpr_status_str(s2),
+               cdpr_status_str(s3));
+        return;
+    }
+    printf("parts, instructions: rhs %lu, factorisation %lu, solve %lu\n",
+           (unsigned long)((c1 - c0) * 200000u / per_calib),
+           (unsigned long)((c2 - c1) * 200000u / per_calib),
+           (unsigned long)((c3 - c2) * 200000u / per_calib));
+}
+#endif
+
 int main(void)
 {
     if (init_model() != 0) {
@@ -228,6 +264,9 @@ int main(void)
         clocks_sum += s1 - s0;
         clocks_max = (s1 - s0 > clocks_max) ? s1 - s0 : clocks_max;
     }
+#ifdef FW_ROS34PW2
+    print_part_costs(per_calib);
+#endif
     SYST_CSR = 0u;
 
     /* Integers only: newlib-nano's printf has no floating point unless asked for. */

@@ -76,11 +76,40 @@ static void test_integrator_and_a_rate_below_the_output_rate(void)
         "prog: --rate 20 Hz overrides run.period_s = 0.01 s (100 Hz) of " CIRCLE "\n"
         "prog: --rate 20 Hz: run.output_rate_hz = 100 Hz of " CIRCLE
         " is above it: a row every period (20 Hz)\n"
-        "prog: --integrator ros34pw2 overrides integrator.method = rkf45 of " CIRCLE "\n",
+        "prog: --integrator ros34pw2 overrides integrator.method = rkf45 of " CIRCLE
+        " (its settings: rtol 0.001, atol 0.0001 m, 0.01 m/s, 1e-06, 0.0001 rad/s, h_max 0.01 s, "
+        "max_trials 4, max_attempts 1)\n",
         g_notes);
+    /* The method's own settings: the file's integrator.ros34pw2 subsection. */
     TEST_ASSERT_EQUAL_INT(CDPR_PLANT_ROS34PW2, g_sc.integrator.method);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0e-3, g_sc.integrator.rtol);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0e-2, g_sc.integrator.atol_velocity_m_per_s);
+    TEST_ASSERT_EQUAL_INT(4, g_sc.integrator.max_trials);
     TEST_ASSERT_EQUAL_DOUBLE(20.0, g_sc.output_rate_hz);
     TEST_ASSERT_EQUAL_INT(1, cdpr_scenario_output_every(&g_sc));
+}
+
+/* --max-trials applies on top of the settings --integrator brings, and names their value. */
+static void test_max_trials_on_top_of_the_method_settings(void)
+{
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    ov.method = (int)CDPR_PLANT_ROS34PW2;
+    ov.max_trials = 6.0;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, apply(&ov, &err), err.msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(g_notes, "prog: --max-trials 6 overrides integrator.max_trials = 4 of " CIRCLE),
+        g_notes);
+    TEST_ASSERT_EQUAL_INT(6, g_sc.integrator.max_trials);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0e-3, g_sc.integrator.rtol);
+    /* Back to the file's method: its settings again. */
+    cdpr_scenario_overrides_none(&ov);
+    ov.method = (int)CDPR_PLANT_RKF45;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_override(&g_sc, &ov, "prog", NULL, &err),
+                                  err.msg);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0e-6, g_sc.integrator.rtol);
+    TEST_ASSERT_EQUAL_INT(2000, g_sc.integrator.max_trials);
 }
 
 static void test_equal_values_print_nothing(void)
@@ -143,6 +172,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_differing_values_print_one_note_each);
     RUN_TEST(test_integrator_and_a_rate_below_the_output_rate);
+    RUN_TEST(test_max_trials_on_top_of_the_method_settings);
     RUN_TEST(test_equal_values_print_nothing);
     RUN_TEST(test_out_of_range_overrides_are_refused_naming_the_option);
     return UNITY_END() ? 1 : 0;

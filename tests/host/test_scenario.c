@@ -344,6 +344,15 @@ static const bad_case_t BAD[] = {
      "  pose:", 1},
     {"unreachable trajectory", "to: [0.5, -0.3, 11.0", "to: [40.0, -0.3, 11.0", "trajectory.line",
      "  line:", 1},
+    /* A method's own settings (integrator.ros34pw2) are checked like the section's. */
+    {"method setting out of range", "  max_attempts: 2\n",
+     "  max_attempts: 2\n  ros34pw2:\n    rtol: 0.5\n", "integrator.ros34pw2.rtol", "    rtol: 0.5",
+     0},
+    {"method setting not whole", "  max_attempts: 2\n",
+     "  max_attempts: 2\n  rkf45:\n    max_trials: 2.5\n", "integrator.rkf45.max_trials",
+     "    max_trials: 2.5", 0},
+    {"method key unknown", "  max_attempts: 2\n", "  max_attempts: 2\n  ros34pw2:\n    method: x\n",
+     "integrator.ros34pw2.method", "    method: x", 0},
 };
 
 /* Rope damping as a ratio at a frequency: converted once to c = zeta EA / (pi f) (Kelvin-Voigt:
@@ -384,6 +393,47 @@ static void test_damping_ratio_and_slack_law(void)
     write_text(path, text);
     TEST_ASSERT_TRUE(cdpr_scenario_load(path, &sc, &err) < 0);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "slack_law"), err.msg);
+}
+
+/* integrator.rkf45 / integrator.ros34pw2: each method gets the section's keys and then its
+ * own; the one in use is that of `method`. */
+static void test_settings_per_method(void)
+{
+    make_tmp();
+    static char text[sizeof GOOD_LINE + 512];
+    replace(GOOD_LINE, "  max_attempts: 2\n",
+            "  max_attempts: 2\n  method: ros34pw2\n  ros34pw2:\n    rtol: 1.0e-3\n"
+            "    max_trials: 4\n  rkf45:\n    atol_velocity_m_per_s: 7.0e-5\n",
+            text, sizeof text);
+    char path[700];
+    snprintf(path, sizeof path, "%s/per_method.yaml", tmp_dir);
+    write_text(path, text);
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
+    const cdpr_scenario_integrator_t *ros = &sc.integrator_for[CDPR_PLANT_ROS34PW2];
+    const cdpr_scenario_integrator_t *rk = &sc.integrator_for[CDPR_PLANT_RKF45];
+    TEST_ASSERT_EQUAL_INT(CDPR_PLANT_ROS34PW2, sc.integrator.method);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0e-3, sc.integrator.rtol); /* its own */
+    TEST_ASSERT_EQUAL_INT(4, sc.integrator.max_trials);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0e-6, sc.integrator.atol_position_m); /* the section's */
+    TEST_ASSERT_EQUAL_INT(2, sc.integrator.max_attempts);
+    TEST_ASSERT_EQUAL_DOUBLE(3.0e-5, sc.integrator.atol_velocity_m_per_s);
+    TEST_ASSERT_EQUAL_MEMORY(&sc.integrator, ros, sizeof *ros);
+    TEST_ASSERT_EQUAL_INT(CDPR_PLANT_RKF45, rk->method);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0e-7, rk->rtol);
+    TEST_ASSERT_EQUAL_INT(300, rk->max_trials);
+    TEST_ASSERT_EQUAL_DOUBLE(7.0e-5, rk->atol_velocity_m_per_s);
+    /* Without subsections both methods get the section's keys. */
+    snprintf(path, sizeof path, "%s/per_method_none.yaml", tmp_dir);
+    write_text(path, GOOD_LINE);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(CDPR_PLANT_RKF45, sc.integrator.method);
+    for (int m = 0; m < 2; ++m) {
+        TEST_ASSERT_EQUAL_INT(m, sc.integrator_for[m].method);
+        TEST_ASSERT_EQUAL_DOUBLE(1.0e-7, sc.integrator_for[m].rtol);
+        TEST_ASSERT_EQUAL_INT(300, sc.integrator_for[m].max_trials);
+    }
 }
 
 static void test_bad_files_name_file_key_and_line(void)
@@ -558,6 +608,7 @@ int main(void)
     RUN_TEST(test_omitted_keys_take_the_preset);
     RUN_TEST(test_committed_scenarios_hold_the_papers_numbers);
     RUN_TEST(test_damping_ratio_and_slack_law);
+    RUN_TEST(test_settings_per_method);
     RUN_TEST(test_bad_files_name_file_key_and_line);
     RUN_TEST(test_unreadable_files);
     RUN_TEST(test_command_line);

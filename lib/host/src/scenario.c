@@ -130,7 +130,7 @@ typedef struct {
     double *tension_filter_s;
 } raw_controller_t;
 
-typedef struct {
+typedef struct raw_integrator {
     double *rtol;
     double *atol_position_m;
     double *atol_velocity_m_per_s;
@@ -140,6 +140,8 @@ typedef struct {
     double *max_trials;   /* whole number, see segments */
     double *max_attempts; /* whole number */
     cdpr_plant_integrator_t *method;
+    struct raw_integrator *rkf45;    /* integrator.rkf45: settings when the method is rkf45 */
+    struct raw_integrator *ros34pw2; /* integrator.ros34pw2: when it is ros34pw2 */
 } raw_integrator_t;
 
 typedef struct {
@@ -310,9 +312,25 @@ static const cyaml_strval_t method_names[] = {
     {"rkf45", CDPR_PLANT_RKF45},
     {"ros34pw2", CDPR_PLANT_ROS34PW2},
 };
+/* The settings of one method (integrator.rkf45, integrator.ros34pw2): the section's keys
+ * without method and subsections. */
+static const cyaml_schema_field_t integrator_method_fields[] = {
+    OPT_NUMP("rtol", raw_integrator_t, rtol),
+    OPT_NUMP("atol_position_m", raw_integrator_t, atol_position_m),
+    OPT_NUMP("atol_velocity_m_per_s", raw_integrator_t, atol_velocity_m_per_s),
+    OPT_NUMP("atol_quaternion", raw_integrator_t, atol_quaternion),
+    OPT_NUMP("atol_rate_rad_per_s", raw_integrator_t, atol_rate_rad_per_s),
+    OPT_NUMP("h_max_s", raw_integrator_t, h_max_s),
+    OPT_NUMP("max_trials", raw_integrator_t, max_trials),
+    OPT_NUMP("max_attempts", raw_integrator_t, max_attempts),
+    CYAML_FIELD_END,
+};
 static const cyaml_schema_field_t integrator_fields[] = {
     CYAML_FIELD_ENUM_PTR("method", OPT | CYAML_FLAG_STRICT, raw_integrator_t, method, method_names,
                          CYAML_ARRAY_LEN(method_names)),
+    CYAML_FIELD_MAPPING_PTR("rkf45", OPT, raw_integrator_t, rkf45, integrator_method_fields),
+    CYAML_FIELD_MAPPING_PTR("ros34pw2", OPT, raw_integrator_t, ros34pw2,
+                            integrator_method_fields),
     OPT_NUMP("rtol", raw_integrator_t, rtol),
     OPT_NUMP("atol_position_m", raw_integrator_t, atol_position_m),
     OPT_NUMP("atol_velocity_m_per_s", raw_integrator_t, atol_velocity_m_per_s),
@@ -427,6 +445,10 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->integrator.max_trials = 100;
     sc->integrator.max_attempts = 1;
     sc->integrator.method = CDPR_PLANT_RKF45;
+    for (int m = 0; m < 2; ++m) {
+        sc->integrator_for[m] = sc->integrator;
+        sc->integrator_for[m].method = (cdpr_plant_integrator_t)m;
+    }
     sc->output_rate_hz = 0.0; /* 0: one row per control period */
 }
 
@@ -543,6 +565,23 @@ static void resolve_motion(const raw_t *r, cdpr_scenario_t *sc)
     }
 }
 
+/* The integrator keys given in `in` (the section or one method's subsection). */
+static void take_integrator(const raw_integrator_t *in, cdpr_scenario_integrator_t *out)
+{
+    take(&out->rtol, in->rtol, 1);
+    take(&out->atol_position_m, in->atol_position_m, 1);
+    take(&out->atol_velocity_m_per_s, in->atol_velocity_m_per_s, 1);
+    take(&out->atol_quaternion, in->atol_quaternion, 1);
+    take(&out->atol_rate_rad_per_s, in->atol_rate_rad_per_s, 1);
+    take(&out->h_max_s, in->h_max_s, 1);
+    if (in->max_trials != NULL) {
+        out->max_trials = (int)*in->max_trials; /* see check_whole_numbers */
+    }
+    if (in->max_attempts != NULL) {
+        out->max_attempts = (int)*in->max_attempts;
+    }
+}
+
 /* controller, integrator and run sections, and the description. */
 static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
 {
@@ -559,21 +598,19 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.tension_filter_s, r->controller.tension_filter_s, 1); /* default 0: off */
     if (r->integrator != NULL) {
         const raw_integrator_t *in = r->integrator;
-        take(&sc->integrator.rtol, in->rtol, 1);
-        take(&sc->integrator.atol_position_m, in->atol_position_m, 1);
-        take(&sc->integrator.atol_velocity_m_per_s, in->atol_velocity_m_per_s, 1);
-        take(&sc->integrator.atol_quaternion, in->atol_quaternion, 1);
-        take(&sc->integrator.atol_rate_rad_per_s, in->atol_rate_rad_per_s, 1);
-        take(&sc->integrator.h_max_s, in->h_max_s, 1);
-        if (in->max_trials != NULL) {
-            sc->integrator.max_trials = (int)*in->max_trials; /* see check_whole_numbers */
-        }
-        if (in->max_attempts != NULL) {
-            sc->integrator.max_attempts = (int)*in->max_attempts;
-        }
+        take_integrator(in, &sc->integrator);
         if (in->method != NULL) {
             sc->integrator.method = *in->method;
         }
+        const raw_integrator_t *sub[2] = {in->rkf45, in->ros34pw2};
+        for (int m = 0; m < 2; ++m) {
+            sc->integrator_for[m] = sc->integrator;
+            sc->integrator_for[m].method = (cdpr_plant_integrator_t)m;
+            if (sub[m] != NULL) {
+                take_integrator(sub[m], &sc->integrator_for[m]);
+            }
+        }
+        sc->integrator = sc->integrator_for[sc->integrator.method];
     }
     sc->duration_s = r->run.duration_s;
     sc->period_s = r->run.period_s;
@@ -702,12 +739,22 @@ static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *
 {
     cdpr_status_t st =
         whole(sc, "robot.segments", r->robot.segments, 1.0, (double)CDPR_MAX_SEGMENTS, err);
-    if (st == CDPR_OK && r->integrator != NULL) {
-        st = whole(sc, "integrator.max_trials", r->integrator->max_trials, 1.0,
-                   (double)CDPR_SCENARIO_MAX_TRIALS, err);
-        if (st == CDPR_OK) {
-            st = whole(sc, "integrator.max_attempts", r->integrator->max_attempts, 1.0,
-                       (double)CDPR_PLANT_MAX_ATTEMPTS, err);
+    if (r->integrator != NULL) {
+        const raw_integrator_t *sec[3] = {r->integrator, r->integrator->rkf45,
+                                          r->integrator->ros34pw2};
+        const char *name[3] = {"integrator", "integrator.rkf45", "integrator.ros34pw2"};
+        for (int i = 0; i < 3 && st == CDPR_OK; ++i) {
+            if (sec[i] == NULL) {
+                continue;
+            }
+            char key[64];
+            snprintf(key, sizeof key, "%s.max_trials", name[i]);
+            st = whole(sc, key, sec[i]->max_trials, 1.0, (double)CDPR_SCENARIO_MAX_TRIALS, err);
+            if (st == CDPR_OK) {
+                snprintf(key, sizeof key, "%s.max_attempts", name[i]);
+                st = whole(sc, key, sec[i]->max_attempts, 1.0, (double)CDPR_PLANT_MAX_ATTEMPTS,
+                           err);
+            }
         }
     }
     if (st == CDPR_OK && r->trajectory.cyclic != NULL) {
@@ -959,6 +1006,37 @@ static void check_motion(vctx_t *vp)
     *vp = v;
 }
 
+/* One integrator setting (the one in use, or a method's), keys named under `prefix`. */
+static void check_integrator(vctx_t *v, const char *prefix, const cdpr_scenario_integrator_t *in)
+{
+    const struct {
+        const char *name;
+        const double *x;
+        double hi;
+    } reals[6] = {
+        {"rtol", &in->rtol, 0.1},
+        {"atol_position_m", &in->atol_position_m, 1.0},
+        {"atol_velocity_m_per_s", &in->atol_velocity_m_per_s, 1.0},
+        {"atol_quaternion", &in->atol_quaternion, 1.0},
+        {"atol_rate_rad_per_s", &in->atol_rate_rad_per_s, 1.0},
+        {"h_max_s", &in->h_max_s, 10.0},
+    };
+    char key[64];
+    for (int i = 0; i < 6; ++i) {
+        snprintf(key, sizeof key, "%s.%s", prefix, reals[i].name);
+        range(v, key, reals[i].x, 1, 0.0, reals[i].hi, 1);
+    }
+    snprintf(key, sizeof key, "%s.max_trials", prefix);
+    irange(v, key, in->max_trials, 1, CDPR_SCENARIO_MAX_TRIALS);
+    snprintf(key, sizeof key, "%s.max_attempts", prefix);
+    irange(v, key, in->max_attempts, 1, CDPR_PLANT_MAX_ATTEMPTS);
+    if (v->failed == CDPR_OK && (int)in->method != 0 && (int)in->method != 1) {
+        snprintf(key, sizeof key, "%s.method", prefix);
+        cdpr_scenario_error(v->sc, key, "not rkf45 or ros34pw2", v->err);
+        v->failed = CDPR_E_OUT_OF_RANGE;
+    }
+}
+
 /* controller, integrator and run sections (ranges). */
 static void check_run(vctx_t *vp)
 {
@@ -976,15 +1054,9 @@ static void check_run(vctx_t *vp)
     range(&v, "controller.tension_gain_m_per_s_per_N", &sc->gains.tension_gain_m_per_s_per_N, 1,
           0.0, 1.0, 0);
     range(&v, "controller.tension_filter_s", &sc->gains.tension_filter_s, 1, 0.0, 1e3, 0);
-    const cdpr_scenario_integrator_t *in = &sc->integrator;
-    range(&v, "integrator.rtol", &in->rtol, 1, 0.0, 0.1, 1);
-    range(&v, "integrator.atol_position_m", &in->atol_position_m, 1, 0.0, 1.0, 1);
-    range(&v, "integrator.atol_velocity_m_per_s", &in->atol_velocity_m_per_s, 1, 0.0, 1.0, 1);
-    range(&v, "integrator.atol_quaternion", &in->atol_quaternion, 1, 0.0, 1.0, 1);
-    range(&v, "integrator.atol_rate_rad_per_s", &in->atol_rate_rad_per_s, 1, 0.0, 1.0, 1);
-    range(&v, "integrator.h_max_s", &in->h_max_s, 1, 0.0, 10.0, 1);
-    irange(&v, "integrator.max_trials", in->max_trials, 1, CDPR_SCENARIO_MAX_TRIALS);
-    irange(&v, "integrator.max_attempts", in->max_attempts, 1, CDPR_PLANT_MAX_ATTEMPTS);
+    check_integrator(&v, "integrator", &sc->integrator);
+    check_integrator(&v, "integrator.rkf45", &sc->integrator_for[CDPR_PLANT_RKF45]);
+    check_integrator(&v, "integrator.ros34pw2", &sc->integrator_for[CDPR_PLANT_ROS34PW2]);
     range(&v, "run.duration_s", &sc->duration_s, 1, 0.0, 1e6, 1);
     range(&v, "run.period_s", &sc->period_s, 1, 0.0, 10.0, 1);
     range(&v, "run.output_rate_hz", &sc->output_rate_hz, 1, 0.0, 1e6, 0);
@@ -1199,10 +1271,21 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
     }
     if (ov->method >= 0) {
         const cdpr_plant_integrator_t m = (cdpr_plant_integrator_t)ov->method;
-        if (notes != NULL && m != sc->integrator.method) {
-            fprintf(notes, "%s: --integrator %s overrides integrator.method = %s of %s\n", prog,
-                    cdpr_sim_integrator_name(m), cdpr_sim_integrator_name(sc->integrator.method),
-                    of);
+        if (m != sc->integrator.method && (m == CDPR_PLANT_RKF45 || m == CDPR_PLANT_ROS34PW2)) {
+            /* The method's own settings (integrator.rkf45 / integrator.ros34pw2 of the file);
+             * --max-trials / --max-attempts below still apply on top. */
+            const cdpr_scenario_integrator_t *in = &sc->integrator_for[m];
+            if (notes != NULL) {
+                fprintf(notes,
+                        "%s: --integrator %s overrides integrator.method = %s of %s (its "
+                        "settings: rtol %g, atol %g m, %g m/s, %g, %g rad/s, h_max %g s, "
+                        "max_trials %d, max_attempts %d)\n",
+                        prog, cdpr_sim_integrator_name(m),
+                        cdpr_sim_integrator_name(sc->integrator.method), of, in->rtol,
+                        in->atol_position_m, in->atol_velocity_m_per_s, in->atol_quaternion,
+                        in->atol_rate_rad_per_s, in->h_max_s, in->max_trials, in->max_attempts);
+            }
+            sc->integrator = *in;
         }
         sc->integrator.method = m;
         const size_t n = strlen(opts);

@@ -66,7 +66,13 @@ typedef struct {
     double initial_offset[6];              ///< added to the initial pose (m, rad)
     cdpr_traj_t traj;                      ///< desired trajectory
     cdpr_tracker_gains_t gains;            ///< controller gains
-    cdpr_scenario_integrator_t integrator; ///< integrator settings and work bound
+    cdpr_scenario_integrator_t integrator; ///< integrator settings and work bound in use: those
+                                           ///< of integrator.method (integrator_for[method])
+    cdpr_scenario_integrator_t integrator_for[2]; ///< the settings each method gets, indexed by
+                                                  ///< cdpr_plant_integrator_t: the section's own
+                                                  ///< keys, then those of its `rkf45:` or
+                                                  ///< `ros34pw2:` subsection; --integrator
+                                                  ///< (cdpr_scenario_override) switches to one
     double duration_s;                     ///< simulated time [s] (run.duration_s)
     double period_s;                       ///< control period of plant, controller and
                                            ///< outputs [s] (run.period_s)
