@@ -206,6 +206,13 @@ static void fill_stats(cdpr_rt_t *rt)
         t->node_removals += p->nodes.removals[j];
     }
     t->final_time_s = cdpr_plant_time(p);
+    const int ros = (p->pp.integrator == CDPR_PLANT_ROS34PW2) ? 1 : 0;
+    t->rhs_evals = (ros != 0) ? p->ros.stats.rhs_evals : p->rk.stats.rhs_evals;
+    t->factorisations = (ros != 0) ? p->ros.stats.factorisations : 0UL;
+    t->solves = (ros != 0) ? p->ros.stats.solves : 0UL;
+    t->max_rhs_per_period = p->stats.max_rhs_evals;
+    t->max_factorisations_per_period = p->stats.max_factorisations;
+    t->max_solves_per_period = p->stats.max_solves;
 }
 
 static void push_diagnostics(cdpr_rt_t *rt)
@@ -230,6 +237,14 @@ static void push_diagnostics(cdpr_rt_t *rt)
     m->node_removals = (int64_t)t->node_removals;
     m->capacity_hits = t->capacity_periods;
     m->substep_limit_hits = t->substep_limit_hits;
+    m->step_failures = t->step_failures;
+    m->integrator = (int8_t)rt->plant.pp.integrator;
+    m->rhs_evals = (int64_t)t->rhs_evals;
+    m->factorisations = (int64_t)t->factorisations;
+    m->solves = (int64_t)t->solves;
+    m->max_rhs_per_period = (int32_t)t->max_rhs_per_period;
+    m->max_factorisations_per_period = (int32_t)t->max_factorisations_per_period;
+    m->max_solves_per_period = (int32_t)t->max_solves_per_period;
     (void)cdpr_lcm_bridge_push_diagnostics(&rt->bridge, m);
 }
 
@@ -594,6 +609,25 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
             "  accuracy bound     %ld periods at the trial limit, %ld failed steps (%lu refused "
             "for their trial budget: state kept)\n",
             t->substep_limit_hits, t->step_failures, rt->plant.stats.budget_refusals);
+    const double np = (t->periods > 0) ? (double)t->periods : 1.0;
+    if (rt->plant.pp.integrator == CDPR_PLANT_ROS34PW2) {
+        fprintf(f,
+                "  integrator         ROS34PW2: per period %.2f RHS, %.2f factorisations, %.2f "
+                "solves on average, at most %lu / %lu / %lu (bound %d trials: %d / %d / %d)\n",
+                (double)t->rhs_evals / np, (double)t->factorisations / np,
+                (double)t->solves / np, t->max_rhs_per_period, t->max_factorisations_per_period,
+                t->max_solves_per_period, rt->plant.pp.max_trials * rt->plant.pp.max_attempts,
+                4 * rt->plant.pp.max_trials * rt->plant.pp.max_attempts,
+                rt->plant.pp.max_trials * rt->plant.pp.max_attempts,
+                4 * rt->plant.pp.max_trials * rt->plant.pp.max_attempts);
+    } else {
+        fprintf(f,
+                "  integrator         RKF45: per period %.2f RHS on average, at most %lu (bound "
+                "%d trials: %d)\n",
+                (double)t->rhs_evals / np, t->max_rhs_per_period,
+                rt->plant.pp.max_trials * rt->plant.pp.max_attempts,
+                6 * rt->plant.pp.max_trials * rt->plant.pp.max_attempts);
+    }
     fprintf(f, "  winches            %ld winch-periods at the minimum length\n",
             t->min_length_periods);
 }

@@ -110,6 +110,14 @@ typedef struct {
     long capacity_periods;         ///< periods whose node events met the capacity
     unsigned long node_insertions; ///< all cables
     unsigned long node_removals;   ///< all cables
+    unsigned long rhs_evals;       ///< integrator work: RHS evaluations in all
+    unsigned long factorisations;  ///< factorisations of W (ROS34PW2; 0 for RKF45)
+    unsigned long solves;          ///< solves with W (ROS34PW2; 0 for RKF45)
+    unsigned long max_rhs_per_period; ///< the most in one period (bound: max_attempts x
+                                      ///< max_trials trials of 6 RHS, RKF45, or of 4 RHS,
+                                      ///< 4 solves and 1 factorisation, ROS34PW2)
+    unsigned long max_factorisations_per_period; ///< the most in one period
+    unsigned long max_solves_per_period;         ///< the most in one period
     cdpr_lcm_stats_t lcm;          ///< bridge statistics at the end
     int sched_fifo;                ///< 1 if the periodic thread ran under SCHED_FIFO
     int mlocked;                   ///< 1 if mlockall succeeded
