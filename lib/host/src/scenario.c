@@ -329,8 +329,7 @@ static const cyaml_schema_field_t integrator_fields[] = {
     CYAML_FIELD_ENUM_PTR("method", OPT | CYAML_FLAG_STRICT, raw_integrator_t, method, method_names,
                          CYAML_ARRAY_LEN(method_names)),
     CYAML_FIELD_MAPPING_PTR("rkf45", OPT, raw_integrator_t, rkf45, integrator_method_fields),
-    CYAML_FIELD_MAPPING_PTR("ros34pw2", OPT, raw_integrator_t, ros34pw2,
-                            integrator_method_fields),
+    CYAML_FIELD_MAPPING_PTR("ros34pw2", OPT, raw_integrator_t, ros34pw2, integrator_method_fields),
     OPT_NUMP("rtol", raw_integrator_t, rtol),
     OPT_NUMP("atol_position_m", raw_integrator_t, atol_position_m),
     OPT_NUMP("atol_velocity_m_per_s", raw_integrator_t, atol_velocity_m_per_s),
@@ -752,8 +751,8 @@ static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *
             st = whole(sc, key, sec[i]->max_trials, 1.0, (double)CDPR_SCENARIO_MAX_TRIALS, err);
             if (st == CDPR_OK) {
                 snprintf(key, sizeof key, "%s.max_attempts", name[i]);
-                st = whole(sc, key, sec[i]->max_attempts, 1.0, (double)CDPR_PLANT_MAX_ATTEMPTS,
-                           err);
+                st =
+                    whole(sc, key, sec[i]->max_attempts, 1.0, (double)CDPR_PLANT_MAX_ATTEMPTS, err);
             }
         }
     }

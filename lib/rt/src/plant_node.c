@@ -614,9 +614,9 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
         fprintf(f,
                 "  integrator         ROS34PW2: per period %.2f RHS, %.2f factorisations, %.2f "
                 "solves on average, at most %lu / %lu / %lu (bound %d trials: %d / %d / %d)\n",
-                (double)t->rhs_evals / np, (double)t->factorisations / np,
-                (double)t->solves / np, t->max_rhs_per_period, t->max_factorisations_per_period,
-                t->max_solves_per_period, rt->plant.pp.max_trials * rt->plant.pp.max_attempts,
+                (double)t->rhs_evals / np, (double)t->factorisations / np, (double)t->solves / np,
+                t->max_rhs_per_period, t->max_factorisations_per_period, t->max_solves_per_period,
+                rt->plant.pp.max_trials * rt->plant.pp.max_attempts,
                 4 * rt->plant.pp.max_trials * rt->plant.pp.max_attempts,
                 rt->plant.pp.max_trials * rt->plant.pp.max_attempts,
                 4 * rt->plant.pp.max_trials * rt->plant.pp.max_attempts);

@@ -73,10 +73,10 @@ typedef struct {
                                                   ///< keys, then those of its `rkf45:` or
                                                   ///< `ros34pw2:` subsection; --integrator
                                                   ///< (cdpr_scenario_override) switches to one
-    double duration_s;                     ///< simulated time [s] (run.duration_s)
-    double period_s;                       ///< control period of plant, controller and
-                                           ///< outputs [s] (run.period_s)
-    double output_rate_hz;                 ///< CSV rows per simulated second
+    double duration_s;                            ///< simulated time [s] (run.duration_s)
+    double period_s;                              ///< control period of plant, controller and
+                                                  ///< outputs [s] (run.period_s)
+    double output_rate_hz;                        ///< CSV rows per simulated second
 } cdpr_scenario_t;
 
 /// Error text of a failed load or check: "FILE:LINE: KEY: what".

@@ -99,36 +99,36 @@ typedef struct {
     int64_t compute_ns_median; ///< (1 us resolution above CDPR_RT_HIST_US: the max)
     int64_t compute_ns_p99;
     int64_t compute_ns_max;
-    double wall_s;                 ///< wall time of the periodic loop [s]
-    long hold_periods;             ///< periods stepped with the hold command
-    long commands_applied;         ///< periods stepped with a new command
-    long lockstep_timeouts;        ///< lockstep: periods whose answer did not come in time
-    long lockstep_resends;         ///< lockstep: states sent again while waiting (every 0.1 s)
-    long step_failures;            ///< periods whose step failed (state kept)
-    long substep_limit_hits;       ///< periods whose step met the trial bound
-    long min_length_periods;       ///< winch-periods held at the minimum length
-    long capacity_periods;         ///< periods whose node events met the capacity
-    unsigned long node_insertions; ///< all cables
-    unsigned long node_removals;   ///< all cables
-    unsigned long rhs_evals;       ///< integrator work: RHS evaluations in all
-    unsigned long factorisations;  ///< factorisations of W (ROS34PW2; 0 for RKF45)
-    unsigned long solves;          ///< solves with W (ROS34PW2; 0 for RKF45)
+    double wall_s;                    ///< wall time of the periodic loop [s]
+    long hold_periods;                ///< periods stepped with the hold command
+    long commands_applied;            ///< periods stepped with a new command
+    long lockstep_timeouts;           ///< lockstep: periods whose answer did not come in time
+    long lockstep_resends;            ///< lockstep: states sent again while waiting (every 0.1 s)
+    long step_failures;               ///< periods whose step failed (state kept)
+    long substep_limit_hits;          ///< periods whose step met the trial bound
+    long min_length_periods;          ///< winch-periods held at the minimum length
+    long capacity_periods;            ///< periods whose node events met the capacity
+    unsigned long node_insertions;    ///< all cables
+    unsigned long node_removals;      ///< all cables
+    unsigned long rhs_evals;          ///< integrator work: RHS evaluations in all
+    unsigned long factorisations;     ///< factorisations of W (ROS34PW2; 0 for RKF45)
+    unsigned long solves;             ///< solves with W (ROS34PW2; 0 for RKF45)
     unsigned long max_rhs_per_period; ///< the most in one period (bound: max_attempts x
                                       ///< max_trials trials of 6 RHS, RKF45, or of 4 RHS,
                                       ///< 4 solves and 1 factorisation, ROS34PW2)
     unsigned long max_factorisations_per_period; ///< the most in one period
     unsigned long max_solves_per_period;         ///< the most in one period
-    cdpr_lcm_stats_t lcm;          ///< bridge statistics at the end
-    int sched_fifo;                ///< 1 if the periodic thread ran under SCHED_FIFO
-    int mlocked;                   ///< 1 if mlockall succeeded
-    char rt_note[256];             ///< why SCHED_FIFO/mlockall were not used ("" if they were
-                                   ///< or were not asked for)
-    double final_time_s;           ///< plant time reached [s]
-    int overloaded;                ///< 1: the first second missed > CDPR_RT_OVERLOAD_RATIO
-    long overload_periods;         ///< periods of that first second
-    long overload_misses;          ///< deadline misses in it
-    long stalled;                  ///< 1: the run ended because the plant could not advance
-    int64_t plant_session;         ///< this run's plant session
+    cdpr_lcm_stats_t lcm;                        ///< bridge statistics at the end
+    int sched_fifo;                              ///< 1 if the periodic thread ran under SCHED_FIFO
+    int mlocked;                                 ///< 1 if mlockall succeeded
+    char rt_note[256];     ///< why SCHED_FIFO/mlockall were not used ("" if they were
+                           ///< or were not asked for)
+    double final_time_s;   ///< plant time reached [s]
+    int overloaded;        ///< 1: the first second missed > CDPR_RT_OVERLOAD_RATIO
+    long overload_periods; ///< periods of that first second
+    long overload_misses;  ///< deadline misses in it
+    long stalled;          ///< 1: the run ended because the plant could not advance
+    int64_t plant_session; ///< this run's plant session
 } cdpr_rt_telemetry_t;
 
 /// The node (caller-owned, large: declare it static).
