@@ -21,7 +21,18 @@ Zx, Zz); this script then computes:
     margins it guarantees in every channel at once (gain 1/(1+α) .. 1/(1-α), phase
     ±2 asin(α/2); Lehtomaki et al. 1981);
   - with --step-test J: the nonlinear plant's open-loop response to 1 mm/s on cable J over
-    2 s against the linear model's.
+    2 s against the linear model's;
+  - with --learning: the convergence condition of the tracker's learning over laps
+    (tracker.h step 8) for the scenario's learning keys (controller.learning_gain γ,
+    learning_lead_s λ, learning_cutoff_hz f_c) and lap: the lap-to-lap map of the learned
+    correction at frequency ω, M(ω) = Q(ω) (I - γ e^{jωλ} G(e^{jωT_c})), with G the closed
+    loop's response (learning off) from the length correction added to δL (u += k_L c) to
+    the drop of the length error e_L = J (δp, δθ) (J from cdpr-design's J.bin), Q the
+    forward-backward first-order filter over the stored lap (knot spacing T_lap / M):
+    Q = (1 - a)^2 / |1 - a e^{-jωΔ}|^2, a = exp(-2π f_c Δ). Reported: the spectral radius
+    ρ(M) (asymptotic convergence: < 1) and the largest singular value (monotone in the
+    2-norm: < 1) at the lap harmonics k / T_lap up to where Q < 0.01 and on a fine grid over
+    the same band, and the bands where ρ >= 1. Exit status 1 also when ρ >= 1 at a harmonic.
 Exit status 0; 1 when the closed loop is unstable or below the goal margins (6 dB, 30°).
 Needs numpy and scipy (Debian python3-numpy python3-scipy).
 """
@@ -56,11 +67,14 @@ def load(d):
     n, nz, nu, nm = (int(meta[k]) for k in ("n", "nz", "nu", "nm"))
     shapes = {"A": (n, n), "B": (n, nu), "Kx": (nu, n), "Kz": (nu, nz), "Zx": (nz, n),
               "Zz": (nz, nz), "Cm": (nm, n)}
-    shapes.update({"Ku": (nu, nu), "Zu": (nz, nu)})
+    shapes.update({"Ku": (nu, nu), "Zu": (nz, nu), "J": (6, 6)})
     m = {k: np.fromfile(os.path.join(d, k + ".bin"), dtype="<f8").reshape(s)
          for k, s in shapes.items()}
     m["T"] = meta["period_s"]
     m["pose"] = meta["pose"]
+    for k in ("lap_s", "learn_knots", "k_length_per_s", "learning_gain", "learning_lead_s",
+              "learning_cutoff_hz"):
+        m[k] = meta.get(k, 0.0)
     m["cables"] = cables
     m["cabin_mass"] = meta["cabin_mass_kg"]
     return m
@@ -231,6 +245,120 @@ def step_check(m, Phi, Gam, path, cable):
     return res, data[:, 0], nl, lin
 
 
+def closed_loop_matrix(m, Phi, Gam):
+    """The closed loop of closed_loop() as a matrix, state (x, z, u_prev)."""
+    K = np.hstack([m["Kx"], m["Kz"], m["Ku"]])
+    n, nz, nu = Phi.shape[0], m["Zz"].shape[0], m["Ku"].shape[0]
+    Acl = np.zeros((n + nz + nu, n + nz + nu))
+    Acl[:n, :n] = Phi
+    Acl[n:n + nz, :n] = m["Zx"]
+    Acl[n:n + nz, n:n + nz] = m["Zz"]
+    Acl[n:n + nz, n + nz:] = m["Zu"]
+    Acl[:n, :] += Gam @ K
+    Acl[n + nz:, :] = K
+    return Acl
+
+
+class LearningPlant:
+    """G(z): the length correction c (u += k_L c) to the drop of e_L = J (δp, δθ), closed
+    loop without learning, evaluated through the eigenvalues of the closed loop."""
+
+    def __init__(self, m, Phi, Gam):
+        Acl = closed_loop_matrix(m, Phi, Gam)
+        n, nu = Phi.shape[0], 6
+        N = Acl.shape[0]
+        Bc = np.zeros((N, nu))
+        Bc[:n, :] = Gam
+        Bc[N - nu:, :] = np.eye(nu)  # u_prev carries the command of which c is part
+        Bc *= m["k_length_per_s"]
+        C = np.zeros((6, N))
+        C[:, :n] = m["J"] @ m["Cm"][0:6, :]
+        lam, V = sla.eig(Acl)
+        self.lam = lam
+        self.CV = C @ V
+        self.W = sla.solve(V, Bc)
+        self.T = m["T"]
+        self.Acl, self.Bc, self.C = Acl, Bc, C
+
+    def G(self, f_hz):
+        z = np.exp(1j * 2 * np.pi * f_hz * self.T)
+        return -(self.CV / (z - self.lam)[None, :]) @ self.W
+
+    def G_direct(self, f_hz):
+        z = np.exp(1j * 2 * np.pi * f_hz * self.T)
+        N = self.Acl.shape[0]
+        return -self.C @ sla.solve(z * np.eye(N) - self.Acl, self.Bc)
+
+
+def learning_q(f_hz, fc, dphi):
+    if not fc > 0.0:
+        return np.ones_like(np.asarray(f_hz, dtype=float))
+    a = np.exp(-2 * np.pi * fc * dphi)
+    return (1 - a) ** 2 / np.abs(1 - a * np.exp(-1j * 2 * np.pi * np.asarray(f_hz) * dphi)) ** 2
+
+
+def learning_map(lp, f, gamma, lead, fc, dphi):
+    """rho and sigma_max of M(f) = Q (I - gamma e^{j w lead} G), and Q, per frequency."""
+    q = learning_q(f, fc, dphi)
+    rho = np.empty(len(f))
+    smax = np.empty(len(f))
+    for i, fi in enumerate(f):
+        Mf = q[i] * (np.eye(6) - gamma * np.exp(1j * 2 * np.pi * fi * lead) * lp.G(fi))
+        rho[i] = np.max(np.abs(sla.eigvals(Mf)))
+        smax[i] = np.linalg.svd(Mf, compute_uv=False)[0]
+    return rho, smax, q
+
+
+def learning_report(m, Phi, Gam):
+    lap, knots = m["lap_s"], int(m["learn_knots"])
+    gamma, lead, fc = m["learning_gain"], m["learning_lead_s"], m["learning_cutoff_hz"]
+    rep = {"lap_s": lap, "knots": knots, "gamma": gamma, "lead_s": lead, "cutoff_hz": fc}
+    if not (lap > 0.0 and knots >= 2 and gamma > 0.0):
+        rep["note"] = "no learning: trajectory not periodic or learning_gain 0"
+        rep["converges_at_harmonics"] = True
+        return rep
+    dphi = lap / knots
+    lp = LearningPlant(m, Phi, Gam)
+    fnyq = 0.5 / dphi
+    # band: Q >= 0.01 (or up to the knots' Nyquist frequency without a filter)
+    fb = np.linspace(1e-3, fnyq, 20000)
+    qb = learning_q(fb, fc, dphi)
+    ftop = float(fb[np.nonzero(qb >= 0.01)[0][-1]])
+    rep["band_top_hz"] = ftop
+    rep["G_modal_vs_direct_rel_err"] = float(
+        np.linalg.norm(lp.G(0.3) - lp.G_direct(0.3)) / np.linalg.norm(lp.G_direct(0.3)))
+    g0 = lp.G(1e-4)
+    rep["G_at_0_diag"] = [float("%.4g" % v) for v in np.real(np.diag(g0))]
+    harm = np.arange(1, int(np.floor(ftop * lap)) + 1) / lap
+    rho_h, smax_h, q_h = learning_map(lp, harm, gamma, lead, fc, dphi)
+    rep["harmonics"] = [[round(float(h), 4), round(float(qq), 4), round(float(r), 4),
+                         round(float(sm), 4)] for h, qq, r, sm in zip(harm, q_h, rho_h, smax_h)]
+    rep["harmonics_columns"] = "f_hz, Q, rho(M), sigma_max(M)"
+    rep["max_rho_at_harmonics"] = float(np.max(rho_h)) if harm.size else 0.0
+    rep["converges_at_harmonics"] = bool(np.all(rho_h < 1.0))
+    f = np.unique(np.concatenate([np.linspace(1e-3, ftop, 4000), harm]))
+    rho, smax, q = learning_map(lp, f, gamma, lead, fc, dphi)
+    bad = rho >= 1.0
+    bands = []
+    i = 0
+    while i < len(f):
+        if bad[i]:
+            k = i
+            while k + 1 < len(f) and bad[k + 1]:
+                k += 1
+            bands.append([round(float(f[i]), 4), round(float(f[k]), 4),
+                          round(float(np.max(rho[i:k + 1])), 3)])
+            i = k + 1
+        else:
+            i += 1
+    rep["fails_in_bands_hz"] = bands  # [from, to, largest rho]
+    rep["failing_fraction_of_band"] = float(np.mean(bad))
+    rep["max_rho_in_band"] = float(np.max(rho))
+    rep["max_rho_at_hz"] = float(f[int(np.argmax(rho))])
+    rep["max_sigma_in_band"] = float(np.max(smax))
+    return rep
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("scenario")
@@ -241,6 +369,8 @@ def main():
     ap.add_argument("--bin", default=None, help="cdpr-design (default: build/release)")
     ap.add_argument("--fmax", type=float, default=None, help="top of the grid [Hz]")
     ap.add_argument("--points", type=int, default=3000)
+    ap.add_argument("--learning", action="store_true",
+                    help="convergence of the learning over laps (tracker.h step 8)")
     a = ap.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     exe = a.bin or os.path.join(root, "build", "release", "apps", "cdpr-design")
@@ -333,6 +463,9 @@ def main():
         pm_min = min(c["pm_deg"] for c in rep["channels"])
         rep["loop_at_a_time_min"] = {"gm_db": gm_min, "pm_deg": pm_min}
         ok = ok and gm_min >= GOAL_GM_DB and pm_min >= GOAL_PM_DEG
+    if a.learning:
+        rep["learning"] = learning_report(m, Phi, Gam)
+        ok = ok and rep["learning"]["converges_at_harmonics"]
     rep["meets_goal"] = bool(ok)
     with open(os.path.join(a.out, "design.json"), "w") as fh:
         json.dump(rep, fh, indent=1, default=float)

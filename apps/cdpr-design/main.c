@@ -18,6 +18,10 @@
 ///          the rope's damping of the payout), u_k += Ku u_{k-1}, z_{k+1} += Zu u_{k-1}
 ///   Cm.bin 18 x n  the pose (p, rotation vector of q q0^-1), v, ω (world) and the six
 ///          measured lengths, linearised (for the validation step)
+///   J.bin  6 x 6   the straight-cable length Jacobian at the settled pose, row j = (u_j,
+///          (R b_j) x u_j) (cdpr_tracker_jacobian): the learning's length error is
+///          e_L = J (δp, δθ) (tracker.h step 8); meta.txt also gives the scenario trajectory's
+///          lap (lap_s, learn_knots) and the learning keys, for feedback_design.py --learning
 /// With --step-test J: OUT/step.csv, the nonlinear plant (cdpr_plant_step, rate mode) from
 /// the settled state with a payout rate of 1 mm/s on cable J for 2 s, open loop: the same 18
 /// outputs per period minus their initial values.
@@ -43,6 +47,7 @@
 #define NU 6  /* payout rates */
 
 static cdpr_plant_t g_plant;
+static double g_lap_s; /* lap of the scenario's own trajectory (0: not periodic) */
 static cdpr_tracker_t g_tr0;
 static cdpr_tracker_t g_tr;
 static cdpr_scenario_t g_sc;
@@ -222,6 +227,7 @@ static cdpr_status_t setup(const char *path, double at_s, double pose[6])
     cdpr_traj_sample_t s;
     cdpr_traj_eval(&g_sc.traj, t, &s);
     memcpy(pose, s.pose, sizeof s.pose);
+    g_lap_s = cdpr_traj_lap_s(&g_sc.traj);
     g_sc.traj.type = CDPR_TRAJ_HOLD;
     memcpy(g_sc.traj.hold_pose, s.pose, sizeof s.pose);
     g_sc.has_initial_pose = 0;
@@ -291,6 +297,35 @@ static int step_test(const char *dir, int j)
     return (fclose(f) == 0) ? rc : -1;
 }
 
+/* J.bin: the straight-cable length Jacobian at the settled pose (rows u_j, (R b_j) x u_j). */
+static int write_jacobian(const char *dir)
+{
+    cdpr_plant_meas_t m;
+    cdpr_plant_measure(&g_plant, &m);
+    double J[NU * 6];
+    for (int j = 0; j < NU; ++j) {
+        cdpr_vec3_t u;
+        cdpr_vec3_t g;
+        cdpr_tracker_jacobian(&g_tr0.model, j, &m.cabin, &u, &g);
+        const double row[6] = {u.x, u.y, u.z, g.x, g.y, g.z};
+        memcpy(&J[j * 6], row, sizeof row);
+    }
+    return write_bin(dir, "J.bin", J, NU * 6);
+}
+
+/* The lap of the scenario's trajectory, the tracker's knots for it and the learning keys. */
+static void write_learning_meta(FILE *f)
+{
+    const double per_lap = floor(g_lap_s / g_sc.period_s + 0.5);
+    const double knots =
+        (per_lap > (double)CDPR_TRACKER_LEARN_KNOTS) ? (double)CDPR_TRACKER_LEARN_KNOTS : per_lap;
+    const cdpr_tracker_gains_t *g = &g_sc.gains;
+    fprintf(f, "lap_s %.17g\nlearn_knots %.17g\nk_length_per_s %.17g\n", g_lap_s, knots,
+            g->k_length_per_s);
+    fprintf(f, "learning_gain %.17g\nlearning_lead_s %.17g\nlearning_cutoff_hz %.17g\n",
+            g->learning_gain, g->learning_lead_s, g->learning_cutoff_hz);
+}
+
 static int write_all(const char *dir, const double *pose)
 {
     const int n = g_plant.robot.dim;
@@ -312,7 +347,7 @@ static int write_all(const char *dir, const double *pose)
              write_bin(dir, "Kx.bin", Kx, NU * nn) | write_bin(dir, "Kz.bin", Kz, NU * NZ) |
              write_bin(dir, "Zx.bin", Zx, NZ * nn) | write_bin(dir, "Zz.bin", Zz, NZ * NZ) |
              write_bin(dir, "Cm.bin", Cm, NM * nn) | write_bin(dir, "Ku.bin", Ku, NU * NU) |
-             write_bin(dir, "Zu.bin", Zu, NZ * NU);
+             write_bin(dir, "Zu.bin", Zu, NZ * NU) | write_jacobian(dir);
     char path[1200];
     snprintf(path, sizeof path, "%s/meta.txt", dir);
     FILE *f = fopen(path, "w");
@@ -321,6 +356,7 @@ static int write_all(const char *dir, const double *pose)
         fprintf(f, "pose %.17g %.17g %.17g %.17g %.17g %.17g\n", pose[0], pose[1], pose[2], pose[3],
                 pose[4], pose[5]);
         fprintf(f, "cabin_mass_kg %.17g\n", g_plant.robot.p.cabin.mass_kg);
+        write_learning_meta(f);
         for (int j = 0; j < g_plant.robot.p.n_cables; ++j) {
             const cdpr_robot_cable_params_t *cp = &g_plant.params.cables[j];
             fprintf(f, "cable %d offset %d nodes %d node_mass_kg %.17g\n", j,

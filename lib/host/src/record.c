@@ -268,6 +268,8 @@ void cdpr_sim_tracker_counts(const cdpr_tracker_t *tr, cdpr_sim_summary_t *sum)
         sum->slack_demand_periods[j] = tr->slack_demand_periods[j];
     }
     sum->first_slack_demand_cable = tr->first_slack_cable + 1;
+    sum->learning_updates = tr->learning_updates;
+    sum->learning_saturations = tr->learning_saturations;
     sum->first_slack_demand_t_s = (tr->first_slack_cable >= 0) ? tr->first_slack_t_s : (double)NAN;
     sum->first_slack_demand_N =
         (tr->first_slack_cable >= 0) ? tr->first_slack_tension_N : (double)NAN;

@@ -17,6 +17,10 @@
 #include "cdpr/host/yaml.h"
 #include "rig_raw.h"
 
+/* Defaults of the learning keys (docs/scenarios.md; used only with learning_gain > 0). */
+#define CDPR_SCENARIO_LEARNING_CUTOFF_HZ 1.0
+#define CDPR_SCENARIO_LEARNING_LIMIT_M   0.5
+
 /* ---------------------------------------------------------------- raw (file) structs */
 
 typedef struct {
@@ -128,6 +132,11 @@ typedef struct {
     double *wind_ff;
     double *tension_gain_m_per_s_per_N; /* issue 14 item 2: winch tension feedback */
     double *tension_filter_s;
+    double *learning_gain; /* issue 14 item 3: learning over laps */
+    double *learning_lead_s;
+    double *learning_cutoff_hz;
+    double *learning_limit_m;
+    double *learning_settle_laps; /* whole number, see segments */
 } raw_controller_t;
 
 typedef struct raw_integrator {
@@ -306,6 +315,11 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("wind_ff", raw_controller_t, wind_ff),
     OPT_NUMP("tension_gain_m_per_s_per_N", raw_controller_t, tension_gain_m_per_s_per_N),
     OPT_NUMP("tension_filter_s", raw_controller_t, tension_filter_s),
+    OPT_NUMP("learning_gain", raw_controller_t, learning_gain),
+    OPT_NUMP("learning_lead_s", raw_controller_t, learning_lead_s),
+    OPT_NUMP("learning_cutoff_hz", raw_controller_t, learning_cutoff_hz),
+    OPT_NUMP("learning_limit_m", raw_controller_t, learning_limit_m),
+    OPT_NUMP("learning_settle_laps", raw_controller_t, learning_settle_laps),
     CYAML_FIELD_END,
 };
 static const cyaml_strval_t method_names[] = {
@@ -435,6 +449,9 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->gains.k_length_per_s = 5.0;
     sc->gains.filter_s = 1.0;
     sc->gains.inertial_ff = 1.0;
+    sc->gains.learning_cutoff_hz = CDPR_SCENARIO_LEARNING_CUTOFF_HZ; /* used only when on */
+    sc->gains.learning_limit_m = CDPR_SCENARIO_LEARNING_LIMIT_M;
+    sc->gains.learning_settle_laps = 1;
     sc->integrator.rtol = 1e-6;
     sc->integrator.atol_position_m = 1e-6;
     sc->integrator.atol_velocity_m_per_s = 1e-5;
@@ -595,6 +612,13 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.wind_ff, r->controller.wind_ff, 1);       /* default 0: none */
     take(&sc->gains.tension_gain_m_per_s_per_N, r->controller.tension_gain_m_per_s_per_N, 1);
     take(&sc->gains.tension_filter_s, r->controller.tension_filter_s, 1); /* default 0: off */
+    take(&sc->gains.learning_gain, r->controller.learning_gain, 1);       /* default 0: off */
+    take(&sc->gains.learning_lead_s, r->controller.learning_lead_s, 1);
+    take(&sc->gains.learning_cutoff_hz, r->controller.learning_cutoff_hz, 1);
+    take(&sc->gains.learning_limit_m, r->controller.learning_limit_m, 1);
+    if (r->controller.learning_settle_laps != NULL) {
+        sc->gains.learning_settle_laps = (long)*r->controller.learning_settle_laps; /* whole */
+    }
     if (r->integrator != NULL) {
         const raw_integrator_t *in = r->integrator;
         take_integrator(in, &sc->integrator);
@@ -758,6 +782,10 @@ static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *
     }
     if (st == CDPR_OK && r->trajectory.cyclic != NULL) {
         st = whole(sc, "trajectory.cyclic.cycles", r->trajectory.cyclic->cycles, 0.0, 1e9, err);
+    }
+    if (st == CDPR_OK) {
+        st = whole(sc, "controller.learning_settle_laps", r->controller.learning_settle_laps, 0.0,
+                   1e6, err);
     }
     if (st != CDPR_OK) {
         return st;
@@ -1036,6 +1064,36 @@ static void check_integrator(vctx_t *v, const char *prefix, const cdpr_scenario_
     }
 }
 
+/* Learning over laps (tracker.h step 8): ranges, a bound when on, and a periodic trajectory
+ * (on a line or a hold the tracker would learn nothing: refused rather than ignored). */
+static void check_learning(vctx_t *vp)
+{
+    vctx_t v = *vp;
+    const cdpr_scenario_t *sc = v.sc;
+    const cdpr_tracker_gains_t *g = &sc->gains;
+    range(&v, "controller.learning_gain", &g->learning_gain, 1, 0.0, 2.0, 0);
+    range(&v, "controller.learning_lead_s", &g->learning_lead_s, 1, 0.0, 100.0, 0);
+    range(&v, "controller.learning_cutoff_hz", &g->learning_cutoff_hz, 1, 0.0, 1e3, 0);
+    range(&v, "controller.learning_limit_m", &g->learning_limit_m, 1, 0.0, 100.0, 0);
+    if (v.failed == CDPR_OK && g->learning_gain > 0.0) {
+        const char *why = NULL;
+        if (!(cdpr_traj_lap_s(&sc->traj) > 0.0)) {
+            why = "learning over laps needs a periodic trajectory (circle at a speed > 0, or "
+                  "cyclic); this one has no laps: omit the key or set it to 0";
+        } else if (!(g->learning_limit_m > 0.0)) {
+            why = "must be > 0 with learning_gain > 0 (the bound of the learned correction)";
+        }
+        if (why != NULL) {
+            const int gain = (cdpr_traj_lap_s(&sc->traj) > 0.0) ? 0 : 1;
+            cdpr_scenario_error(
+                sc, (gain != 0) ? "controller.learning_gain" : "controller.learning_limit_m", why,
+                v.err);
+            v.failed = CDPR_E_OUT_OF_RANGE;
+        }
+    }
+    *vp = v;
+}
+
 /* controller, integrator and run sections (ranges). */
 static void check_run(vctx_t *vp)
 {
@@ -1053,6 +1111,7 @@ static void check_run(vctx_t *vp)
     range(&v, "controller.tension_gain_m_per_s_per_N", &sc->gains.tension_gain_m_per_s_per_N, 1,
           0.0, 1.0, 0);
     range(&v, "controller.tension_filter_s", &sc->gains.tension_filter_s, 1, 0.0, 1e3, 0);
+    check_learning(&v);
     check_integrator(&v, "integrator", &sc->integrator);
     check_integrator(&v, "integrator.rkf45", &sc->integrator_for[CDPR_PLANT_RKF45]);
     check_integrator(&v, "integrator.ros34pw2", &sc->integrator_for[CDPR_PLANT_ROS34PW2]);

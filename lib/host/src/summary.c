@@ -270,6 +270,8 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"segments", (long)cdpr_scenario_segments(sc), 1},
         {"first_slack_demand_cable", (long)sum->first_slack_demand_cable,
          (sum->first_slack_demand_cable > 0) ? 1 : 0},
+        {"learning_updates", (long)sum->learning_updates, KNOWN(sum->learning_updates)},
+        {"learning_saturations", (long)sum->learning_saturations, KNOWN(sum->learning_saturations)},
     };
     for (size_t i = 0; i < sizeof ints / sizeof ints[0]; ++i) {
         if (ints[i].known != 0) {
@@ -301,7 +303,7 @@ typedef struct {
     double *first_slack_demand_N, *first_slack_demand_cable;
     double *node_insertions, *node_removals, *capacity_hits, *substep_limit_hits, *ik_failures;
     double *min_length_periods, *nodes_min, *nodes_max, *periods, *steps_accepted;
-    double *steps_rejected, *rhs_evals, *settle_steps;
+    double *steps_rejected, *rhs_evals, *settle_steps, *learning_updates, *learning_saturations;
 } raw_summary_t;
 
 #define SUM_NUM(key)                                                                               \
@@ -352,6 +354,8 @@ static const cyaml_schema_field_t summary_fields[] = {
     SUM_NUM(steps_rejected),
     SUM_NUM(rhs_evals),
     SUM_NUM(settle_steps),
+    SUM_OPT_NUM(learning_updates),
+    SUM_OPT_NUM(learning_saturations),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_value_t summary_schema = {
@@ -411,6 +415,8 @@ static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
     sum->substep_limit_hits = count_or_unknown(r->substep_limit_hits);
     sum->ik_failures = count_or_unknown(r->ik_failures);
     sum->min_length_periods = count_or_unknown(r->min_length_periods);
+    sum->learning_updates = count_or_unknown(r->learning_updates);
+    sum->learning_saturations = count_or_unknown(r->learning_saturations);
     sum->nodes_min = (r->nodes_min != NULL) ? (int)*r->nodes_min : -1;
     sum->nodes_max = (r->nodes_max != NULL) ? (int)*r->nodes_max : -1;
     sum->periods = (r->periods != NULL) ? (long)*r->periods : -1;
@@ -462,6 +468,10 @@ static void print_slack(FILE *f, const cdpr_sim_summary_t *s)
     if (s->first_slack_demand_cable > 0) {
         fprintf(f, "  first slack demand: cable %d at t = %.4g s (%.4g N on the chords)\n",
                 s->first_slack_demand_cable, s->first_slack_demand_t_s, s->first_slack_demand_N);
+    }
+    if (s->learning_updates != CDPR_SIM_UNKNOWN && s->learning_updates > 0) {
+        fprintf(f, "  learning        %lu laps learned, %lu knot values at the limit\n",
+                s->learning_updates, s->learning_saturations);
     }
 }
 

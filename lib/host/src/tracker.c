@@ -60,6 +60,30 @@ void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sam
     *tau_Nm = cdpr_v3_scale(cdpr_m3_mul_v3(&R, hdot), -1.0);
 }
 
+/* Step 8's gains: finite and >= 0, a positive bound when learning is on. */
+static cdpr_status_t check_learning(const cdpr_tracker_gains_t *g, cdpr_diag_t *diag)
+{
+    const double v[4] = {g->learning_gain, g->learning_lead_s, g->learning_cutoff_hz,
+                         g->learning_limit_m};
+    static const char *const names[4] = {"learning_gain", "learning_lead_s", "learning_cutoff_hz",
+                                         "learning_limit_m"};
+    for (int i = 0; i < 4; ++i) {
+        if (!isfinite(v[i])) {
+            return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
+        }
+        if (v[i] < 0.0) {
+            return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, names[i], -1);
+        }
+    }
+    if (g->learning_gain > 0.0 && !(g->learning_limit_m > 0.0)) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "learning_limit_m", -1);
+    }
+    if (g->learning_settle_laps < 0) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "learning_settle_laps", -1);
+    }
+    return CDPR_OK;
+}
+
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s, cdpr_diag_t *diag)
 {
     const double v[12] = {period_s,
@@ -97,7 +121,7 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s,
             return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, names[i], -1);
         }
     }
-    return CDPR_OK;
+    return check_learning(g, diag);
 }
 
 /* Gaussian elimination with partial pivoting on the augmented 6x7 matrix A; x = solution.
@@ -312,6 +336,149 @@ static cdpr_status_t feedforward(const cdpr_tracker_t *tr, double t, double *L, 
     return ik_at(tr, t, zero, zero, L, T);
 }
 
+/* ---------------------------------------------------------------- step 8: learning */
+
+/* Knot k0 = floor(x) mod M, its neighbour k1 and the weight f of k1 at knot coordinate x. */
+static void knot_pair(double x, int M, int *k0, int *k1, double *f)
+{
+    const double k = floor(x);
+    *f = x - k;
+    long i = (long)fmod(k, (double)M);
+    i = (i < 0) ? i + M : i;
+    *k0 = (int)i;
+    *k1 = (*k0 + 1 < M) ? *k0 + 1 : 0;
+}
+
+/* One first-order stage y_i = a y_(i-1) + (1 - a) x_i run around the lap (dir +1 forward,
+ * -1 backward) from its exact periodic state: with y_-1 = 0 first, then every output plus
+ * a^(k+1) y*, y* = y_(M-1) / (1 - a^M) (the lap is periodic, so y_-1 = y_(M-1)). */
+static void circular_stage(double *x, int M, double a, int dir)
+{
+    const double b = 1.0 - a;
+    double y = 0.0;
+    for (int k = 0; k < M; ++k) {
+        const int i = (dir > 0) ? k : M - 1 - k;
+        y = a * y + b * x[i];
+        x[i] = y;
+    }
+    const double ys = y / (1.0 - pow(a, (double)M));
+    double p = a;
+    for (int k = 0; k < M; ++k) {
+        const int i = (dir > 0) ? k : M - 1 - k;
+        x[i] += p * ys;
+        p *= a;
+    }
+}
+
+/* The update at a lap's end: c <- sat(Q[c + γ e_L(φ + lead)]) per cable, from the lap's
+ * knot averages; clears the accumulator. */
+static void learn_update(cdpr_tracker_t *tr)
+{
+    const int M = tr->learn_knots;
+    const double dphi = tr->learn_lap_s / (double)M;
+    const double shift = tr->g.learning_lead_s / dphi;
+    const double a = (tr->g.learning_cutoff_hz > 0.0)
+                         ? exp(-2.0 * CDPR_PI * tr->g.learning_cutoff_hz * dphi)
+                         : 0.0;
+    const double lim = tr->g.learning_limit_m;
+    for (int j = 0; j < tr->model.p.n_cables; ++j) {
+        double *e = tr->learn_acc[j];
+        double *c = tr->learn_c[j];
+        for (int i = 0; i < M; ++i) {
+            e[i] = (tr->learn_w[i] > 0.0) ? e[i] / tr->learn_w[i] : 0.0;
+        }
+        for (int i = 0; i < M; ++i) {
+            int k0;
+            int k1;
+            double f;
+            knot_pair((double)i + shift, M, &k0, &k1, &f);
+            c[i] += tr->g.learning_gain * ((1.0 - f) * e[k0] + f * e[k1]);
+        }
+        if (a > 0.0) {
+            circular_stage(c, M, a, 1);
+            circular_stage(c, M, a, -1);
+        }
+        for (int i = 0; i < M; ++i) {
+            if (fabs(c[i]) > lim) {
+                c[i] = copysign(lim, c[i]);
+                tr->learning_saturations++;
+            }
+        }
+    }
+    memset(tr->learn_acc, 0, sizeof tr->learn_acc);
+    memset(tr->learn_w, 0, sizeof tr->learn_w);
+    tr->learning_updates++;
+}
+
+/* Step 8 per period: at a lap change, the update (if the lap ending was recorded whole) and
+ * whether the new lap is recorded; then c at the phase of t into dl (added), and the length
+ * error e_L of this measurement onto the knots. Nothing without learning or outside laps. */
+static void learn_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double t,
+                       const double raw[12], double *dl)
+{
+    if (tr->learn_knots <= 0) {
+        return;
+    }
+    const long lap = cdpr_traj_lap(&tr->traj, t);
+    if (lap != tr->learn_lap) {
+        if (tr->learn_recording != 0) {
+            learn_update(tr);
+        }
+        tr->learn_recording = (lap >= 0 && tr->learn_lap >= 0 && t >= tr->learn_start_s) ? 1 : 0;
+        memset(tr->learn_acc, 0, sizeof tr->learn_acc);
+        memset(tr->learn_w, 0, sizeof tr->learn_w);
+        tr->learn_lap = lap;
+    }
+    if (lap < 0) {
+        return;
+    }
+    const int M = tr->learn_knots;
+    int k0;
+    int k1;
+    double f;
+    knot_pair(cdpr_traj_lap_phase(&tr->traj, t) * (double)M, M, &k0, &k1, &f);
+    for (int j = 0; j < tr->model.p.n_cables; ++j) {
+        dl[j] += (1.0 - f) * tr->learn_c[j][k0] + f * tr->learn_c[j][k1];
+        if (tr->learn_recording != 0) {
+            cdpr_vec3_t u;
+            cdpr_vec3_t gj;
+            cdpr_tracker_jacobian(&tr->model, j, &m->cabin, &u, &gj);
+            const double e = -(u.x * raw[0] + u.y * raw[1] + u.z * raw[2] + gj.x * raw[3] +
+                               gj.y * raw[4] + gj.z * raw[5]);
+            tr->learn_acc[j][k0] += (1.0 - f) * e;
+            tr->learn_acc[j][k1] += f * e;
+        }
+    }
+    if (tr->learn_recording != 0) {
+        tr->learn_w[k0] += 1.0 - f;
+        tr->learn_w[k1] += f;
+    }
+}
+
+/* Step 8 at init: the knot count (0: no learning: off, or the trajectory is not periodic). */
+static void learn_init(cdpr_tracker_t *tr)
+{
+    tr->learn_lap = -1;
+    tr->learn_lap_s = cdpr_traj_lap_s(&tr->traj);
+    if (!(tr->g.learning_gain > 0.0) || !(tr->learn_lap_s > 0.0)) {
+        return;
+    }
+    const double per_lap = floor(tr->learn_lap_s / tr->period_s + 0.5);
+    tr->learn_knots =
+        (per_lap > (double)CDPR_TRACKER_LEARN_KNOTS) ? CDPR_TRACKER_LEARN_KNOTS : (int)per_lap;
+    tr->learn_knots = (tr->learn_knots >= 2) ? tr->learn_knots : 0;
+}
+
+/* Step 8 at the first step (time t): t_learn. */
+static void learn_first_step(cdpr_tracker_t *tr, double t)
+{
+    double t0 = t + tr->g.transfer_s;
+    if (tr->traj.type == CDPR_TRAJ_CIRCLE && tr->traj.ramp_s > t0) {
+        t0 = tr->traj.ramp_s;
+    }
+    tr->learn_start_s = t0 + (double)tr->g.learning_settle_laps * tr->learn_lap_s;
+}
+
 cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *model_params,
                                 const cdpr_traj_t *traj, const cdpr_tracker_gains_t *g,
                                 double period_s, double t0_s, cdpr_diag_t *diag)
@@ -344,6 +511,7 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
     tr->t_next_s = t0_s;
     tr->l_ff_exact = 1;
     tr->first_slack_cable = -1;
+    learn_init(tr);
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -532,6 +700,9 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     const double t = m->t_s;
     double l_next[CDPR_MAX_CABLES];
     double t_next[CDPR_MAX_CABLES];
+    if (tr->steps == 0) {
+        learn_first_step(tr, t);
+    }
     start_transfer(tr, m);
     feedforward_step(tr, t, dt, l_next, t_next, cmd);
     double raw[12];
@@ -540,6 +711,7 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     filter_errors(tr, raw, dt);
     double dl_w[CDPR_MAX_CABLES] = {0.0};
     damping_step(tr, t, cmd, dl_w);
+    learn_step(tr, m, t, raw, dl_w);
     rate_commands(tr, m, dt, l_next, dl_w, cmd);
     memcpy(tr->l_ff_m, l_next, sizeof l_next);
     memcpy(tr->t_ff_N, t_next, sizeof t_next);

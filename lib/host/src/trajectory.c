@@ -63,23 +63,49 @@ double cdpr_traj_end_time(const cdpr_traj_t *tr)
     }
 }
 
+/* Laps travelled at t >= 0 as a real number (its floor is the lap), or -1 when the trajectory
+ * is not periodic or t is past a cyclic trajectory's last cycle. */
+static double laps_at(const cdpr_traj_t *tr, double t_s)
+{
+    double laps = -1.0;
+    if (tr->type == CDPR_TRAJ_CIRCLE && tr->speed_m_per_s > 0.0 && tr->radius_m > 0.0) {
+        const double s = (t_s < tr->ramp_s) ? 0.5 * tr->speed_m_per_s * t_s * t_s / tr->ramp_s
+                                            : tr->speed_m_per_s * (t_s - 0.5 * tr->ramp_s);
+        laps = s / (2.0 * CDPR_PI * tr->radius_m);
+    } else if (tr->type == CDPR_TRAJ_CYCLIC && cdpr_traj_cycle_s(tr) > 0.0) {
+        laps = t_s / cdpr_traj_cycle_s(tr);
+        if (tr->cycles > 0 && floor(laps) >= (double)tr->cycles) {
+            laps = -1.0;
+        }
+    }
+    return laps;
+}
+
 long cdpr_traj_lap(const cdpr_traj_t *tr, double t_s)
 {
     if (!(t_s >= 0.0)) {
         return -1;
     }
-    double laps = -1.0;
-    if (tr->type == CDPR_TRAJ_CIRCLE && tr->speed_m_per_s > 0.0 && tr->radius_m > 0.0) {
-        const double s = (t_s < tr->ramp_s) ? 0.5 * tr->speed_m_per_s * t_s * t_s / tr->ramp_s
-                                            : tr->speed_m_per_s * (t_s - 0.5 * tr->ramp_s);
-        laps = floor(s / (2.0 * CDPR_PI * tr->radius_m));
-    } else if (tr->type == CDPR_TRAJ_CYCLIC && cdpr_traj_cycle_s(tr) > 0.0) {
-        laps = floor(t_s / cdpr_traj_cycle_s(tr));
-        if (tr->cycles > 0 && laps >= (double)tr->cycles) {
-            laps = -1.0;
-        }
-    }
+    const double laps = floor(laps_at(tr, t_s));
     return (laps >= 0.0 && laps < 1e9) ? (long)laps : -1;
+}
+
+double cdpr_traj_lap_s(const cdpr_traj_t *tr)
+{
+    if (tr->type == CDPR_TRAJ_CIRCLE && tr->speed_m_per_s > 0.0 && tr->radius_m > 0.0) {
+        return 2.0 * CDPR_PI * tr->radius_m / tr->speed_m_per_s;
+    }
+    return cdpr_traj_cycle_s(tr); /* 0 for hold and line */
+}
+
+double cdpr_traj_lap_phase(const cdpr_traj_t *tr, double t_s)
+{
+    const long lap = cdpr_traj_lap(tr, t_s);
+    if (lap < 0) {
+        return -1.0;
+    }
+    const double f = laps_at(tr, t_s) - (double)lap;
+    return (f >= 0.0 && f < 1.0) ? f : 0.0;
 }
 
 static void circle(const cdpr_traj_t *tr, double t, cdpr_traj_sample_t *o)

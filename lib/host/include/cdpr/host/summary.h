@@ -97,6 +97,8 @@ typedef struct {
     int first_slack_demand_cable;          ///< 1-based cable of the first slack demand (0: none)
     double first_slack_demand_t_s;         ///< its time [s] (NaN: none)
     double first_slack_demand_N;           ///< its straight-cable tension [N] (NaN: none)
+    unsigned long learning_updates;        ///< laps learned by the controller (tracker.h step 8)
+    unsigned long learning_saturations;    ///< learned knot values clamped to the limit
     int n_laps;                            ///< complete laps of a periodic trajectory recorded
                                            ///< (cdpr_traj_lap; at most CDPR_SIM_MAX_LAPS; 0: none)
     double lap_rms_m[CDPR_SIM_MAX_LAPS];   ///< RMS position error of each complete lap [m]

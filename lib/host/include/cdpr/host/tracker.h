@@ -63,6 +63,38 @@
 ///     chords (a 6x6 solve); each cable whose tension there is <= 0 is a "slack demand" of the
 ///     period: counted per cable (slack_demand_periods), the first one kept (cable, time,
 ///     tension), reported in cmd->slack_demand / demand_tension_N.
+///  8. learning over laps (optional, learning_gain = γ > 0; issue 14 item 3): iterative
+///     learning control of a length correction per cable for periodic trajectories (circle,
+///     cyclic: cdpr_traj_lap_s > 0; any other trajectory gets no learning: the keys are
+///     accepted and do nothing). The lap's phase φ (cdpr_traj_lap_phase: the circle's path
+///     position, the cyclic trajectory's time in its cycle) indexes a learned correction
+///     c_j(φ), added to δL_j in step 4:
+///       δL_j += c_j(φ(t))   (linear interpolation between knots)
+///     stored at M = min(CDPR_TRACKER_LEARN_KNOTS, round(T_lap / Δt_c)) knots per lap,
+///     spacing Δ_φ = T_lap / M (T_lap = cdpr_traj_lap_s). Over each lap the length error
+///       e_L,j = -(u_j·e_p + ((R b_j) x u_j)·e_θ)
+///     (step 2 with kp = 1, kd = 0 on the unfiltered error) is averaged onto the knots
+///     (each sample split between its two knots with the interpolation's weights). At the
+///     first step of the next lap, if the whole lap was recorded, the update
+///       c ← sat( Q[ c + γ e_L(φ + lead) ] )
+///     runs once: the lap's error shifted by lead = learning_lead_s (a phase advance; linear
+///     interpolation between knots), Q a zero-phase low-pass over the stored lap (one first-
+///     order stage run forward and then backward around the lap, each from its exact circular
+///     steady state, pole a = exp(-2 π f_c Δ_φ), f_c = learning_cutoff_hz; 0 = no filter):
+///       Q(e^{jω Δ_φ}) = (1 - a)^2 / |1 - a e^{-jω Δ_φ}|^2   (real, 1 at ω = 0, ~1/2 at f_c),
+///     and sat the clamp to ±learning_limit_m, each clamped knot value counted in
+///     `learning_saturations`. The first lap recorded is the first that starts at or after
+///     t_learn = max(t_first + transfer_s, ramp_s) + learning_settle_laps T_lap (t_first: the
+///     first step's time; ramp_s the circle's speed ramp, after which the circle is periodic
+///     in time). Outside the laps (a cyclic trajectory after its last cycle) c is not applied
+///     and nothing is recorded. Reset: the learned state lives in the tracker, so it starts
+///     from zero at every cdpr_tracker_init (a new trajectory, a plant restart over LCM).
+///     The lap-to-lap map of the correction at a lap harmonic ω is
+///       c_{k+1} = Q(ω) (I - γ e^{jω lead} G(e^{jω Δt_c})) c_k + (terms of the disturbance),
+///     with G the response from the length correction to the drop of e_L (linearised loop:
+///     scripts/feedback_design.py --learning, docs/validation.md §8 "Learning over laps"):
+///     it converges where the spectral radius of that matrix is below 1 in Q's band.
+///     Cost: O(cables) per period; at each lap's end O(cables M) (a few 10 µs for M = 512).
 ///
 /// The controller keeps its own robot model (for the IK), built from the same parameters as
 /// the plant, so it needs nothing from the plant but measurements: the real-time loop moves it
@@ -82,6 +114,12 @@
 /// beyond; working cables stay within a few per cent of their chords). 1.5 chords is a sag of
 /// about 40 % of the chord.
 #define CDPR_TRACKER_MAX_LENGTH_PER_CHORD 1.5
+
+/// Capacity of the learned correction (step 8): knots per lap and cable. A lap longer than
+/// this many control periods is stored decimated (6.28 s at 100 Hz: 512 knots 12.3 ms apart;
+/// at 1 kHz the same). The learning arrays (correction, lap accumulator, weights) take
+/// (2 CDPR_MAX_CABLES + 1) · 512 · 8 = 53 248 bytes of cdpr_tracker_t.
+#define CDPR_TRACKER_LEARN_KNOTS 512
 
 /// Gains (inputs).
 typedef struct {
@@ -103,6 +141,11 @@ typedef struct {
     double tension_gain_m_per_s_per_N; ///< winch tension feedback k_T [m/s/N] (>= 0; 0 = off)
     double tension_filter_s;           ///< time constant of the tension error's low-pass [s] (>= 0;
                                        ///< 0 = none)
+    double learning_gain;              ///< learning over laps γ [-] (>= 0; 0 = off; step 8)
+    double learning_lead_s;            ///< phase advance of the learned error [s] (>= 0)
+    double learning_cutoff_hz; ///< cutoff f_c of the zero-phase filter Q [Hz] (>= 0; 0 = none)
+    double learning_limit_m;   ///< bound of |c_j| [m] (> 0 when learning_gain > 0)
+    long learning_settle_laps; ///< whole laps after the transfer before recording (>= 0)
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,
@@ -150,6 +193,19 @@ typedef struct {
     int first_slack_cable;        ///< cable (0-based) of the first slack demand (-1: none)
     double first_slack_t_s;       ///< its time: the feed-forward instant t + Δt_c [s]
     double first_slack_tension_N; ///< its straight-cable tension [N] (<= 0)
+    /* learning over laps (step 8) */
+    double learn_c[CDPR_MAX_CABLES][CDPR_TRACKER_LEARN_KNOTS];   ///< learned c_j at the knots [m]
+    double learn_acc[CDPR_MAX_CABLES][CDPR_TRACKER_LEARN_KNOTS]; ///< this lap's weighted e_L sums
+                                                                 ///< (internal)
+    double learn_w[CDPR_TRACKER_LEARN_KNOTS]; ///< this lap's weight sums per knot (internal)
+    int learn_knots;                          ///< M (0: no learning; internal)
+    double learn_lap_s;                       ///< T_lap [s] (internal)
+    double learn_start_s;                     ///< t_learn: first lap recorded starts here [s]
+    long learn_lap;                           ///< lap of the previous step (-1: none; internal)
+    int learn_recording;                      ///< the current lap is recorded whole (internal)
+    unsigned long learning_updates;           ///< laps learned (updates of c) (output)
+    unsigned long learning_saturations;       ///< knot values clamped to ±learning_limit_m
+                                              ///< (summed over updates and cables) (output)
 } cdpr_tracker_t;
 
 /// Validate and initialise for control period `period_s` (> 0): builds the model from

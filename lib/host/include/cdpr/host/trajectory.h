@@ -88,6 +88,17 @@ double cdpr_traj_end_time(const cdpr_traj_t *tr);
 /// start (the speed ramp included); cyclic: t in [i P, (i + 1) P), P = cdpr_traj_cycle_s.
 long cdpr_traj_lap(const cdpr_traj_t *tr, double t_s);
 
+/// Duration of one lap of a periodic trajectory once it moves at its full speed [s]: circle
+/// 2 pi r / speed, cyclic cdpr_traj_cycle_s; 0 when the trajectory is not periodic (the cases
+/// where cdpr_traj_lap is always -1). The circle is periodic in time with this period only
+/// after its speed ramp (t >= ramp_s).
+double cdpr_traj_lap_s(const cdpr_traj_t *tr);
+
+/// Phase of t within its lap (cdpr_traj_lap), as a fraction in [0, 1): circle, the path
+/// length travelled since the lap's start over 2 pi r; cyclic, (t - i P) / P. -1 where
+/// cdpr_traj_lap is -1.
+double cdpr_traj_lap_phase(const cdpr_traj_t *tr, double t_s);
+
 /// Planned transfer from a measured start onto a trajectory (issue 14; controller.transfer_s).
 ///
 /// Over [t0, t0 + T] the offset of the measured start from the trajectory decays:
