@@ -175,18 +175,7 @@ class Loop:
 def closed_loop(m, Phi, Gam, scale=None):
     """Eigenvalues of the loop with state (x, z, u_prev): u_k = Kx x + Kz z + Ku u_{k-1} (the
     payout rates in force at t_k enter the measured tensions)."""
-    K = np.hstack([m["Kx"], m["Kz"], m["Ku"]])
-    if scale is not None:
-        K = scale[:, None] * K
-    n, nz, nu = Phi.shape[0], m["Zz"].shape[0], m["Ku"].shape[0]
-    Acl = np.zeros((n + nz + nu, n + nz + nu))
-    Acl[:n, :n] = Phi
-    Acl[n:n + nz, :n] = m["Zx"]
-    Acl[n:n + nz, n:n + nz] = m["Zz"]
-    Acl[n:n + nz, n + nz:] = m["Zu"]
-    Acl[:n, :] += Gam @ K
-    Acl[n + nz:, :] = K
-    return sla.eigvals(Acl)
+    return sla.eigvals(closed_loop_matrix(m, Phi, Gam, scale))
 
 
 def channel_loops(H):
@@ -245,9 +234,12 @@ def step_check(m, Phi, Gam, path, cable):
     return res, data[:, 0], nl, lin
 
 
-def closed_loop_matrix(m, Phi, Gam):
-    """The closed loop of closed_loop() as a matrix, state (x, z, u_prev)."""
+def closed_loop_matrix(m, Phi, Gam, scale=None):
+    """The closed loop of closed_loop() as a matrix, state (x, z, u_prev); `scale` multiplies
+    each winch's gains (rows of K)."""
     K = np.hstack([m["Kx"], m["Kz"], m["Ku"]])
+    if scale is not None:
+        K = scale[:, None] * K
     n, nz, nu = Phi.shape[0], m["Zz"].shape[0], m["Ku"].shape[0]
     Acl = np.zeros((n + nz + nu, n + nz + nu))
     Acl[:n, :n] = Phi

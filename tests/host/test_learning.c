@@ -425,7 +425,7 @@ static void test_scenario_refuses_learning_without_laps_and_bad_keys(void)
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE,
                           cdpr_tracker_init(&tracker, &p, &sc.traj, &g, PERIOD_S, 0.0, &d));
     TEST_ASSERT_EQUAL_STRING("learning_lead_s", d.field);
-    g = gains(0.5, 0.1, NAN, 0.5);
+    g = gains(0.5, 0.1, (double)NAN, 0.5);
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE,
                           cdpr_tracker_init(&tracker, &p, &sc.traj, &g, PERIOD_S, 0.0, &d));
     TEST_ASSERT_EQUAL_STRING("learning_cutoff_hz", d.field);

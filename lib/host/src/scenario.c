@@ -326,25 +326,18 @@ static const cyaml_strval_t method_names[] = {
     {"rkf45", CDPR_PLANT_RKF45},
     {"ros34pw2", CDPR_PLANT_ROS34PW2},
 };
-/* The settings of one method (integrator.rkf45, integrator.ros34pw2): the section's keys
- * without method and subsections. */
-static const cyaml_schema_field_t integrator_method_fields[] = {
-    OPT_NUMP("rtol", raw_integrator_t, rtol),
-    OPT_NUMP("atol_position_m", raw_integrator_t, atol_position_m),
-    OPT_NUMP("atol_velocity_m_per_s", raw_integrator_t, atol_velocity_m_per_s),
-    OPT_NUMP("atol_quaternion", raw_integrator_t, atol_quaternion),
-    OPT_NUMP("atol_rate_rad_per_s", raw_integrator_t, atol_rate_rad_per_s),
-    OPT_NUMP("h_max_s", raw_integrator_t, h_max_s),
-    OPT_NUMP("max_trials", raw_integrator_t, max_trials),
-    OPT_NUMP("max_attempts", raw_integrator_t, max_attempts),
-    CYAML_FIELD_END,
-};
+/* The integrator section: the method, one subsection per method, then the settings. A
+ * subsection (integrator.rkf45, integrator.ros34pw2) takes the same settings without method
+ * and subsections: its schema is this array's tail from INTEGRATOR_SETTINGS on. */
+#define INTEGRATOR_SETTINGS 3
 static const cyaml_schema_field_t integrator_fields[] = {
     CYAML_FIELD_ENUM_PTR("method", OPT | CYAML_FLAG_STRICT, raw_integrator_t, method, method_names,
                          CYAML_ARRAY_LEN(method_names)),
-    CYAML_FIELD_MAPPING_PTR("rkf45", OPT, raw_integrator_t, rkf45, integrator_method_fields),
-    CYAML_FIELD_MAPPING_PTR("ros34pw2", OPT, raw_integrator_t, ros34pw2, integrator_method_fields),
-    OPT_NUMP("rtol", raw_integrator_t, rtol),
+    CYAML_FIELD_MAPPING_PTR("rkf45", OPT, raw_integrator_t, rkf45,
+                            &integrator_fields[INTEGRATOR_SETTINGS]),
+    CYAML_FIELD_MAPPING_PTR("ros34pw2", OPT, raw_integrator_t, ros34pw2,
+                            &integrator_fields[INTEGRATOR_SETTINGS]),
+    OPT_NUMP("rtol", raw_integrator_t, rtol), /* [INTEGRATOR_SETTINGS] */
     OPT_NUMP("atol_position_m", raw_integrator_t, atol_position_m),
     OPT_NUMP("atol_velocity_m_per_s", raw_integrator_t, atol_velocity_m_per_s),
     OPT_NUMP("atol_quaternion", raw_integrator_t, atol_quaternion),
