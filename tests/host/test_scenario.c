@@ -351,6 +351,12 @@ static const bad_case_t BAD[] = {
     {"method setting not whole", "  max_attempts: 2\n",
      "  max_attempts: 2\n  rkf45:\n    max_trials: 2.5\n", "integrator.rkf45.max_trials",
      "    max_trials: 2.5", 0},
+    {"the method in use: its own setting", "  max_attempts: 2\n",
+     "  max_attempts: 2\n  method: ros34pw2\n  ros34pw2:\n    rtol: 0.5\n",
+     "integrator.ros34pw2.rtol", "    rtol: 0.5", 0},
+    {"the section's setting under the method in use", "  rtol: 1.0e-7\n",
+     "  method: ros34pw2\n  ros34pw2:\n    rtol: 1.0e-3\n  rtol: 0.5\n", "integrator.rtol",
+     "  rtol: 0.5", 0},
     {"method key unknown", "  max_attempts: 2\n", "  max_attempts: 2\n  ros34pw2:\n    method: x\n",
      "integrator.ros34pw2.method", "    method: x", 0},
 };

@@ -802,6 +802,9 @@ static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *
     return CDPR_OK;
 }
 
+static cdpr_status_t check_integrator_sections(const raw_t *r, const cdpr_scenario_t *sc,
+                                               cdpr_scenario_error_t *err);
+
 cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
     memset(sc, 0, sizeof *sc);
@@ -839,6 +842,9 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     st = check_traj_blocks(raw, sc, err);
     if (st == CDPR_OK) {
         st = check_whole_numbers(raw, sc, err);
+    }
+    if (st == CDPR_OK) {
+        st = check_integrator_sections(raw, sc, err);
     }
     if (st == CDPR_OK && raw->rig != NULL) {
         st = resolve_rig(raw->rig, sc, err);
@@ -1026,35 +1032,65 @@ static void check_motion(vctx_t *vp)
     *vp = v;
 }
 
-/* One integrator setting (the one in use, or a method's), keys named under `prefix`. */
-static void check_integrator(vctx_t *v, const char *prefix, const cdpr_scenario_integrator_t *in)
+/* The integrator's real-valued settings and their upper bounds (lower: > 0). */
+#define N_INTEGRATOR_REALS 6
+static const char *const integrator_real_names[N_INTEGRATOR_REALS] = {
+    "rtol",   "atol_position_m", "atol_velocity_m_per_s", "atol_quaternion", "atol_rate_rad_per_s",
+    "h_max_s"};
+static const double integrator_real_max[N_INTEGRATOR_REALS] = {0.1, 1.0, 1.0, 1.0, 1.0, 10.0};
+
+/* One integrator setting, keys named under `prefix`; a NULL value is not given (not
+ * checked). */
+static void check_integrator_reals(vctx_t *v, const char *prefix,
+                                   const double *const x[N_INTEGRATOR_REALS])
 {
-    const struct {
-        const char *name;
-        const double *x;
-        double hi;
-    } reals[6] = {
-        {"rtol", &in->rtol, 0.1},
-        {"atol_position_m", &in->atol_position_m, 1.0},
-        {"atol_velocity_m_per_s", &in->atol_velocity_m_per_s, 1.0},
-        {"atol_quaternion", &in->atol_quaternion, 1.0},
-        {"atol_rate_rad_per_s", &in->atol_rate_rad_per_s, 1.0},
-        {"h_max_s", &in->h_max_s, 10.0},
-    };
     char key[64];
-    for (int i = 0; i < 6; ++i) {
-        snprintf(key, sizeof key, "%s.%s", prefix, reals[i].name);
-        range(v, key, reals[i].x, 1, 0.0, reals[i].hi, 1);
+    for (int i = 0; i < N_INTEGRATOR_REALS; ++i) {
+        if (x[i] != NULL) {
+            snprintf(key, sizeof key, "%s.%s", prefix, integrator_real_names[i]);
+            range(v, key, x[i], 1, 0.0, integrator_real_max[i], 1);
+        }
     }
-    snprintf(key, sizeof key, "%s.max_trials", prefix);
-    irange(v, key, in->max_trials, 1, CDPR_SCENARIO_MAX_TRIALS);
-    snprintf(key, sizeof key, "%s.max_attempts", prefix);
-    irange(v, key, in->max_attempts, 1, CDPR_PLANT_MAX_ATTEMPTS);
-    if (v->failed == CDPR_OK && (int)in->method != 0 && (int)in->method != 1) {
-        snprintf(key, sizeof key, "%s.method", prefix);
-        cdpr_scenario_error(v->sc, key, "not rkf45 or ros34pw2", v->err);
-        v->failed = CDPR_E_OUT_OF_RANGE;
+}
+
+/* The settings in use (after overrides), named as the section's. */
+static void check_integrator(vctx_t *v, const cdpr_scenario_integrator_t *in)
+{
+    const double *const x[N_INTEGRATOR_REALS] = {&in->rtol,
+                                                 &in->atol_position_m,
+                                                 &in->atol_velocity_m_per_s,
+                                                 &in->atol_quaternion,
+                                                 &in->atol_rate_rad_per_s,
+                                                 &in->h_max_s};
+    check_integrator_reals(v, "integrator", x);
+    irange(v, "integrator.max_trials", in->max_trials, 1, CDPR_SCENARIO_MAX_TRIALS);
+    irange(v, "integrator.max_attempts", in->max_attempts, 1, CDPR_PLANT_MAX_ATTEMPTS);
+}
+
+/* Every value the file gives in the integrator section and its method subsections, named by
+ * where it stands (a method's settings mix the section's and its own, so they are checked
+ * here, before they mix; the whole-number counts: check_whole_numbers). */
+static cdpr_status_t check_integrator_sections(const raw_t *r, const cdpr_scenario_t *sc,
+                                               cdpr_scenario_error_t *err)
+{
+    if (r->integrator == NULL) {
+        return CDPR_OK;
     }
+    vctx_t v = {sc, err, CDPR_OK};
+    const raw_integrator_t *sec[3] = {r->integrator, r->integrator->rkf45, r->integrator->ros34pw2};
+    const char *name[3] = {"integrator", "integrator.rkf45", "integrator.ros34pw2"};
+    for (int i = 0; i < 3; ++i) {
+        if (sec[i] != NULL) {
+            const double *const x[N_INTEGRATOR_REALS] = {sec[i]->rtol,
+                                                         sec[i]->atol_position_m,
+                                                         sec[i]->atol_velocity_m_per_s,
+                                                         sec[i]->atol_quaternion,
+                                                         sec[i]->atol_rate_rad_per_s,
+                                                         sec[i]->h_max_s};
+            check_integrator_reals(&v, name[i], x);
+        }
+    }
+    return v.failed;
 }
 
 /* Learning over laps (tracker.h step 8): ranges, a bound when on, and a periodic trajectory
@@ -1105,9 +1141,7 @@ static void check_run(vctx_t *vp)
           0.0, 1.0, 0);
     range(&v, "controller.tension_filter_s", &sc->gains.tension_filter_s, 1, 0.0, 1e3, 0);
     check_learning(&v);
-    check_integrator(&v, "integrator", &sc->integrator);
-    check_integrator(&v, "integrator.rkf45", &sc->integrator_for[CDPR_PLANT_RKF45]);
-    check_integrator(&v, "integrator.ros34pw2", &sc->integrator_for[CDPR_PLANT_ROS34PW2]);
+    check_integrator(&v, &sc->integrator);
     range(&v, "run.duration_s", &sc->duration_s, 1, 0.0, 1e6, 1);
     range(&v, "run.period_s", &sc->period_s, 1, 0.0, 10.0, 1);
     range(&v, "run.output_rate_hz", &sc->output_rate_hz, 1, 0.0, 1e6, 0);
