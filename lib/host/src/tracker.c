@@ -371,7 +371,7 @@ static void circular_stage(double *x, int M, double a, int dir)
 }
 
 /* The update at a lap's end: c <- sat(Q[c + γ e_L(φ + lead)]) per cable, from the lap's
- * knot averages; clears the accumulator. */
+ * knot averages (the caller clears the accumulator for the next lap). */
 static void learn_update(cdpr_tracker_t *tr)
 {
     const int M = tr->learn_knots;
@@ -405,8 +405,6 @@ static void learn_update(cdpr_tracker_t *tr)
             }
         }
     }
-    memset(tr->learn_acc, 0, sizeof tr->learn_acc);
-    memset(tr->learn_w, 0, sizeof tr->learn_w);
     tr->learning_updates++;
 }
 
