@@ -22,6 +22,7 @@
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/tracker.h"
 #include "paper_circle.h"
+#include "paper_model.h"
 #include "unity.h"
 
 static const double PERIOD_S = 0.01;
@@ -77,10 +78,7 @@ static cdpr_tracker_t tracker2;
 
 static void model_params(cdpr_robot_params_t *p)
 {
-    cdpr_preset_config_t c;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_get(CDPR_PRESET_PAPER_50M, &c));
-    c.segments = 8;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&c, NULL, p, NULL, NULL));
+    test_paper_model_params(p, NULL);
 }
 
 static cdpr_tracker_gains_t gains(double gamma, double lead_s, double fc_hz, double limit_m)

@@ -22,6 +22,7 @@
 #include "ref_mat3.h"
 #include "test_real.h"
 #include "paper_circle.h"
+#include "paper_model.h"
 #include "unity.h"
 
 /* Control period of the controllers built here [s]. */
@@ -35,11 +36,7 @@ static cdpr_robot_t model;
 
 static void model_params(cdpr_robot_params_t *p)
 {
-    cdpr_preset_config_t c;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_get(CDPR_PRESET_PAPER_50M, &c));
-    c.segments = 8;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&c, NULL, p, NULL, NULL));
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&model, p, NULL));
+    test_paper_model_params(p, &model);
 }
 
 /* Straight distance attachment -> exit point of cable j at motion m (independent of the

@@ -13,12 +13,12 @@
 #include <sys/stat.h>
 #include <string.h>
 
-#include "cdpr/host/presets.h"
 #include "cdpr/host/record.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/tracker.h"
 #include "cdpr/host/trajectory.h"
 #include "paper_circle.h"
+#include "paper_model.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -29,11 +29,7 @@ static cdpr_tracker_t tracker;
 
 static void model_params(cdpr_robot_params_t *p)
 {
-    cdpr_preset_config_t c;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_get(CDPR_PRESET_PAPER_50M, &c));
-    c.segments = 8;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&c, NULL, p, NULL, NULL));
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&model, p, NULL));
+    test_paper_model_params(p, &model);
 }
 
 static void test_blend_closed_form(void)
