@@ -7,12 +7,8 @@
 # stops the CSV while summary.json still fits: that summary must say "io_error".
 # Usage: disk_full.sh BUILD_DIR SOURCE_DIR WORK_DIR
 set -eu
-bin=$1/apps
-src=$2
-w=$3
+. "$(dirname "$0")/lib.sh" "$@"
 scenario=$src/scenarios/paper-line.yaml
-rm -rf "$w"
-mkdir -p "$w"
 
 if [ "${CDPR_IN_MOUNT_NS:-}" != 1 ]; then
     if ! unshare -m true 2>/dev/null; then
@@ -26,17 +22,7 @@ if ! mount -t tmpfs -o size=48k tmpfs "$w/full" 2>"$w/mount.err"; then
     echo "SKIPPED: cannot mount a tmpfs: $(cat "$w/mount.err")"
     exit 77
 fi
-fail=0
-bad() {
-    echo "FAIL: $*"
-    fail=1
-}
 
-# whole_rows CSV: every data row (and the header) has the header's field count.
-whole_rows() {
-    awk -F, '!/^#/ { if (n == 0) n = NF; else if (NF != n) { print "row " NR ": " NF " of " n " fields"; bad = 1 } }
-             END { exit bad }' "$1"
-}
 
 # expect_full NAME RC ERRFILE CSV: exit 3, the file named with strerror, rows whole.
 expect_full() {
@@ -81,5 +67,5 @@ rc=0
     --lcm-url memq:// --with-tracker --tracker-out "$w/lim/rt" --quiet) 2>"$w/rt-lim.err" || rc=$?
 expect_limited cdpr-rt "$rc" "$w/rt-lim.err" "$w/lim/rt"
 
-[ "$fail" -eq 0 ] || exit 1
+finish
 echo "PASS: full device and size limit: exit 3 with the file and strerror, rows whole, summary io_error where it fits"

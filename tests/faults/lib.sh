@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Shared by the fault scripts (sourced): arguments, a fresh work directory, fail(), and the
-# helpers to read a value off cdpr-rt's telemetry block.
+# Shared by the fault scripts (sourced): arguments, a fresh work directory, fail() (stop at
+# the first failed check) or bad() + finish (go on, fail at the end), and the helpers to read
+# a value off cdpr-rt's telemetry block.
 # Usage in a script: . "$(dirname "$0")/lib.sh" "$@"   (BUILD_DIR SOURCE_DIR WORK_DIR)
 bin=$1/apps
 src=$2
@@ -11,6 +12,20 @@ mkdir -p "$w"
 fail() {
     echo "FAIL: $*"
     exit 1
+}
+# bad WHAT: a failed check that lets the script go on; finish exits 1 after any.
+failures=0
+bad() {
+    echo "FAIL: $*"
+    failures=$((failures + 1))
+}
+finish() {
+    [ "$failures" -eq 0 ] || exit 1
+}
+# whole_rows CSV: every data row (and the header) has the header's field count.
+whole_rows() {
+    awk -F, '!/^#/ { if (n == 0) n = NF; else if (NF != n) { print "row " NR ": " NF " of " n " fields"; bad = 1 } }
+             END { exit bad }' "$1"
 }
 # expect_exit WANT GOT WHAT
 expect_exit() {

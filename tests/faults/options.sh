@@ -9,16 +9,7 @@
 #     -- lockstep and free-running, at the file's rate and at --rate 500.
 # Usage: options.sh BUILD_DIR SOURCE_DIR WORK_DIR
 set -eu
-bin=$1/apps
-src=$2
-w=$3
-rm -rf "$w"
-mkdir -p "$w"
-fail=0
-bad() {
-    echo "FAIL: $*"
-    fail=1
-}
+. "$(dirname "$0")/lib.sh" "$@"
 
 # 1. --duration 0.015 at 100 Hz (1.5 periods), and the same value in the file.
 line=$src/scenarios/paper-line.yaml
@@ -66,5 +57,5 @@ n=$(rows "$w/free")
 [ "$n" -ge 51 ] && [ "$n" -le 52 ] || bad "free-running at 500 Hz: $n rows, expected 51..52 (50 Hz)"
 echo "output_rate_hz 50: cdpr-sim $(rows "$w/sim"), tracker lockstep $(rows "$w/lock"), free-running at 500 Hz $n rows"
 
-[ "$fail" -eq 0 ] || exit 1
+finish
 echo "PASS: fractional durations refused as in the file; the tracker's rows at run.output_rate_hz"

@@ -7,25 +7,12 @@
 # cdpr-rt must print its telemetry, cdpr-tracker must not call it an LCM failure.
 # Usage: signals.sh BUILD_DIR SOURCE_DIR WORK_DIR
 set -eu
-bin=$1/apps
-src=$2
-w=$3
+. "$(dirname "$0")/lib.sh" "$@"
 scenario=$src/scenarios/paper-line.yaml
-rm -rf "$w"
-mkdir -p "$w"
-fail=0
-bad() {
-    echo "FAIL: $*"
-    fail=1
-}
 
-whole_rows() {
-    awk -F, '!/^#/ { if (n == 0) n = NF; else if (NF != n) { print "row " NR ": " NF " of " n " fields"; bad = 1 } }
-             END { exit bad }' "$1"
-}
-
-# wait_for FILE PATTERN SECONDS: until FILE has a line matching PATTERN.
-wait_for() {
+# appears FILE PATTERN SECONDS: until FILE has a line matching PATTERN (1 if it does not in
+# time: a failed check, the script goes on).
+appears() {
     i=0
     while ! grep -q "$2" "$1" 2>/dev/null; do
         i=$((i + 1))
@@ -51,7 +38,7 @@ for sig in INT TERM HUP; do
     d=$w/sim-$sig
     "$bin/cdpr-sim" "$scenario" --duration 300 --out "$d" --no-plot --quiet 2>"$d.err" &
     pid=$!
-    wait_for "$d/timeseries.csv" '^1,' 60 || bad "cdpr-sim: no row after 60 s"
+    appears "$d/timeseries.csv" '^1,' 60 || bad "cdpr-sim: no row after 60 s"
     kill -"$sig" "$pid"
     rc=0
     wait "$pid" || rc=$?
@@ -61,7 +48,7 @@ for sig in INT TERM HUP; do
     "$bin/cdpr-rt" "$scenario" --rate 100 --duration 300 --lcm-url memq:// --with-tracker \
         --tracker-out "$d" >"$d.out" 2>"$d.err" &
     pid=$!
-    wait_for "$d.err" 'running' 60 || bad "cdpr-rt: not running after 60 s"
+    appears "$d.err" 'running' 60 || bad "cdpr-rt: not running after 60 s"
     sleep 1
     kill -"$sig" "$pid"
     rc=0
@@ -72,7 +59,7 @@ for sig in INT TERM HUP; do
     d=$w/tracker-$sig
     "$bin/cdpr-tracker" "$scenario" --lcm-url memq:// --out "$d" --no-plot >"$d.out" 2>"$d.err" &
     pid=$!
-    wait_for "$d.err" 'waiting for' 60 || bad "cdpr-tracker: not waiting after 60 s"
+    appears "$d.err" 'waiting for' 60 || bad "cdpr-tracker: not waiting after 60 s"
     sleep 0.3
     kill -"$sig" "$pid"
     rc=0
@@ -83,5 +70,5 @@ for sig in INT TERM HUP; do
     fi
 done
 
-[ "$fail" -eq 0 ] || exit 1
+finish
 echo "PASS: SIGINT, SIGTERM, SIGHUP: exit 1, summary interrupted, rows whole, telemetry"
