@@ -344,6 +344,9 @@ static const bad_case_t BAD[] = {
      "  pose:", 1},
     {"unreachable trajectory", "to: [0.5, -0.3, 11.0", "to: [40.0, -0.3, 11.0", "trajectory.line",
      "  line:", 1},
+    {"transfer from rest not 0 or 1", "  filter_s: 0.25\n",
+     "  filter_s: 0.25\n  transfer_from_rest: 0.5\n", "controller.transfer_from_rest",
+     "  transfer_from_rest:", 0},
     /* A method's own settings (integrator.ros34pw2) are checked like the section's. */
     {"method setting out of range", "  max_attempts: 2\n",
      "  max_attempts: 2\n  ros34pw2:\n    rtol: 0.5\n", "integrator.ros34pw2.rtol", "    rtol: 0.5",

@@ -107,7 +107,7 @@ static void test_command_law(void)
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
     cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0};
+                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     /* Feed-forward lengths computed here independently of the tracker. */
     cdpr_statics_opts_t o;
@@ -170,7 +170,7 @@ static void test_tension_feedback_law(void)
     const double kt = 2e-3;
     const double tau = 0.05;
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    kt,  tau, 0.0, 0.0, 0.0, 0.0, 0};
+                                    kt,  tau, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
@@ -225,7 +225,7 @@ static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
     memcpy(tr.to, to, sizeof to);
     tr.duration_s = 1.0;
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0};
+                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     int failed_at = -1;
     double l_before[6] = {0};
@@ -267,7 +267,7 @@ static void test_step_makes_no_heap_allocation(void)
     model_params(&p);
     const cdpr_traj_t tr = test_paper_circle();
     const cdpr_tracker_gains_t g = {0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    0.0, 0.0,  0.0, 0.0, 0.0, 0.0,  0};
+                                    0.0, 0.0,  0.0, 0.0, 0.0, 0.0,  0,    0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_alloc_reset();
     for (int k = 0; k < 100; ++k) {
@@ -438,7 +438,7 @@ static void test_feedforward_carries_the_centripetal_load(void)
     tr.start_angle_rad = 1.5707963267948966;
     tr.direction = 1.0;
     cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0};
+                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_cabin_motion_t m0 = cdpr_cabin_motion_at_pose(pose);
@@ -476,7 +476,7 @@ static void test_wrench_damping_command(void)
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 80.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0,  0};
+                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0,  0,    0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_tracker_meas_t meas;
     memset(&meas, 0, sizeof meas);
@@ -525,7 +525,7 @@ static void test_loop_solutions_are_not_commanded(void)
     TEST_ASSERT_TRUE(worst > 1.5);
     const cdpr_traj_t tr = hold_at(pose);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0};
+                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT(CDPR_E_INFEASIBLE,
                           cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));

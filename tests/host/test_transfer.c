@@ -81,7 +81,7 @@ static void line_and_start(cdpr_traj_t *tr, cdpr_cabin_motion_t *m0)
     m0->p_m = cdpr_v3_add(d.motion.p_m, cdpr_v3(0.3, -0.2, -0.5));
     const cdpr_quat_t r = {cos(0.06), 0.5 * sin(0.06), -0.3 * sin(0.06), 0.8 * sin(0.06)};
     m0->q = cdpr_quat_normalize(cdpr_quat_mul(r, d.motion.q));
-    m0->v_m_per_s = cdpr_v3(1.0, 2.0, 3.0); /* not used */
+    m0->v_m_per_s = cdpr_v3(1.0, 2.0, 3.0); /* used from rest only */
 }
 
 static double rot_between(cdpr_quat_t a, cdpr_quat_t b)
@@ -98,7 +98,7 @@ static void test_transfer_ends(void)
     const double t0 = 0.5;
     const double T = 3.0;
     cdpr_transfer_t x;
-    cdpr_transfer_init(&x, &tr, t0, T, &m0);
+    cdpr_transfer_init(&x, &tr, t0, T, &m0, 0);
     cdpr_traj_sample_t r;
     cdpr_traj_sample_t d;
     /* At t0: the measured pose, with the trajectory's velocity and acceleration. */
@@ -131,7 +131,7 @@ static void test_transfer_ends(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-8, 0.0,
                               cdpr_v3_norm(cdpr_v3_sub(r.dw_rad_per_s2, d.dw_rad_per_s2)));
     /* T = 0: no transfer at all. */
-    cdpr_transfer_init(&x, &tr, t0, 0.0, &m0);
+    cdpr_transfer_init(&x, &tr, t0, 0.0, &m0, 0);
     cdpr_transfer_eval(&x, &tr, t0, &r);
     cdpr_traj_eval(&tr, t0, &d);
     TEST_ASSERT_EQUAL_MEMORY(&d, &r, sizeof d);
@@ -148,13 +148,24 @@ static cdpr_vec3_t w_world_fd(const cdpr_transfer_t *x, const cdpr_traj_t *tr, d
     return cdpr_v3_scale(cdpr_quat_to_rotvec(cdpr_quat_mul(a.motion.q, bi)), 0.5 / h);
 }
 
+static void check_derivatives(int from_rest);
+
+/* Velocities and accelerations against central differences of the reference itself, both
+ * kinds of transfer (from rest: the clock w(t) and the velocity term enter every one). */
 static void test_transfer_derivatives(void)
+{
+    for (int from_rest = 0; from_rest <= 1; ++from_rest) {
+        check_derivatives(from_rest);
+    }
+}
+
+static void check_derivatives(int from_rest)
 {
     cdpr_traj_t tr;
     cdpr_cabin_motion_t m0;
     line_and_start(&tr, &m0);
     cdpr_transfer_t x;
-    cdpr_transfer_init(&x, &tr, 0.5, 3.0, &m0);
+    cdpr_transfer_init(&x, &tr, 0.5, 3.0, &m0, from_rest);
     const double h = 1e-4;
     for (double t = 0.6; t < 3.5; t += 0.29) {
         cdpr_traj_sample_t r, rp, rm;
@@ -180,6 +191,63 @@ static void test_transfer_derivatives(void)
             1e-12, 0.0,
             rot_between(cdpr_quat_from_euler(r.pose[3], r.pose[4], r.pose[5]), r.motion.q));
     }
+}
+
+/* From rest: at t0 the measured position and velocity, the trajectory's clock at rest (the
+ * angular velocity is the attitude blend's alone, zero at t0); from t0 + T exactly the
+ * trajectory, and continuous with it just before; the clock runs at most 1.88 times as
+ * fast: d(τ s)/dτ = 175 τ^4 - 504 τ^5 + 490 τ^6 - 160 τ^7 is largest at the root τ = 5/8 of
+ * 8 τ^2 - 13 τ + 5 (its derivative is 140 τ^3 (τ - 1)(8 τ^2 - 13 τ + 5)), sampled here. */
+static void test_transfer_from_rest_ends(void)
+{
+    cdpr_traj_t tr;
+    cdpr_cabin_motion_t m0;
+    line_and_start(&tr, &m0);
+    const double t0 = 0.5;
+    const double T = 3.0;
+    cdpr_transfer_t x;
+    cdpr_transfer_init(&x, &tr, t0, T, &m0, 1);
+    cdpr_traj_sample_t r;
+    cdpr_traj_sample_t d;
+    cdpr_transfer_eval(&x, &tr, t0, &r);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-14, 0.0, cdpr_v3_norm(cdpr_v3_sub(r.motion.p_m, m0.p_m)));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.0, rot_between(r.motion.q, m0.q));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-14, 0.0,
+                              cdpr_v3_norm(cdpr_v3_sub(r.motion.v_m_per_s, m0.v_m_per_s)));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-14, 0.0, cdpr_v3_norm(r.motion.w_rad_per_s));
+    const double v0[3] = {m0.v_m_per_s.x, m0.v_m_per_s.y, m0.v_m_per_s.z};
+    for (int i = 0; i < 6; ++i) { /* the Euler rates: the trajectory's clock stands still */
+        TEST_ASSERT_DOUBLE_WITHIN(1e-14, (i < 3) ? v0[i] : 0.0, r.rate[i]);
+    }
+    for (double t = t0 + T; t < t0 + T + 2.0; t += 0.37) {
+        cdpr_transfer_eval(&x, &tr, t, &r);
+        cdpr_traj_eval(&tr, t, &d);
+        TEST_ASSERT_EQUAL_MEMORY(&d, &r, sizeof d);
+    }
+    cdpr_transfer_eval(&x, &tr, t0 + T - 1e-6, &r);
+    cdpr_traj_eval(&tr, t0 + T - 1e-6, &d);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-10, 0.0, cdpr_v3_norm(cdpr_v3_sub(r.motion.p_m, d.motion.p_m)));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-10, 0.0, rot_between(r.motion.q, d.motion.q));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-8, 0.0,
+                              cdpr_v3_norm(cdpr_v3_sub(r.motion.v_m_per_s, d.motion.v_m_per_s)));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-6, 0.0, cdpr_v3_norm(cdpr_v3_sub(r.a_m_per_s2, d.a_m_per_s2)));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-6, 0.0,
+                              cdpr_v3_norm(cdpr_v3_sub(r.dw_rad_per_s2, d.dw_rad_per_s2)));
+    /* The clock's speed w' = d(τ s)/dτ: 0 at τ = 0, 1 at τ = 1, largest at τ = 5/8. */
+    double wmax = 0.0;
+    for (int k = 0; k <= 1000; ++k) {
+        double s;
+        double d1;
+        double d2;
+        const double tau = k / 1000.0;
+        cdpr_transfer_blend(tau, &s, &d1, &d2);
+        wmax = fmax(wmax, s + tau * d1);
+    }
+    const double u = 0.625;
+    const double u4 = u * u * u * u;
+    const double wpeak = u4 * (175.0 + u * (-504.0 + u * (490.0 - 160.0 * u)));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, wpeak, wmax);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-4, 1.8835, wpeak);
 }
 
 /* The wind load written out per component (docs/model.md §2 drag at rest, half at the cabin). */
@@ -255,7 +323,7 @@ static void test_slack_demand_counted(void)
     tr.type = CDPR_TRAJ_HOLD;
     tr.hold_pose[2] = 9.135;
     cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {60.0, 0.0, 0.0},
-                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0};
+                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.01, 0.0, NULL));
     TEST_ASSERT_EQUAL_INT(-1, tracker.first_slack_cable);
     tracker.g.wind_ff = 1.0; /* the wind load from the first step on */
@@ -423,6 +491,7 @@ int main(void)
     RUN_TEST(test_blend_closed_form);
     RUN_TEST(test_transfer_ends);
     RUN_TEST(test_transfer_derivatives);
+    RUN_TEST(test_transfer_from_rest_ends);
     RUN_TEST(test_wind_wrench_hand);
     RUN_TEST(test_slack_demand_counted);
     RUN_TEST(test_plant_slack_periods);

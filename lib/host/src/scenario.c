@@ -128,7 +128,8 @@ typedef struct {
     double *inertial_ff;
     double *damping_N_s_per_m;
     double *damping_rot_N_m_s;
-    double *transfer_s; /* issue 14: planned transfer, wind feed-forward */
+    double *transfer_s;         /* issue 14: planned transfer, wind feed-forward */
+    double *transfer_from_rest; /* 0 or 1 */
     double *wind_ff;
     double *tension_gain_m_per_s_per_N; /* issue 14 item 2: winch tension feedback */
     double *tension_filter_s;
@@ -312,6 +313,7 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("damping_N_s_per_m", raw_controller_t, damping_N_s_per_m),
     OPT_NUMP("damping_rot_N_m_s", raw_controller_t, damping_rot_N_m_s),
     OPT_NUMP("transfer_s", raw_controller_t, transfer_s),
+    OPT_NUMP("transfer_from_rest", raw_controller_t, transfer_from_rest),
     OPT_NUMP("wind_ff", raw_controller_t, wind_ff),
     OPT_NUMP("tension_gain_m_per_s_per_N", raw_controller_t, tension_gain_m_per_s_per_N),
     OPT_NUMP("tension_filter_s", raw_controller_t, tension_filter_s),
@@ -601,8 +603,9 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.inertial_ff, r->controller.inertial_ff, 1);
     take(&sc->gains.damping_N_s_per_m, r->controller.damping_N_s_per_m, 1);
     take(&sc->gains.damping_rot_N_m_s, r->controller.damping_rot_N_m_s, 1);
-    take(&sc->gains.transfer_s, r->controller.transfer_s, 1); /* default 0: none */
-    take(&sc->gains.wind_ff, r->controller.wind_ff, 1);       /* default 0: none */
+    take(&sc->gains.transfer_s, r->controller.transfer_s, 1);                 /* default 0: none */
+    take(&sc->gains.transfer_from_rest, r->controller.transfer_from_rest, 1); /* 0 or 1 */
+    take(&sc->gains.wind_ff, r->controller.wind_ff, 1);                       /* default 0: none */
     take(&sc->gains.tension_gain_m_per_s_per_N, r->controller.tension_gain_m_per_s_per_N, 1);
     take(&sc->gains.tension_filter_s, r->controller.tension_filter_s, 1); /* default 0: off */
     take(&sc->gains.learning_gain, r->controller.learning_gain, 1);       /* default 0: off */
@@ -779,6 +782,10 @@ static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *
     if (st == CDPR_OK) {
         st = whole(sc, "controller.learning_settle_laps", r->controller.learning_settle_laps, 0.0,
                    1e6, err);
+    }
+    if (st == CDPR_OK) {
+        st = whole(sc, "controller.transfer_from_rest", r->controller.transfer_from_rest, 0.0, 1.0,
+                   err);
     }
     if (st != CDPR_OK) {
         return st;

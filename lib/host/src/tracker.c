@@ -86,7 +86,7 @@ static cdpr_status_t check_learning(const cdpr_tracker_gains_t *g, cdpr_diag_t *
 
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s, cdpr_diag_t *diag)
 {
-    const double v[12] = {period_s,
+    const double v[13] = {period_s,
                           g->kp,
                           g->kd_s,
                           g->k_length_per_s,
@@ -97,8 +97,9 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s,
                           g->transfer_s,
                           g->wind_ff,
                           g->tension_gain_m_per_s_per_N,
-                          g->tension_filter_s};
-    static const char *const names[12] = {"period_s",
+                          g->tension_filter_s,
+                          g->transfer_from_rest};
+    static const char *const names[13] = {"period_s",
                                           "kp",
                                           "kd_s",
                                           "k_length_per_s",
@@ -109,11 +110,12 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s,
                                           "transfer_s",
                                           "wind_ff",
                                           "tension_gain_m_per_s_per_N",
-                                          "tension_filter_s"};
+                                          "tension_filter_s",
+                                          "transfer_from_rest"};
     if (!cdpr_v3_isfinite(g->wind_m_per_s)) {
         return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "wind_m_per_s", -1);
     }
-    for (int i = 0; i < 12; ++i) {
+    for (int i = 0; i < 13; ++i) {
         if (!isfinite(v[i])) {
             return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
         }
@@ -673,7 +675,8 @@ static void start_transfer(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
     if (!(tr->g.transfer_s > 0.0) || tr->transfer_set != 0) {
         return;
     }
-    cdpr_transfer_init(&tr->transfer, &tr->traj, m->t_s, tr->g.transfer_s, &m->cabin);
+    cdpr_transfer_init(&tr->transfer, &tr->traj, m->t_s, tr->g.transfer_s, &m->cabin,
+                       (tr->g.transfer_from_rest > 0.5) ? 1 : 0);
     tr->transfer_set = 1;
     tr->t_next_s = m->t_s;
     if (feedforward(tr, m->t_s, tr->l_ff_m, tr->t_ff_N) != CDPR_OK) {

@@ -243,11 +243,15 @@ void cdpr_transfer_blend(double tau, double *s, double *ds_dtau, double *d2s_dta
 }
 
 void cdpr_transfer_init(cdpr_transfer_t *x, const cdpr_traj_t *traj, double t0_s, double duration_s,
-                        const cdpr_cabin_motion_t *m0)
+                        const cdpr_cabin_motion_t *m0, int from_rest)
 {
     memset(x, 0, sizeof *x);
     x->t0_s = t0_s;
     x->duration_s = duration_s;
+    if (from_rest != 0) {
+        x->from_rest = 1;
+        x->v0_m_per_s = m0->v_m_per_s;
+    }
     cdpr_traj_sample_t d;
     cdpr_traj_eval(traj, t0_s, &d);
     x->offset_m = cdpr_v3_sub(m0->p_m, d.motion.p_m);
@@ -295,25 +299,64 @@ static void transfer_attitude(const cdpr_transfer_t *x, double s, double sd, dou
     cdpr_quat_to_euler(o->motion.q, &o->pose[3], &o->pose[4], &o->pose[5]);
 }
 
+/* From rest: the trajectory sampled on the clock w(t) = t0 + (t - t0) s(τ), its rates scaled
+ * by w' and its accelerations by w'^2 plus the rates times w'' (cdpr_transfer_t). */
+static void warped_sample(const cdpr_transfer_t *x, const cdpr_traj_t *traj, double tau, double s,
+                          double ds, double d2s, cdpr_traj_sample_t *out)
+{
+    const double T = x->duration_s;
+    const double tc = (tau < 0.0) ? 0.0 : tau;
+    const double w1 = s + tc * ds;
+    const double w2 = (2.0 * ds + tc * d2s) / T;
+    cdpr_traj_eval(traj, x->t0_s + (tc * T) * s, out);
+    for (int i = 0; i < 6; ++i) {
+        out->accel[i] = w1 * w1 * out->accel[i] + w2 * out->rate[i];
+        out->rate[i] *= w1;
+    }
+    out->a_m_per_s2 = cdpr_v3_add(cdpr_v3_scale(out->a_m_per_s2, w1 * w1),
+                                  cdpr_v3_scale(out->motion.v_m_per_s, w2));
+    out->motion.v_m_per_s = cdpr_v3_scale(out->motion.v_m_per_s, w1);
+    out->dw_rad_per_s2 = cdpr_v3_add(cdpr_v3_scale(out->dw_rad_per_s2, w1 * w1),
+                                     cdpr_v3_scale(out->motion.w_rad_per_s, w2));
+    out->motion.w_rad_per_s = cdpr_v3_scale(out->motion.w_rad_per_s, w1);
+}
+
 void cdpr_transfer_eval(const cdpr_transfer_t *x, const cdpr_traj_t *traj, double t_s,
                         cdpr_traj_sample_t *out)
 {
-    cdpr_traj_eval(traj, t_s, out);
     if (!(x->duration_s > 0.0) || t_s >= x->t0_s + x->duration_s) {
+        cdpr_traj_eval(traj, t_s, out);
         return; /* no transfer, or after it: the trajectory itself */
     }
     const double T = x->duration_s;
+    const double tau = (t_s - x->t0_s) / T;
     double s;
     double sd;
     double sdd;
-    cdpr_transfer_blend((t_s - x->t0_s) / T, &s, &sd, &sdd);
+    cdpr_transfer_blend(tau, &s, &sd, &sdd);
+    if (x->from_rest != 0) {
+        warped_sample(x, traj, tau, s, sd, sdd, out);
+    } else {
+        cdpr_traj_eval(traj, t_s, out);
+    }
     sd /= T;
     sdd /= T * T;
     /* Position: the start offset decays, p_r = p_traj + (1 - s) (p0 - p_traj(t0)). */
     const cdpr_vec3_t off = x->offset_m;
-    const cdpr_vec3_t p = cdpr_v3_add(out->motion.p_m, cdpr_v3_scale(off, 1.0 - s));
-    const cdpr_vec3_t v = cdpr_v3_sub(out->motion.v_m_per_s, cdpr_v3_scale(off, sd));
-    const cdpr_vec3_t a = cdpr_v3_sub(out->a_m_per_s2, cdpr_v3_scale(off, sdd));
+    cdpr_vec3_t p = cdpr_v3_add(out->motion.p_m, cdpr_v3_scale(off, 1.0 - s));
+    cdpr_vec3_t v = cdpr_v3_sub(out->motion.v_m_per_s, cdpr_v3_scale(off, sd));
+    cdpr_vec3_t a = cdpr_v3_sub(out->a_m_per_s2, cdpr_v3_scale(off, sdd));
+    if (x->from_rest != 0) {
+        /* the measured velocity, taken over: + T h(τ) v0, h = τ (1 - τ)^4 */
+        const double tc = (tau < 0.0) ? 0.0 : tau;
+        const double r = 1.0 - tc;
+        const double h = tc * r * r * r * r;
+        const double h1 = r * r * r * (1.0 - 5.0 * tc);
+        const double h2 = r * r * (20.0 * tc - 8.0);
+        p = cdpr_v3_add(p, cdpr_v3_scale(x->v0_m_per_s, T * h));
+        v = cdpr_v3_add(v, cdpr_v3_scale(x->v0_m_per_s, h1));
+        a = cdpr_v3_add(a, cdpr_v3_scale(x->v0_m_per_s, h2 / T));
+    }
     out->motion.p_m = p;
     out->motion.v_m_per_s = v;
     out->a_m_per_s2 = a;

@@ -146,6 +146,8 @@ typedef struct {
     double learning_cutoff_hz; ///< cutoff f_c of the zero-phase filter Q [Hz] (>= 0; 0 = none)
     double learning_limit_m;   ///< bound of |c_j| [m] (> 0 when learning_gain > 0)
     long learning_settle_laps; ///< whole laps after the transfer before recording (>= 0)
+    double transfer_from_rest; ///< 1: the transfer starts the trajectory's clock at rest and
+                               ///< takes over the measured velocity (cdpr_transfer_t); 0: off
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,

@@ -119,20 +119,35 @@ double cdpr_traj_lap_phase(const cdpr_traj_t *tr, double t_s);
 ///                + E ω̇_traj,world,  E = rotation of exp((1 - s) θ0).
 /// From t0 + T on the sample is exactly cdpr_traj_eval's (before t0, τ is clamped to 0).
 /// T = 0 means no transfer.
+///
+/// From rest (`from_rest`, controller.transfer_from_rest: 1): the trajectory's clock also
+/// starts at rest and catches up by t0 + T, and the measured velocity v0 is taken over:
+///   w(t) = t0 + (t - t0) s(τ),  w' = s + τ ds/dτ,  w'' = (2 ds/dτ + τ d²s/dτ²) / T,
+///   p_r = p_traj(w) + (1 - s) Δp + T h(τ) v0,  h(τ) = τ (1 - τ)^4,
+///   v_r = w' v_traj(w) - ṡ Δp + h'(τ) v0,
+///   a_r = w'^2 a_traj(w) + w'' v_traj(w) - s̈ Δp + h''(τ) v0 / T,
+/// and the attitude as above with the trajectory's rates at w scaled the same way
+/// (ω w', ω̇ w'^2 + ω w''). At t0 the reference has the measured position and velocity
+/// (w' = 0, h' = 1); at t0 + T, w = t with w' = 1 and w'' = 0, and h, h', h'' vanish, so it
+/// joins the trajectory with position, velocity and acceleration. The clock runs at most
+/// max(w') = 1.88 times the trajectory's speed (at τ = 5/8) to catch up.
 typedef struct {
     double t0_s;            ///< start of the transfer [s]
     double duration_s;      ///< T [s] (>= 0; 0 = no transfer)
     cdpr_vec3_t offset_m;   ///< Δp = p0 - p_traj(t0), world [m]
     cdpr_vec3_t theta0_rad; ///< rotvec(q0 q_traj(t0)^-1), world [rad]
+    int from_rest;          ///< 1: the trajectory's clock starts at rest (see above)
+    cdpr_vec3_t v0_m_per_s; ///< measured velocity at t0 (from_rest only), world [m/s]
 } cdpr_transfer_t;
 
 /// Septic blend s(τ) and its first two derivatives with respect to τ (τ clamped to [0, 1]).
 void cdpr_transfer_blend(double tau, double *s, double *ds_dtau, double *d2s_dtau2);
 
-/// The transfer that starts at t0_s from the measured pose m0 (its velocities are not used)
-/// onto `traj`, over duration_s (>= 0).
+/// The transfer that starts at t0_s from the measured pose m0 onto `traj`, over duration_s
+/// (>= 0). from_rest 0: m0's velocities are not used; 1: the trajectory's clock starts at
+/// rest and m0's velocity is taken over (its angular velocity is not used).
 void cdpr_transfer_init(cdpr_transfer_t *x, const cdpr_traj_t *traj, double t0_s, double duration_s,
-                        const cdpr_cabin_motion_t *m0);
+                        const cdpr_cabin_motion_t *m0, int from_rest);
 
 /// Reference at t: the transfer blended into `traj` (see cdpr_transfer_t). `pose`, `motion`,
 /// `a_m_per_s2` and `dw_rad_per_s2` are the reference's; `rate`/`accel` hold the position

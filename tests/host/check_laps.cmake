@@ -1,0 +1,51 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# Regression guard of scenarios/paper-circle-laps.yaml (ctest paper_circle_laps): reads the
+# summary.json that cdpr-sim wrote to DIR and checks that the learning over laps ran and
+# reduced the error. Loose guards around the measured run (docs/validation.md §8: lap 1
+# 1.15 m, lap 10 0.240 m, 8 laps learned, no saturation), not the issue's targets:
+#   status ok, 10 laps, learning_updates 8, learning_saturations 0,
+#   lap 10 <= 0.35 m and lap 10 <= 0.4 x lap 1.
+#   cmake -DDIR=... -P check_laps.cmake
+file(READ "${DIR}/summary.json" j)
+string(JSON status GET "${j}" status)
+string(JSON n LENGTH "${j}" lap_rms_m)
+string(JSON updates GET "${j}" learning_updates)
+string(JSON sat GET "${j}" learning_saturations)
+string(JSON lap1 GET "${j}" lap_rms_m 0)
+set(fail "")
+if(NOT status STREQUAL "ok")
+    string(APPEND fail " status ${status};")
+endif()
+if(NOT n EQUAL 10)
+    string(APPEND fail " ${n} laps, not 10;")
+else()
+    string(JSON lap10 GET "${j}" lap_rms_m 9)
+    # CMake has no floating-point comparison: both values as whole micrometres.
+    foreach(v lap1 lap10)
+        string(FIND "${${v}}" "e" has_e)
+        if(NOT has_e EQUAL -1)
+            message(FATAL_ERROR "unexpected number format: ${${v}}")
+        endif()
+        string(REGEX MATCH "^([0-9]+)\\.?([0-9]*)" _ "${${v}}")
+        set(int "${CMAKE_MATCH_1}")
+        string(SUBSTRING "${CMAKE_MATCH_2}000000" 0 6 frac)
+        math(EXPR ${v}_um "${int} * 1000000 + 1${frac} - 1000000")
+    endforeach()
+    if(lap10_um GREATER 350000)
+        string(APPEND fail " lap 10 RMS ${lap10} m > 0.35 m;")
+    endif()
+    math(EXPR bound "${lap1_um} * 4 / 10")
+    if(lap10_um GREATER bound)
+        string(APPEND fail " lap 10 RMS ${lap10} m > 0.4 x lap 1 (${lap1} m);")
+    endif()
+endif()
+if(NOT updates EQUAL 8)
+    string(APPEND fail " learning_updates ${updates}, not 8;")
+endif()
+if(NOT sat EQUAL 0)
+    string(APPEND fail " learning_saturations ${sat};")
+endif()
+if(fail)
+    message(FATAL_ERROR "paper-circle-laps:${fail}")
+endif()
+message(STATUS "paper-circle-laps: lap 1 ${lap1} m, lap 10 ${lap10} m, ${updates} laps learned")
