@@ -277,6 +277,7 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
              (unsigned long long)g_tracker.stats.answered);
     if (o->quiet == 0) {
         cdpr_sim_print_summary(stdout, "in-process tracker", &g_tracker_sum);
+        cdpr_rt_tracker_print_cost(stdout, &g_tracker);
     }
     if (o->tracker_out != NULL) {
         char script[1200];

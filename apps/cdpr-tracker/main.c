@@ -522,6 +522,7 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
         cdpr_sim_print_summary(stdout, "cdpr-tracker", &g_sum);
         printf("  LCM             decode errors %llu, refused pairs %llu\n",
                (unsigned long long)s->decode_errors, (unsigned long long)s->bad_measurement);
+        cdpr_rt_tracker_print_cost(stdout, &g_tracker);
         if (o->out_dir != NULL) {
             printf("  outputs         %s/timeseries.csv, %s/summary.json, figures\n", o->out_dir,
                    o->out_dir);

@@ -120,6 +120,13 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.hold_periods);
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.step_failures);
     TEST_ASSERT_TRUE(g_lcm_rec.n >= periods);
+    /* The controller's cost: every step the node ran is timed, quantiles ordered. */
+    int64_t med;
+    int64_t p99;
+    int64_t mx;
+    TEST_ASSERT_EQUAL_UINT64(g_tracker.stats.answered + g_tracker.stats.bad_measurement,
+                             cdpr_rt_tracker_step_times(&g_tracker, &med, &p99, &mx));
+    TEST_ASSERT_TRUE(med > 0 && med <= p99 && p99 <= mx);
 
     /* In-process: the same plant and controller called directly, no LCM. */
     cdpr_scenario_t sc_ref = g_sc;

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include "cdpr/lcm/bridge.h"
 
@@ -224,6 +225,66 @@ void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t)
     t->lcm = NULL;
 }
 
+static int64_t now_ns(void)
+{
+    struct timespec ts;
+    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + (int64_t)ts.tv_nsec;
+}
+
+static void time_step(cdpr_rt_tracker_t *t, int64_t ns)
+{
+    const int64_t us = (ns > 0) ? ns / 1000 : 0;
+    t->step_hist[(us < CDPR_RT_TRACKER_HIST_US) ? us : CDPR_RT_TRACKER_HIST_US]++;
+    t->steps_timed++;
+    if (ns > t->step_ns_max) {
+        t->step_ns_max = ns;
+    }
+}
+
+static int64_t step_quantile(const cdpr_rt_tracker_t *t, double q)
+{
+    const uint64_t want = (uint64_t)ceil(q * (double)t->steps_timed);
+    uint64_t acc = 0;
+    for (int i = 0; i < CDPR_RT_TRACKER_HIST_US; ++i) {
+        acc += t->step_hist[i];
+        if (acc >= want) {
+            const int64_t ns = (int64_t)i * 1000;
+            return (ns < t->step_ns_max) ? ns : t->step_ns_max;
+        }
+    }
+    return t->step_ns_max;
+}
+
+uint64_t cdpr_rt_tracker_step_times(const cdpr_rt_tracker_t *t, int64_t *median_ns, int64_t *p99_ns,
+                                    int64_t *max_ns)
+{
+    *median_ns = 0;
+    *p99_ns = 0;
+    *max_ns = 0;
+    if (t->steps_timed == 0) {
+        return 0;
+    }
+    *median_ns = step_quantile(t, 0.5);
+    *p99_ns = step_quantile(t, 0.99);
+    *max_ns = t->step_ns_max;
+    return t->steps_timed;
+}
+
+void cdpr_rt_tracker_print_cost(FILE *f, const cdpr_rt_tracker_t *t)
+{
+    int64_t med;
+    int64_t p99;
+    int64_t mx;
+    const uint64_t n = cdpr_rt_tracker_step_times(t, &med, &p99, &mx);
+    if (n > 0) {
+        fprintf(f,
+                "  controller step median %.0f us, p99 %.0f us, max %.0f us over %llu periods "
+                "(cdpr_tracker_step: IK, feedback, learning)\n",
+                1e-3 * (double)med, 1e-3 * (double)p99, 1e-3 * (double)mx, (unsigned long long)n);
+    }
+}
+
 int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
 {
     if (t->have_state == 0 || t->have_ten == 0 || t->state.seq != t->ten.seq ||
@@ -234,8 +295,14 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
     t->answered_state_seq = t->state.seq;
     cdpr_tracker_meas_t m;
     cdpr_tracker_cmd_t c;
-    if (cdpr_rt_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m) != CDPR_OK ||
-        cdpr_tracker_step(&t->tracker, &m, &c) != CDPR_OK) {
+    if (cdpr_rt_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m) != CDPR_OK) {
+        t->stats.bad_measurement++;
+        return -1;
+    }
+    const int64_t t0 = now_ns();
+    const cdpr_status_t st = cdpr_tracker_step(&t->tracker, &m, &c);
+    time_step(t, now_ns() - t0);
+    if (st != CDPR_OK) {
         t->stats.bad_measurement++;
         return -1;
     }

@@ -35,6 +35,7 @@
 #define CDPR_RT_TRACKER_NODE_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include <lcm/lcm.h>
 
@@ -74,6 +75,10 @@ typedef void (*cdpr_rt_tracker_session_fn)(int64_t old_session, int64_t new_sess
 #define CDPR_RT_PLANT_SILENCE_S 0.5
 
 /// The node (caller-owned; about 50 kB: declare it static).
+/// Resolution range of the controller's step-time histogram: 1 µs bins up to this, one bin
+/// above (cdpr_rt_tracker_step_times).
+#define CDPR_RT_TRACKER_HIST_US 4000
+
 typedef struct {
     cdpr_tracker_t tracker;
     const cdpr_robot_params_t *model; ///< for a restart (caller-owned, outlives the node)
@@ -109,6 +114,9 @@ typedef struct {
     cdpr_rt_tracker_step_fn on_step;       ///< optional
     void *on_step_ctx;
     cdpr_rt_tracker_stats_t stats;
+    uint32_t step_hist[CDPR_RT_TRACKER_HIST_US + 1]; ///< cdpr_tracker_step times, 1 µs bins
+    uint64_t steps_timed;                            ///< steps in step_hist
+    int64_t step_ns_max;                             ///< slowest step [ns]
 } cdpr_rt_tracker_t;
 
 /// Build the node: the controller (cdpr_tracker_init with `model` params, `traj`, gains `g`
@@ -134,6 +142,17 @@ void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t);
 /// answered. Returns 1 when a command was published, 0 when there was nothing to answer,
 /// -1 when the pair was refused or publishing failed (counted).
 int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t);
+
+/// Cost of the controller: the wall time (CLOCK_MONOTONIC) of each cdpr_tracker_step the node
+/// ran (feed-forward IK, feedback, learning; not LCM), its median and 99th percentile (1 µs
+/// resolution; CDPR_RT_TRACKER_HIST_US and above count as the max) and max [ns]; returns the
+/// number of steps timed (0: all outputs 0).
+uint64_t cdpr_rt_tracker_step_times(const cdpr_rt_tracker_t *t, int64_t *median_ns, int64_t *p99_ns,
+                                    int64_t *max_ns);
+
+/// One summary line of cdpr_rt_tracker_step_times on `f` ("  controller step median 41 us,
+/// p99 ..."), nothing before the first step.
+void cdpr_rt_tracker_print_cost(FILE *f, const cdpr_rt_tracker_t *t);
 
 /// The controller's measurement from the messages of one period (same seq): t from utime_us
 /// as described above, pose/velocities from the state, lengths from the tensions. Returns
