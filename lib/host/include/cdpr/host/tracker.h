@@ -54,7 +54,8 @@
 ///     at the first step: in process and over LCM, where a plant restart re-inits the
 ///     tracker) onto the trajectory over T; every step above (feed-forward with its d'Alembert
 ///     load, errors, damping) uses the reference. With T = 0 the tracker is bit-identical to
-///     one without the transfer.
+///     one without the transfer. transfer_from_rest = 1 also starts the trajectory's clock
+///     at rest and takes over the measured velocity (cdpr_transfer_t "From rest").
 ///  6. wind (wind_ff > 0): the feed-forward load also holds wind_ff times the steady wind
 ///     load of the cables at the reference pose (cdpr_tracker_wind_wrench).
 ///  7. tension awareness: six cables and six wrench components make the feed-forward's
