@@ -96,8 +96,8 @@ static int step_test(cdpr_design_point_t *pt, const char *dir, int j)
 /* The lap of the scenario's trajectory, the tracker's knots for it and the learning keys. */
 static void write_learning_meta(FILE *f, const cdpr_design_model_t *m)
 {
-    fprintf(f, "lap_s %.17g\nlearn_knots %.17g\nk_length_per_s %.17g\n", m->lap_s,
-            m->learn_knots, m->k_length_per_s);
+    fprintf(f, "lap_s %.17g\nlearn_knots %.17g\nk_length_per_s %.17g\n", m->lap_s, m->learn_knots,
+            m->k_length_per_s);
     fprintf(f, "learning_gain %.17g\nlearning_lead_s %.17g\nlearning_cutoff_hz %.17g\n",
             m->learning_gain, m->learning_lead_s, m->learning_cutoff_hz);
 }
@@ -182,8 +182,8 @@ static void print_check(FILE *f, const cdpr_design_report_t *r, double seconds)
         }
         fprintf(f, "],\n  \"harmonics\": [");
         for (int h = 0; h < r->n_harmonics; ++h) {
-            fprintf(f, "%s\n   [%.17g, %.17g, %.17g, %.17g]", (h > 0) ? "," : "",
-                    r->harmonic_hz[h], r->harmonic_q[h], r->rho[h], r->sigma_max[h]);
+            fprintf(f, "%s\n   [%.17g, %.17g, %.17g, %.17g]", (h > 0) ? "," : "", r->harmonic_hz[h],
+                    r->harmonic_q[h], r->rho[h], r->sigma_max[h]);
         }
         fprintf(f, "]");
     }
@@ -192,19 +192,43 @@ static void print_check(FILE *f, const cdpr_design_report_t *r, double seconds)
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J] [--check]\n"
-               "Linear model of the scenario's loop holding the trajectory's pose at T (default:\n"
-               "where it stops) written into the directory OUT; scripts/feedback_design.py reads\n"
-               "it (modes, closed-loop eigenvalues, margins; docs/validation.md \"Feedback\n"
-               "design\").\n\n"
-               "  --at T          hold the pose of the trajectory at T [s]\n"
-               "  --step-test J   also the nonlinear response to a 1 mm/s step on winch J (0..5)\n"
-               "  --check         also the analysis in C (the check the apps run at load: growth,\n"
-               "                  margins, α, the learning's ρ) as JSON on stdout and OUT/check.json\n"
-               "  --help          this text\n"
-               "  --version       version and git description\n\n"
-               "exit codes: 0 done, 1 step test failed, 2 bad command line or scenario,\n"
-               "            3 OUT cannot be written, 4 the analysis failed\n");
+    fprintf(f,
+            "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J] [--check] [--zoh]\n"
+            "Linear model of the scenario's loop holding the trajectory's pose at T (default:\n"
+            "where it stops) written into the directory OUT; scripts/feedback_design.py reads\n"
+            "it (modes, closed-loop eigenvalues, margins; docs/validation.md \"Feedback\n"
+            "design\").\n\n"
+            "  --at T          hold the pose of the trajectory at T [s]\n"
+            "  --step-test J   also the nonlinear response to a 1 mm/s step on winch J (0..5)\n"
+            "  --check         also the analysis in C (the check the apps run at load: growth,\n"
+            "                  margins, α, the learning's ρ) as JSON on stdout and OUT/check.json\n"
+            "  --zoh           also OUT/Phi.bin (n x n) and OUT/Gam.bin (n x 6): the zero-order\n"
+            "                  hold over the control period as the check computes it\n"
+            "  --help          this text\n"
+            "  --version       version and git description\n\n"
+            "exit codes: 0 done, 1 step test failed, 2 bad command line or scenario,\n"
+            "            3 OUT cannot be written, 4 the analysis failed\n");
+}
+
+/* Phi.bin, Gam.bin: the check's zero-order hold of the plant. */
+static int write_zoh(const char *dir, const cdpr_design_model_t *m)
+{
+    const size_t n = (size_t)m->n;
+    double *Phi = malloc(sizeof(double) * n * (n + NU));
+    if (Phi == NULL) {
+        return CDPR_EXIT_UNKNOWN;
+    }
+    cdpr_design_error_t err;
+    int rc = 0;
+    if (cdpr_design_discretise(m, Phi, Phi + n * n, &err) != CDPR_OK) {
+        fprintf(stderr, "cdpr-design: %s\n", err.msg);
+        rc = CDPR_EXIT_UNKNOWN;
+    } else if ((write_bin(dir, "Phi.bin", Phi, n * n) |
+                write_bin(dir, "Gam.bin", Phi + n * n, n * NU)) != 0) {
+        rc = cdpr_app_exit_code(CDPR_E_IO);
+    }
+    free(Phi);
+    return rc;
 }
 
 /* The analysis of model m, printed and written to OUT/check.json. */
@@ -242,11 +266,13 @@ int main(int argc, char **argv)
     static const struct option longopts[] = {{"at", required_argument, NULL, 'a'},
                                              {"step-test", required_argument, NULL, 's'},
                                              {"check", no_argument, NULL, 'c'},
+                                             {"zoh", no_argument, NULL, 'z'},
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     double at_s = (double)NAN;
     double cable = -1.0;
     int check = 0;
+    int zoh = 0;
     int c;
     opterr = 0;
     while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
@@ -260,6 +286,8 @@ int main(int argc, char **argv)
                       : bad;
         } else if (c == 'c') {
             check = 1;
+        } else if (c == 'z') {
+            zoh = 1;
         } else {
             return cdpr_app_exit_code(
                 cdpr_app_other_option("cdpr-design", c, argv, longopts, usage));
@@ -303,6 +331,9 @@ int main(int argc, char **argv)
     if (rc == 0 && step_cable >= 0 && step_test(pt, dir, step_cable) != 0) {
         fprintf(stderr, "cdpr-design: step test failed\n");
         rc = 1;
+    }
+    if (rc == 0 && zoh != 0) {
+        rc = write_zoh(dir, &m);
     }
     if (rc == 0 && check != 0) {
         rc = run_check(dir, &m, t0);

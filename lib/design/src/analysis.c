@@ -69,6 +69,15 @@ static void mul(int m, int n, int k, const double *A, const double *B, double *C
     dgemm_("N", "N", &m, &n, &k, &one, A, &m, B, &k, &zero, C, &m, 1, 1);
 }
 
+/* C = A B with leading dimensions (real). */
+static void dmul(int m, int n, int k, const double *A, int lda, const double *B, int ldb, double *C,
+                 int ldc)
+{
+    const double one = 1.0;
+    const double zero = 0.0;
+    dgemm_("N", "N", &m, &n, &k, &one, A, &lda, B, &ldb, &zero, C, &ldc, 1, 1);
+}
+
 static void zmul(int m, int n, int k, const cplx *A, int lda, const cplx *B, int ldb, cplx *C,
                  int ldc)
 {
@@ -202,8 +211,7 @@ static cdpr_status_t expm(int N, double *X, cdpr_design_error_t *err)
     if (info != 0) {
         free(w);
         free(ipiv);
-        snprintf(err->msg, sizeof err->msg, "design: Padé denominator singular (dgesv %d)",
-                 info);
+        snprintf(err->msg, sizeof err->msg, "design: Padé denominator singular (dgesv %d)", info);
         return CDPR_E_SINGULAR;
     }
     for (int k = 0; k < s; ++k) {
@@ -267,9 +275,9 @@ static cdpr_status_t check_model(const cdpr_design_model_t *m, cdpr_design_error
         const char *name;
         const double *a;
         size_t count;
-    } mats[] = {{"A", m->A, n * n},         {"B", m->B, n * NU},        {"Kx", m->Kx, NU * n},
-                {"Kz", m->Kz, NU * NZ},     {"Zx", m->Zx, NZ * n},      {"Zz", m->Zz, NZ * NZ},
-                {"Ku", m->Ku, NU * NU},     {"Zu", m->Zu, NZ * NU},     {"Cm", m->Cm, 18 * n},
+    } mats[] = {{"A", m->A, n * n},     {"B", m->B, n * NU},    {"Kx", m->Kx, NU * n},
+                {"Kz", m->Kz, NU * NZ}, {"Zx", m->Zx, NZ * n},  {"Zz", m->Zz, NZ * NZ},
+                {"Ku", m->Ku, NU * NU}, {"Zu", m->Zu, NZ * NU}, {"Cm", m->Cm, 18 * n},
                 {"J", m->J, 36}};
     for (size_t i = 0; i < sizeof mats / sizeof mats[0]; ++i) {
         if (!all_finite(mats[i].a, mats[i].count)) {
@@ -516,9 +524,9 @@ typedef struct {
     cplx *lamA, *VA;   /* modes of A */
     cplx *W;           /* n x 6: modal ZOH input */
     cplx *P;           /* 36 x n: [Kx; Zx] V */
-    cplx *R;           /* n x 216: R[k, r + 36 c] = P[r, k] W[k, c] */
-    cplx *D;           /* chunk x n */
-    cplx *Y;           /* chunk x 216 */
+    double *R;         /* n x 216: R_k[r + 36 c] = P[r, k] W[k, c], real form (pairs: Re, Im) */
+    double *D;         /* 2 x chunk x n: the modes' 1 / (z - mu) in the same real form */
+    double *Y;         /* 2 x chunk x 216: [Kx; Zx] X, real and imaginary parts */
     cplx *H;           /* F x 36: H(f) column-major 6 x 6 per frequency */
     double *f;
     cplx *lamC, *VC; /* closed loop */
@@ -559,12 +567,12 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
     cplx *KZ = malloc(sizeof(cplx) * 36 * nn);
     w->W = malloc(sizeof(cplx) * nn * NU);
     w->P = malloc(sizeof(cplx) * 36 * nn);
-    w->R = malloc(sizeof(cplx) * nn * 216);
-    w->D = malloc(sizeof(cplx) * CHUNK * nn);
-    w->Y = malloc(sizeof(cplx) * CHUNK * 216);
+    w->R = malloc(sizeof(double) * nn * 216);
+    w->D = malloc(sizeof(double) * 2 * CHUNK * nn);
+    w->Y = malloc(sizeof(double) * 2 * CHUNK * 216);
     w->H = malloc(sizeof(cplx) * (size_t)F * 36);
-    if (mu == NULL || Vc == NULL || KZ == NULL || w->W == NULL || w->P == NULL ||
-        w->R == NULL || w->D == NULL || w->Y == NULL || w->H == NULL) {
+    if (mu == NULL || Vc == NULL || KZ == NULL || w->W == NULL || w->P == NULL || w->R == NULL ||
+        w->D == NULL || w->Y == NULL || w->H == NULL) {
         free(mu);
         free(Vc);
         free(KZ);
@@ -603,26 +611,60 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
     zmul(36, n, n, KZ, 36, w->VA, n, w->P, 36);
     free(Vc);
     free(KZ);
+    /* The sum over the modes, sum_k R_k / (z - mu_k), with a conjugate pair (k, k + 1) (dgeev:
+     * positive imaginary part first; R_{k+1} = conj R_k as A is real) taken together:
+     * d_k R_k + d_{k+1} conj R_k = (d_k + d_{k+1}) Re R_k + j (d_k - d_{k+1}) Im R_k. So the
+     * modal coefficients are real (rows k, k + 1: Re R_k, Im R_k; a real mode: Re R_k) and the
+     * sum is two real products (half the work of the complex one). */
     for (int k = 0; k < n; ++k) {
+        const int pair = (cimag(w->lamA[k]) > 0.0 && k + 1 < n);
         for (int c = 0; c < NU; ++c) {
             const cplx wk = w->W[(size_t)c * nn + (size_t)k];
             for (int r = 0; r < 36; ++r) {
-                w->R[(size_t)(r + 36 * c) * nn + (size_t)k] = w->P[(size_t)k * 36 + (size_t)r] * wk;
+                const cplx v = w->P[(size_t)k * 36 + (size_t)r] * wk;
+                w->R[(size_t)(r + 36 * c) * nn + (size_t)k] = creal(v);
+                if (pair) {
+                    w->R[(size_t)(r + 36 * c) * nn + (size_t)k + 1] = cimag(v);
+                }
             }
         }
+        k += pair;
     }
     int ipiv[NZ];
+    double *Dr = w->D;
+    double *Di = w->D + (size_t)CHUNK * nn;
+    double *Yr = w->Y;
+    double *Yi = w->Y + (size_t)CHUNK * 216;
+    cplx zs[CHUNK];
     for (int f0 = 0; f0 < F; f0 += CHUNK) {
         const int nb = (F - f0 < CHUNK) ? F - f0 : CHUNK;
-        for (int k = 0; k < n; ++k) {
-            for (int i = 0; i < nb; ++i) {
-                const cplx z = cis(2.0 * k_pi * w->f[f0 + i] * T);
-                w->D[(size_t)k * CHUNK + (size_t)i] = 1.0 / (z - mu[k]);
-            }
-        }
-        zmul(nb, 216, n, w->D, CHUNK, w->R, n, w->Y, CHUNK);
         for (int i = 0; i < nb; ++i) {
-            const cplx z = cis(2.0 * k_pi * w->f[f0 + i] * T);
+            zs[i] = cis(2.0 * k_pi * w->f[f0 + i] * T);
+        }
+        for (int k = 0; k < n; ++k) {
+            const int pair = (cimag(w->lamA[k]) > 0.0 && k + 1 < n);
+            for (int i = 0; i < nb; ++i) {
+                const size_t at = (size_t)k * CHUNK + (size_t)i;
+                const cplx d1 = 1.0 / (zs[i] - mu[k]);
+                if (pair) {
+                    const cplx d2 = 1.0 / (zs[i] - mu[k + 1]);
+                    const cplx sum = d1 + d2;
+                    const cplx dif = d1 - d2; /* times j */
+                    Dr[at] = creal(sum);
+                    Di[at] = cimag(sum);
+                    Dr[at + CHUNK] = -cimag(dif);
+                    Di[at + CHUNK] = creal(dif);
+                } else {
+                    Dr[at] = creal(d1);
+                    Di[at] = cimag(d1);
+                }
+            }
+            k += pair;
+        }
+        dmul(nb, 216, n, Dr, CHUNK, w->R, n, Yr, CHUNK);
+        dmul(nb, 216, n, Di, CHUNK, w->R, n, Yi, CHUNK);
+        for (int i = 0; i < nb; ++i) {
+            const cplx z = zs[i];
             /* Zp = (zI - Zz) \ (ZxV X + Zu / z), H = KxV X + Kz Zp + Ku / z */
             cplx M[NZ * NZ];
             cplx Zp[NZ * NU];
@@ -631,7 +673,8 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
                     M[c * NZ + r] = ((r == c) ? z : 0.0) - m->Zz[r * NZ + c];
                 }
                 for (int c = 0; c < NU; ++c) {
-                    Zp[c * NZ + r] = w->Y[(size_t)(NU + r + 36 * c) * CHUNK + (size_t)i] +
+                    Zp[c * NZ + r] = mk(Yr[(size_t)(NU + r + 36 * c) * CHUNK + (size_t)i],
+                                        Yi[(size_t)(NU + r + 36 * c) * CHUNK + (size_t)i]) +
                                      m->Zu[r * NU + c] / z;
                 }
             }
@@ -644,7 +687,8 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
             cplx *H = &w->H[(size_t)(f0 + i) * 36];
             for (int r = 0; r < NU; ++r) {
                 for (int c = 0; c < NU; ++c) {
-                    cplx s = w->Y[(size_t)(r + 36 * c) * CHUNK + (size_t)i];
+                    cplx s = mk(Yr[(size_t)(r + 36 * c) * CHUNK + (size_t)i],
+                                Yi[(size_t)(r + 36 * c) * CHUNK + (size_t)i]);
                     for (int q = 0; q < NZ; ++q) {
                         s += m->Kz[r * NZ + q] * Zp[c * NZ + q];
                     }
@@ -748,7 +792,7 @@ static cdpr_status_t closed_loop_matrix(const cdpr_design_model_t *m, const work
     const size_t nn = (size_t)n;
     const size_t Nc = nn + NZ + NU;
     memset(Acl, 0, sizeof(double) * Nc * Nc);
-#define AT(i, j) Acl[(size_t)(j) * Nc + (size_t)(i)]
+#define AT(i, j) Acl[(size_t)(j)*Nc + (size_t)(i)]
     for (size_t j = 0; j < nn; ++j) {
         memcpy(&AT(0, j), &w->Phi[j * nn], sizeof(double) * nn);
     }
@@ -938,8 +982,8 @@ static cdpr_status_t learning(const cdpr_design_model_t *m, work_t *w, cdpr_desi
     return st;
 }
 
-cdpr_status_t cdpr_design_analyse(const cdpr_design_model_t *m, int learn,
-                                  cdpr_design_report_t *r, cdpr_design_error_t *err)
+cdpr_status_t cdpr_design_analyse(const cdpr_design_model_t *m, int learn, cdpr_design_report_t *r,
+                                  cdpr_design_error_t *err)
 {
     memset(r, 0, sizeof *r);
     cdpr_status_t st = check_model(m, err);

@@ -29,8 +29,8 @@ static void feedback_keys(const cdpr_tracker_gains_t *g, char *buf, size_t len)
     key(buf, len, "kd_s", g->kd_s, 0);
     key(buf, len, "damping_N_s_per_m", g->damping_N_s_per_m, 0);
     key(buf, len, "damping_rot_N_m_s", g->damping_rot_N_m_s, 0);
-    const int pose = (g->kp > 0.0 || g->kd_s > 0.0 || g->damping_N_s_per_m > 0.0 ||
-                      g->damping_rot_N_m_s > 0.0);
+    const int pose =
+        (g->kp > 0.0 || g->kd_s > 0.0 || g->damping_N_s_per_m > 0.0 || g->damping_rot_N_m_s > 0.0);
     if (pose) {
         key(buf, len, "filter_s", g->filter_s, 1);
     }
@@ -59,12 +59,12 @@ static void fmt_margins(const cdpr_design_report_t *r, char *buf, size_t len)
     char pm[40];
     fmt_margin(gm, sizeof gm, r->gm_min_db, "dB");
     fmt_margin(pm, sizeof pm, r->pm_min_deg, "°");
-    snprintf(buf, len, "loop-at-a-time margins %s / %s, α %.3f; goal %g dB / %g°", gm, pm,
-             r->alpha, CDPR_DESIGN_GOAL_GM_DB, CDPR_DESIGN_GOAL_PM_DEG);
+    snprintf(buf, len, "loop-at-a-time margins %s / %s, α %.3f; goal %g dB / %g°", gm, pm, r->alpha,
+             CDPR_DESIGN_GOAL_GM_DB, CDPR_DESIGN_GOAL_PM_DEG);
 }
 
-cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *path,
-                                         int *checked, int *warn, cdpr_design_report_t *rep,
+cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *path, int *checked,
+                                         int *warn, cdpr_design_report_t *rep,
                                          cdpr_design_error_t *err)
 {
     *checked = 0;

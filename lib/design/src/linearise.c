@@ -202,8 +202,7 @@ cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
     cdpr_tracker_gains_t g = pt->sc.gains;
     g.wind_m_per_s = pt->plant.pp.wind_m_per_s;
     cdpr_diag_t d;
-    st = cdpr_tracker_init(&pt->tr0, &pt->plant.params, &pt->sc.traj, &g, pt->sc.period_s, 0.0,
-                           &d);
+    st = cdpr_tracker_init(&pt->tr0, &pt->plant.params, &pt->sc.traj, &g, pt->sc.period_s, 0.0, &d);
     if (st != CDPR_OK) {
         snprintf(err->msg, sizeof err->msg, "design: controller: field '%s': %s", d.field,
                  cdpr_status_str(st));
