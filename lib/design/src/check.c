@@ -47,7 +47,7 @@ static void feedback_keys(const cdpr_tracker_gains_t *g, char *buf, size_t len)
 static void fmt_margin(char *buf, size_t len, double v, const char *unit)
 {
     if (isfinite(v)) {
-        snprintf(buf, len, "%.1f %s", v, unit);
+        snprintf(buf, len, (unit[0] == 'd') ? "%.1f %s" : "%.1f%s", v, unit);
     } else {
         snprintf(buf, len, "no %s crossing", (unit[0] == 'd') ? "-180°" : "unity");
     }
