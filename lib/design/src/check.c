@@ -99,7 +99,7 @@ cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *
     fmt_margins(r, marg, sizeof marg);
     if (r->grows != 0) {
         snprintf(err->msg, sizeof err->msg,
-                 "%s: controller (%s): the linearised closed loop grows at %.3g 1/s at %.3g Hz "
+                 "%.200s: controller (%s): the linearised closed loop grows at %.3g 1/s at %.3g Hz "
                  "(%s)",
                  path, keys, r->growth_per_s, r->growth_hz, marg);
         return CDPR_E_OUT_OF_RANGE;
@@ -115,7 +115,7 @@ cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *
         const int k = r->first_diverging - 1;
         const int wst = r->worst_harmonic - 1;
         snprintf(err->msg, sizeof err->msg,
-                 "%s: controller.learning_gain %g (lead %g s, cutoff %g Hz): learning diverges "
+                 "%.200s: controller.learning_gain %g (lead %g s, cutoff %g Hz): learning diverges "
                  "at lap harmonic %d (%.3f Hz), ρ = %.2f (ρ >= 1 at harmonics %s; largest %.2f "
                  "at harmonic %d)",
                  path, g->learning_gain, g->learning_lead_s, g->learning_cutoff_hz,
@@ -127,7 +127,7 @@ cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *
         (r->gm_min_db < CDPR_DESIGN_GOAL_GM_DB || r->pm_min_deg < CDPR_DESIGN_GOAL_PM_DEG)) {
         *warn = 1;
         snprintf(err->msg, sizeof err->msg,
-                 "%s: controller (%s): below the goal margins: %s (the linearised closed loop "
+                 "%.200s: controller (%s): below the goal margins: %s (the linearised closed loop "
                  "does not grow)",
                  path, keys, marg);
     }

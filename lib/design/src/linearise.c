@@ -194,7 +194,7 @@ cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
     se.msg[0] = '\0';
     cdpr_status_t st = cdpr_host_plant_init(&pt->plant, &pt->sc, NULL, &se);
     if (st != CDPR_OK) {
-        snprintf(err->msg, sizeof err->msg, "design: plant at the held pose: %s (%s)",
+        snprintf(err->msg, sizeof err->msg, "design: plant at the held pose: %s (%.400s)",
                  cdpr_status_str(st), se.msg);
         free(pt);
         return st;
@@ -204,7 +204,7 @@ cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
     cdpr_diag_t d;
     st = cdpr_tracker_init(&pt->tr0, &pt->plant.params, &pt->sc.traj, &g, pt->sc.period_s, 0.0, &d);
     if (st != CDPR_OK) {
-        snprintf(err->msg, sizeof err->msg, "design: controller: field '%s': %s", d.field,
+        snprintf(err->msg, sizeof err->msg, "design: controller: field '%.100s': %s", d.field,
                  cdpr_status_str(st));
         free(pt);
         return st;

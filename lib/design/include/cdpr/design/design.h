@@ -32,7 +32,7 @@
 
 /// Why a call failed (or, for cdpr_design_check_scenario, the verdict's text).
 typedef struct {
-    char msg[512];
+    char msg[1024];
 } cdpr_design_error_t;
 
 /// The operating point: the scenario with its trajectory replaced by a hold at the
