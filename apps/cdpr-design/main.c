@@ -25,6 +25,11 @@
 /// With --step-test J: OUT/step.csv, the nonlinear plant (cdpr_plant_step, rate mode) from
 /// the settled state with a payout rate of 1 mm/s on cable J for 2 s, open loop: the same 18
 /// outputs per period minus their initial values.
+/// With --check: the analysis in C (lib/design, cdpr/design/design.h: the check the apps run
+/// at load) printed as JSON with design.json's names, and OUT/check.json; --zoh: OUT/Phi.bin,
+/// OUT/Gam.bin, its zero-order hold. The operating point and the linearisation are
+/// lib/design's (cdpr_design_point_new, cdpr_design_linearise), so what this tool writes is
+/// what the check at load analyses.
 /// The tool allocates (it is a host app); the models it linearises are the library's own.
 #include <getopt.h>
 #include <math.h>
