@@ -178,15 +178,15 @@ static void test_feed_forward_is_not_checked(void)
     g.k_length_per_s = 5.0;
     g.filter_s = 0.1;
     TEST_ASSERT_EQUAL_INT(0, cdpr_design_has_feedback(&g));
-    const double *keys[] = {&g.kp,
-                            &g.kd_s,
-                            &g.damping_N_s_per_m,
-                            &g.damping_rot_N_m_s,
-                            &g.tension_gain_m_per_s_per_N,
-                            &g.learning_gain};
-    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
+    for (int k = 0; k < 6; ++k) {
         cdpr_tracker_gains_t h = g;
-        *(double *)((char *)&h + ((const char *)keys[i] - (const char *)&g)) = 0.1;
+        double *key[6] = {&h.kp,
+                          &h.kd_s,
+                          &h.damping_N_s_per_m,
+                          &h.damping_rot_N_m_s,
+                          &h.tension_gain_m_per_s_per_N,
+                          &h.learning_gain};
+        *key[k] = 0.1;
         TEST_ASSERT_EQUAL_INT(1, cdpr_design_has_feedback(&h));
     }
     static cdpr_scenario_t sc; /* zeros: an unusable scenario, never looked at */
