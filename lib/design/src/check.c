@@ -5,6 +5,7 @@
 /// lap-to-lap map has ρ >= 1 at a lap harmonic.
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cdpr/design/design.h"
@@ -63,19 +64,9 @@ static void fmt_margins(const cdpr_design_report_t *r, char *buf, size_t len)
              CDPR_DESIGN_GOAL_GM_DB, CDPR_DESIGN_GOAL_PM_DEG);
 }
 
-cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *path, int *checked,
-                                         int *warn, cdpr_design_report_t *rep,
-                                         cdpr_design_error_t *err)
+static cdpr_status_t check(const cdpr_scenario_t *sc, const char *path, int *warn,
+                           cdpr_design_report_t *r, cdpr_design_error_t *err)
 {
-    *checked = 0;
-    *warn = 0;
-    err->msg[0] = '\0';
-    if (cdpr_design_has_feedback(&sc->gains) == 0) {
-        return CDPR_OK;
-    }
-    *checked = 1;
-    static cdpr_design_report_t local;
-    cdpr_design_report_t *r = (rep != NULL) ? rep : &local;
     cdpr_design_point_t *pt = NULL;
     cdpr_status_t st = cdpr_design_point_new(sc, (double)NAN, &pt, err);
     if (st != CDPR_OK) {
@@ -132,4 +123,26 @@ cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *
                  path, keys, marg);
     }
     return CDPR_OK;
+}
+
+cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *path, int *checked,
+                                         int *warn, cdpr_design_report_t *rep,
+                                         cdpr_design_error_t *err)
+{
+    *checked = 0;
+    *warn = 0;
+    err->msg[0] = '\0';
+    if (cdpr_design_has_feedback(&sc->gains) == 0) {
+        return CDPR_OK;
+    }
+    *checked = 1;
+    cdpr_design_report_t *own = (rep != NULL) ? NULL : malloc(sizeof *own);
+    cdpr_design_report_t *r = (rep != NULL) ? rep : own;
+    if (r == NULL) {
+        snprintf(err->msg, sizeof err->msg, "design: out of memory (report)");
+        return CDPR_E_CAPACITY;
+    }
+    const cdpr_status_t st = check(sc, path, warn, r, err);
+    free(own);
+    return st;
 }
