@@ -2,7 +2,7 @@
 # The installed package (included by the top-level CMakeLists.txt after every library):
 #  - <libdir>/cmake/cdpr/: cdprConfig.cmake, cdprConfigVersion.cmake (SameMajorVersion) and
 #    one export file per component, cdpr-<component>-targets.cmake (targets cdpr::core,
-#    cdpr::gsl, cdpr::host, cdpr::lcm + cdpr::lcmtypes, cdpr::rt);
+#    cdpr::gsl, cdpr::host, cdpr::design, cdpr::lcm + cdpr::lcmtypes, cdpr::rt);
 #  - <libdir>/pkgconfig/cdpr-<component>.pc (relocatable: paths from ${pcfiledir});
 #  - <datadir>/cdpr/{scenarios,scripts,lcmtypes} (host builds) and <docdir>: LICENSE,
 #    README.md, CHANGELOG.md.
@@ -78,6 +78,10 @@ endif()
 if(host IN_LIST CDPR_COMPONENTS)
     _cdpr_pkgconfig(host "cdpr host layer: presets, scenario files, controller, batch runner"
         "cdpr-core" "libcyaml yaml-0.1" "-lcdpr_host" "-lm")
+endif()
+if(design IN_LIST CDPR_COMPONENTS)
+    _cdpr_pkgconfig(design "cdpr linear design: the loop's linearisation and margins (LAPACK)"
+        "cdpr-host" "lapack" "-lcdpr_design" "-lm")
 endif()
 if(lcm IN_LIST CDPR_COMPONENTS)
     _cdpr_pkgconfig(lcm "cdpr LCM bridge and message types (links liblcm: LGPL-2.1+)"

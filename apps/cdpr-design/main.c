@@ -25,6 +25,11 @@
 /// With --step-test J: OUT/step.csv, the nonlinear plant (cdpr_plant_step, rate mode) from
 /// the settled state with a payout rate of 1 mm/s on cable J for 2 s, open loop: the same 18
 /// outputs per period minus their initial values.
+/// With --check: the analysis in C (lib/design, cdpr/design/design.h: the check the apps run
+/// at load) printed as JSON with design.json's names, and OUT/check.json; --zoh: OUT/Phi.bin,
+/// OUT/Gam.bin, its zero-order hold. The operating point and the linearisation are
+/// lib/design's (cdpr_design_point_new, cdpr_design_linearise), so what this tool writes is
+/// what the check at load analyses.
 /// The tool allocates (it is a host app); the models it linearises are the library's own.
 #include <getopt.h>
 #include <math.h>
@@ -35,28 +40,18 @@
 #include "app_cli.h"
 #include "app_run.h"
 #include "app_status.h"
+#include "cdpr/design/design.h"
 #include "cdpr/host/cli.h"
+#include "cdpr/host/clock.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/tracker.h"
 #include "cdpr/host/trajectory.h"
 #include "cdpr/vec3.h"
 
-#define NZ 30 /* filter states of the tracker: err_f1, err_f (12 each), ten_f (6) */
-#define NM 18 /* linearised outputs of Cm */
-#define NU 6  /* payout rates */
-
-static cdpr_plant_t g_plant;
-static double g_lap_s; /* lap of the scenario's own trajectory (0: not periodic) */
-static cdpr_tracker_t g_tr0;
-static cdpr_tracker_t g_tr;
-static cdpr_scenario_t g_sc;
-
-/* Perturbation of state component i (relative above 1). */
-static double step_of(double y, double rel)
-{
-    return rel * fmax(1.0, fabs(y));
-}
+#define NZ CDPR_DESIGN_NZ
+#define NM CDPR_DESIGN_NM
+#define NU CDPR_DESIGN_NU
 
 static int write_bin(const char *dir, const char *name, const double *a, size_t count)
 {
@@ -71,202 +66,8 @@ static int write_bin(const char *dir, const char *name, const double *a, size_t 
     return (fclose(f) == 0 && w == count) ? 0 : -1;
 }
 
-/* The 18 outputs of the measurement at plant state y (written into the plant temporarily). */
-static void outputs_at(const double *y, const cdpr_quat_t q0, double *o)
-{
-    const int n = g_plant.robot.dim;
-    double save[CDPR_ROBOT_STATE_MAX];
-    memcpy(save, g_plant.y, sizeof(double) * (size_t)n);
-    memcpy(g_plant.y, y, sizeof(double) * (size_t)n);
-    cdpr_plant_meas_t m;
-    cdpr_plant_measure(&g_plant, &m);
-    memcpy(g_plant.y, save, sizeof(double) * (size_t)n);
-    const cdpr_quat_t q0i = {q0.w, -q0.x, -q0.y, -q0.z};
-    const cdpr_vec3_t th = cdpr_quat_to_rotvec(cdpr_quat_mul(m.cabin.q, q0i));
-    cdpr_mat3_t R;
-    cdpr_quat_to_mat3(m.cabin.q, &R);
-    const cdpr_vec3_t w = cdpr_m3_mul_v3(&R, m.cabin.w_rad_per_s);
-    const double v[12] = {
-        m.cabin.p_m.x,       m.cabin.p_m.y,       m.cabin.p_m.z,       th.x, th.y, th.z,
-        m.cabin.v_m_per_s.x, m.cabin.v_m_per_s.y, m.cabin.v_m_per_s.z, w.x,  w.y,  w.z};
-    memcpy(o, v, sizeof v);
-    for (int j = 0; j < 6; ++j) {
-        o[12 + j] = m.length_m[j];
-    }
-}
-
-/* One tracker step from the held tracker with filter state z at plant state y and payout
- * rates in force up: the six rate commands into u, the new filter state into zn. */
-static void ctrl_at(const double *y, const double *z, const double *up, double *u, double *zn)
-{
-    const int n = g_plant.robot.dim;
-    double save[CDPR_ROBOT_STATE_MAX];
-    memcpy(save, g_plant.y, sizeof(double) * (size_t)n);
-    memcpy(g_plant.y, y, sizeof(double) * (size_t)n);
-    for (int j = 0; j < NU; ++j) {
-        g_plant.robot.in.payout_m_per_s[j] = up[j];
-    }
-    cdpr_plant_meas_t m;
-    cdpr_plant_measure(&g_plant, &m);
-    for (int j = 0; j < NU; ++j) {
-        g_plant.robot.in.payout_m_per_s[j] = 0.0;
-    }
-    memcpy(g_plant.y, save, sizeof(double) * (size_t)n);
-    m.t_s = g_tr0.t_next_s;
-    g_tr = g_tr0;
-    memcpy(g_tr.err_f1, z, sizeof(double) * 12);
-    memcpy(g_tr.err_f, z + 12, sizeof(double) * 12);
-    memcpy(g_tr.ten_f, z + 24, sizeof(double) * 6);
-    g_tr.filter_primed = 1;
-    cdpr_tracker_cmd_t cmd;
-    (void)cdpr_tracker_step(&g_tr, &m, &cmd);
-    memcpy(u, cmd.rate_m_per_s, sizeof(double) * NU);
-    memcpy(zn, g_tr.err_f1, sizeof(double) * 12);
-    memcpy(zn + 12, g_tr.err_f, sizeof(double) * 12);
-    memcpy(zn + 24, g_tr.ten_f, sizeof(double) * 6);
-}
-
-/* A and B by central differences of cdpr_robot_rhs (payout rates zero at the settled state). */
-static void plant_jacobians(double *A, double *B)
-{
-    cdpr_robot_t *r = &g_plant.robot;
-    const int n = r->dim;
-    double *y = malloc(sizeof(double) * (size_t)n);
-    double *fp = malloc(sizeof(double) * (size_t)n);
-    double *fm = malloc(sizeof(double) * (size_t)n);
-    memcpy(y, g_plant.y, sizeof(double) * (size_t)n);
-    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
-        r->in.payout_m_per_s[j] = 0.0;
-    }
-    for (int i = 0; i < n + NU; ++i) {
-        const double h = (i < n) ? step_of(y[i], 1e-6) : 1e-6;
-        double *slot = (i < n) ? &y[i] : &r->in.payout_m_per_s[i - n];
-        const double y0 = *slot;
-        *slot = y0 + h;
-        (void)cdpr_robot_rhs(0.0, y, fp, r);
-        *slot = y0 - h;
-        (void)cdpr_robot_rhs(0.0, y, fm, r);
-        *slot = y0;
-        for (int k = 0; k < n; ++k) {
-            const double d = (fp[k] - fm[k]) / (2.0 * h);
-            if (i < n) {
-                A[(size_t)k * (size_t)n + (size_t)i] = d;
-            } else {
-                B[(size_t)k * NU + (size_t)(i - n)] = d;
-            }
-        }
-    }
-    free(y);
-    free(fp);
-    free(fm);
-}
-
-/* Kx, Zx, Cm (columns: plant state) and Kz, Zz (columns: filter state) by central
- * differences of the real tracker step and measurement about (y0, z0). */
-static void ctrl_jacobians(const double *z0, double *Kx, double *Kz, double *Zx, double *Zz,
-                           double *Cm, double *Ku, double *Zu)
-{
-    const int n = g_plant.robot.dim;
-    const cdpr_quat_t q0 = cdpr_quat_normalize(g_plant.pp.initial.q);
-    double *y = malloc(sizeof(double) * (size_t)n);
-    memcpy(y, g_plant.y, sizeof(double) * (size_t)n);
-    double z[NZ];
-    memcpy(z, z0, sizeof z);
-    double u0[NU] = {0.0};
-    double up[NU], um[NU], zp[NZ], zm[NZ], op[NM], om[NM];
-    for (int i = 0; i < n + NZ + NU; ++i) {
-        double *slot = (i < n) ? &y[i] : (i < n + NZ) ? &z[i - n] : &u0[i - n - NZ];
-        const double v0 = *slot;
-        const double h = (i < n + NZ) ? step_of(v0, 1e-6) : 1e-6;
-        *slot = v0 + h;
-        ctrl_at(y, z, u0, up, zp);
-        if (i < n) {
-            outputs_at(y, q0, op);
-        }
-        *slot = v0 - h;
-        ctrl_at(y, z, u0, um, zm);
-        if (i < n) {
-            outputs_at(y, q0, om);
-        }
-        *slot = v0;
-        const size_t nc = (i < n) ? (size_t)n : (i < n + NZ) ? NZ : NU;
-        const size_t c = (i < n)        ? (size_t)i
-                         : (i < n + NZ) ? (size_t)(i - n)
-                                        : (size_t)(i - n - NZ);
-        double *K = (i < n) ? Kx : (i < n + NZ) ? Kz : Ku;
-        double *Z = (i < n) ? Zx : (i < n + NZ) ? Zz : Zu;
-        for (int k = 0; k < NU; ++k) {
-            K[(size_t)k * nc + c] = (up[k] - um[k]) / (2.0 * h);
-        }
-        for (int k = 0; k < NZ; ++k) {
-            Z[(size_t)k * nc + c] = (zp[k] - zm[k]) / (2.0 * h);
-        }
-        for (int k = 0; i < n && k < NM; ++k) {
-            Cm[(size_t)k * nc + c] = (op[k] - om[k]) / (2.0 * h);
-        }
-    }
-    free(y);
-}
-
-/* Load the scenario, replace its trajectory by a hold at the trajectory's pose at `at_s`
- * (NaN: where it stops, or its start for a circle), settle the plant there and build the
- * controller holding it. */
-static cdpr_status_t setup(const char *path, double at_s, double pose[6])
-{
-    cdpr_scenario_overrides_t ov;
-    cdpr_scenario_overrides_none(&ov);
-    cdpr_status_t st = cdpr_app_scenario("cdpr-design", path, &ov, &g_sc);
-    if (st != CDPR_OK) {
-        return st;
-    }
-    double t = at_s;
-    if (!isfinite(t)) {
-        t = cdpr_traj_end_time(&g_sc.traj);
-        t = isfinite(t) ? t : 0.0;
-    }
-    cdpr_traj_sample_t s;
-    cdpr_traj_eval(&g_sc.traj, t, &s);
-    memcpy(pose, s.pose, sizeof s.pose);
-    g_lap_s = cdpr_traj_lap_s(&g_sc.traj);
-    g_sc.traj.type = CDPR_TRAJ_HOLD;
-    memcpy(g_sc.traj.hold_pose, s.pose, sizeof s.pose);
-    g_sc.has_initial_pose = 0;
-    memset(g_sc.initial_offset, 0, sizeof g_sc.initial_offset);
-    g_sc.gains.transfer_s = 0.0;
-    cdpr_scenario_error_t err;
-    st = cdpr_host_plant_init(&g_plant, &g_sc, NULL, &err);
-    if (st != CDPR_OK) {
-        fprintf(stderr, "cdpr-design: plant: %s\n", cdpr_status_str(st));
-        return st;
-    }
-    cdpr_tracker_gains_t g = g_sc.gains;
-    g.wind_m_per_s = g_plant.pp.wind_m_per_s;
-    cdpr_diag_t d;
-    st = cdpr_tracker_init(&g_tr0, &g_plant.params, &g_sc.traj, &g, g_sc.period_s, 0.0, &d);
-    if (st != CDPR_OK) {
-        fprintf(stderr, "cdpr-design: controller: field '%s': %s\n", d.field, cdpr_status_str(st));
-    }
-    return st;
-}
-
-/* Filter state at the operating point: both stages primed with the error of the settled
- * state (the discrete equilibrium's small offset from the IK pose). */
-static void operating_filter(double *z0)
-{
-    cdpr_plant_meas_t m;
-    cdpr_plant_measure(&g_plant, &m);
-    m.t_s = g_tr0.t_next_s;
-    g_tr = g_tr0;
-    g_tr.filter_primed = 0;
-    cdpr_tracker_cmd_t cmd;
-    (void)cdpr_tracker_step(&g_tr, &m, &cmd);
-    memcpy(z0, g_tr.err_f1, sizeof(double) * 12);
-    memcpy(z0 + 12, g_tr.err_f, sizeof(double) * 12);
-    memcpy(z0 + 24, g_tr.ten_f, sizeof(double) * 6);
-}
-
 /* Open-loop step of 1 mm/s on cable j for 2 s, nonlinear plant: outputs minus initial. */
-static int step_test(const char *dir, int j)
+static int step_test(cdpr_design_point_t *pt, const char *dir, int j)
 {
     char path[1200];
     snprintf(path, sizeof path, "%s/step.csv", dir);
@@ -274,130 +75,209 @@ static int step_test(const char *dir, int j)
     if (f == NULL) {
         return -1;
     }
-    const cdpr_quat_t q0 = cdpr_quat_normalize(g_plant.pp.initial.q);
     double o0[NM];
     double o[NM];
-    outputs_at(g_plant.y, q0, o0);
+    cdpr_design_outputs(pt, pt->plant.y, o0);
     double u[CDPR_MAX_CABLES] = {0.0};
     u[j] = 1e-3;
-    const long steps = (long)floor(2.0 / g_sc.period_s + 0.5);
+    const double period_s = pt->sc.period_s;
+    const long steps = (long)floor(2.0 / period_s + 0.5);
     int rc = 0;
     for (long k = 0; k <= steps && rc == 0; ++k) {
-        outputs_at(g_plant.y, q0, o);
-        fprintf(f, "%.6f", (double)k * g_sc.period_s);
+        cdpr_design_outputs(pt, pt->plant.y, o);
+        fprintf(f, "%.6f", (double)k * period_s);
         for (int i = 0; i < NM; ++i) {
             fprintf(f, ",%.10e", o[i] - o0[i]);
         }
         fprintf(f, "\n");
         int flags = 0;
-        if (k < steps && cdpr_plant_step(&g_plant, CDPR_WINCH_RATE, u, &flags) < 0) {
+        if (k < steps && cdpr_plant_step(&pt->plant, CDPR_WINCH_RATE, u, &flags) < 0) {
             rc = -1;
         }
     }
     return (fclose(f) == 0) ? rc : -1;
 }
 
-/* J.bin: the straight-cable length Jacobian at the settled pose (rows u_j, (R b_j) x u_j). */
-static int write_jacobian(const char *dir)
-{
-    cdpr_plant_meas_t m;
-    cdpr_plant_measure(&g_plant, &m);
-    double J[NU * 6];
-    for (int j = 0; j < NU; ++j) {
-        cdpr_vec3_t u;
-        cdpr_vec3_t g;
-        cdpr_tracker_jacobian(&g_tr0.model, j, &m.cabin, &u, &g);
-        const double row[6] = {u.x, u.y, u.z, g.x, g.y, g.z};
-        memcpy(&J[j * 6], row, sizeof row);
-    }
-    return write_bin(dir, "J.bin", J, NU * 6);
-}
-
 /* The lap of the scenario's trajectory, the tracker's knots for it and the learning keys. */
-static void write_learning_meta(FILE *f)
+static void write_learning_meta(FILE *f, const cdpr_design_model_t *m)
 {
-    const double per_lap = floor(g_lap_s / g_sc.period_s + 0.5);
-    const double knots =
-        (per_lap > (double)CDPR_TRACKER_LEARN_KNOTS) ? (double)CDPR_TRACKER_LEARN_KNOTS : per_lap;
-    const cdpr_tracker_gains_t *g = &g_sc.gains;
-    fprintf(f, "lap_s %.17g\nlearn_knots %.17g\nk_length_per_s %.17g\n", g_lap_s, knots,
-            g->k_length_per_s);
+    fprintf(f, "lap_s %.17g\nlearn_knots %.17g\nk_length_per_s %.17g\n", m->lap_s, m->learn_knots,
+            m->k_length_per_s);
     fprintf(f, "learning_gain %.17g\nlearning_lead_s %.17g\nlearning_cutoff_hz %.17g\n",
-            g->learning_gain, g->learning_lead_s, g->learning_cutoff_hz);
+            m->learning_gain, m->learning_lead_s, m->learning_cutoff_hz);
 }
 
-static int write_all(const char *dir, const double *pose)
+static int write_all(const char *dir, const cdpr_design_point_t *pt, const cdpr_design_model_t *m)
 {
-    const int n = g_plant.robot.dim;
+    const int n = m->n;
     const size_t nn = (size_t)n;
-    double *A = calloc(nn * nn, sizeof(double));
-    double *B = calloc(nn * NU, sizeof(double));
-    double *Kx = calloc(NU * nn, sizeof(double));
-    double *Zx = calloc(NZ * nn, sizeof(double));
-    double *Cm = calloc(NM * nn, sizeof(double));
-    double Kz[NU * NZ];
-    double Zz[NZ * NZ];
-    double Ku[NU * NU];
-    double Zu[NZ * NU];
-    double z0[NZ];
-    operating_filter(z0);
-    plant_jacobians(A, B);
-    ctrl_jacobians(z0, Kx, Kz, Zx, Zz, Cm, Ku, Zu);
-    int rc = write_bin(dir, "A.bin", A, nn * nn) | write_bin(dir, "B.bin", B, nn * NU) |
-             write_bin(dir, "Kx.bin", Kx, NU * nn) | write_bin(dir, "Kz.bin", Kz, NU * NZ) |
-             write_bin(dir, "Zx.bin", Zx, NZ * nn) | write_bin(dir, "Zz.bin", Zz, NZ * NZ) |
-             write_bin(dir, "Cm.bin", Cm, NM * nn) | write_bin(dir, "Ku.bin", Ku, NU * NU) |
-             write_bin(dir, "Zu.bin", Zu, NZ * NU) | write_jacobian(dir);
+    int rc = write_bin(dir, "A.bin", m->A, nn * nn) | write_bin(dir, "B.bin", m->B, nn * NU) |
+             write_bin(dir, "Kx.bin", m->Kx, NU * nn) | write_bin(dir, "Kz.bin", m->Kz, NU * NZ) |
+             write_bin(dir, "Zx.bin", m->Zx, NZ * nn) | write_bin(dir, "Zz.bin", m->Zz, NZ * NZ) |
+             write_bin(dir, "Cm.bin", m->Cm, NM * nn) | write_bin(dir, "Ku.bin", m->Ku, NU * NU) |
+             write_bin(dir, "Zu.bin", m->Zu, NZ * NU) | write_bin(dir, "J.bin", m->J, NU * 6);
     char path[1200];
     snprintf(path, sizeof path, "%s/meta.txt", dir);
     FILE *f = fopen(path, "w");
     if (f != NULL) {
-        fprintf(f, "n %d\nperiod_s %.17g\nnz %d\nnu %d\nnm %d\n", n, g_sc.period_s, NZ, NU, NM);
+        const double *pose = pt->pose;
+        fprintf(f, "n %d\nperiod_s %.17g\nnz %d\nnu %d\nnm %d\n", n, m->period_s, NZ, NU, NM);
         fprintf(f, "pose %.17g %.17g %.17g %.17g %.17g %.17g\n", pose[0], pose[1], pose[2], pose[3],
                 pose[4], pose[5]);
-        fprintf(f, "cabin_mass_kg %.17g\n", g_plant.robot.p.cabin.mass_kg);
-        write_learning_meta(f);
-        for (int j = 0; j < g_plant.robot.p.n_cables; ++j) {
-            const cdpr_robot_cable_params_t *cp = &g_plant.params.cables[j];
+        fprintf(f, "cabin_mass_kg %.17g\n", pt->plant.robot.p.cabin.mass_kg);
+        write_learning_meta(f, m);
+        for (int j = 0; j < pt->plant.robot.p.n_cables; ++j) {
+            const cdpr_robot_cable_params_t *cp = &pt->plant.params.cables[j];
             fprintf(f, "cable %d offset %d nodes %d node_mass_kg %.17g\n", j,
-                    g_plant.robot.offset[j], g_plant.robot.cable[j].n,
-                    cp->cable.rho_kg_per_m * cp->length_m / (double)g_plant.robot.cable[j].n);
+                    pt->plant.robot.offset[j], pt->plant.robot.cable[j].n,
+                    cp->cable.rho_kg_per_m * cp->length_m / (double)pt->plant.robot.cable[j].n);
         }
         rc |= (fclose(f) == 0) ? 0 : -1;
     } else {
         rc = -1;
     }
-    free(A);
-    free(B);
-    free(Kx);
-    free(Zx);
-    free(Cm);
     return rc;
+}
+
+/* A JSON number: Infinity for ±inf (as Python's json writes it), null for NaN. */
+static void jnum(FILE *f, const char *name, double v, const char *sep)
+{
+    if (isnan(v)) {
+        fprintf(f, "\"%s\": null%s", name, sep);
+    } else if (isinf(v)) {
+        fprintf(f, "\"%s\": %sInfinity%s", name, (v < 0.0) ? "-" : "", sep);
+    } else {
+        fprintf(f, "\"%s\": %.17g%s", name, v, sep);
+    }
+}
+
+/* The C analysis as JSON, with design.json's names. */
+static void print_check(FILE *f, const cdpr_design_report_t *r, double seconds)
+{
+    fprintf(f, "{\n ");
+    jnum(f, "check_s", seconds, ",\n ");
+    fprintf(f, "\"n_freq\": %d,\n ", r->n_freq);
+    jnum(f, "closed_loop_max_abs_eig", r->max_abs_eig, ",\n ");
+    jnum(f, "closed_loop_max_growth_per_s", r->growth_per_s, ",\n ");
+    jnum(f, "closed_loop_worst_hz", r->growth_hz, ",\n ");
+    jnum(f, "sigma_min_I_plus_L", r->alpha, ",\n ");
+    jnum(f, "sigma_min_at_hz", r->alpha_hz, ",\n ");
+    fprintf(f, "\"active\": %s,\n \"channels\": [", r->active ? "true" : "false");
+    for (int j = 0; r->active && j < 6; ++j) {
+        fprintf(f, "%s\n  {\"cable\": %d, ", (j > 0) ? "," : "", j);
+        jnum(f, "gm_db", r->gm_db[j], ", ");
+        jnum(f, "gm_hz", r->gm_hz[j], ", ");
+        jnum(f, "pm_deg", r->pm_deg[j], ", ");
+        jnum(f, "pm_hz", r->pm_hz[j], "}");
+    }
+    fprintf(f, "],\n \"loop_at_a_time_min\": {");
+    jnum(f, "gm_db", r->gm_min_db, ", ");
+    jnum(f, "gm_hz", r->gm_min_hz, ", ");
+    jnum(f, "pm_deg", r->pm_min_deg, ", ");
+    jnum(f, "pm_hz", r->pm_min_hz, "},\n ");
+    fprintf(f, "\"learning\": {\"analysed\": %s", r->learning ? "true" : "false");
+    if (r->learning) {
+        fprintf(f, ", ");
+        jnum(f, "band_top_hz", r->band_top_hz, ", ");
+        jnum(f, "max_rho_at_harmonics", r->max_rho, ", ");
+        fprintf(f, "\"worst_harmonic\": %d, \"first_diverging\": %d,\n  \"G_at_0_diag\": [",
+                r->worst_harmonic, r->first_diverging);
+        for (int i = 0; i < 6; ++i) {
+            fprintf(f, "%s%.17g", (i > 0) ? ", " : "", r->g0_diag[i]);
+        }
+        fprintf(f, "],\n  \"harmonics\": [");
+        for (int h = 0; h < r->n_harmonics; ++h) {
+            fprintf(f, "%s\n   [%.17g, %.17g, %.17g, %.17g]", (h > 0) ? "," : "", r->harmonic_hz[h],
+                    r->harmonic_q[h], r->rho[h], r->sigma_max[h]);
+        }
+        fprintf(f, "]");
+    }
+    fprintf(f, "}\n}\n");
 }
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J]\n"
-               "Linear model of the scenario's loop holding the trajectory's pose at T (default:\n"
-               "where it stops) written into the directory OUT; scripts/feedback_design.py reads\n"
-               "it (modes, closed-loop eigenvalues, margins; docs/validation.md \"Feedback\n"
-               "design\").\n\n"
-               "  --at T          hold the pose of the trajectory at T [s]\n"
-               "  --step-test J   also the nonlinear response to a 1 mm/s step on winch J (0..5)\n"
-               "  --help          this text\n"
-               "  --version       version and git description\n\n"
-               "exit codes: 0 done, 1 step test failed, 2 bad command line or scenario,\n"
-               "            3 OUT cannot be written\n");
+    fprintf(f,
+            "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J] [--check] [--zoh]\n"
+            "Linear model of the scenario's loop holding the trajectory's pose at T (default:\n"
+            "where it stops) written into the directory OUT; scripts/feedback_design.py reads\n"
+            "it (modes, closed-loop eigenvalues, margins; docs/validation.md \"Feedback\n"
+            "design\").\n\n"
+            "  --at T          hold the pose of the trajectory at T [s]\n"
+            "  --step-test J   also the nonlinear response to a 1 mm/s step on winch J (0..5)\n"
+            "  --check         also the analysis in C (the check the apps run at load: growth,\n"
+            "                  margins, α, the learning's ρ) as JSON on stdout and OUT/check.json\n"
+            "  --zoh           also OUT/Phi.bin (n x n) and OUT/Gam.bin (n x 6): the zero-order\n"
+            "                  hold over the control period as the check computes it\n"
+            "  --help          this text\n"
+            "  --version       version and git description\n\n"
+            "exit codes: 0 done, 1 step test failed, 2 bad command line or scenario,\n"
+            "            3 OUT cannot be written, 4 the analysis failed\n");
+}
+
+/* Phi.bin, Gam.bin: the check's zero-order hold of the plant. */
+static int write_zoh(const char *dir, const cdpr_design_model_t *m)
+{
+    const size_t n = (size_t)m->n;
+    double *Phi = malloc(sizeof(double) * n * (n + NU));
+    if (Phi == NULL) {
+        return CDPR_EXIT_UNKNOWN;
+    }
+    cdpr_design_error_t err;
+    int rc = 0;
+    if (cdpr_design_discretise(m, Phi, Phi + n * n, &err) != CDPR_OK) {
+        fprintf(stderr, "cdpr-design: %s\n", err.msg);
+        rc = CDPR_EXIT_UNKNOWN;
+    } else if ((write_bin(dir, "Phi.bin", Phi, n * n) |
+                write_bin(dir, "Gam.bin", Phi + n * n, n * NU)) != 0) {
+        rc = cdpr_app_exit_code(CDPR_E_IO);
+    }
+    free(Phi);
+    return rc;
+}
+
+/* The analysis of model m, printed and written to OUT/check.json. */
+static int run_check(const char *dir, const cdpr_design_model_t *m, double t0)
+{
+    cdpr_design_report_t *r = malloc(sizeof *r);
+    if (r == NULL) {
+        return CDPR_EXIT_UNKNOWN;
+    }
+    cdpr_design_error_t err;
+    const cdpr_status_t st = cdpr_design_analyse(m, 1, r, &err);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-design: %s\n", err.msg);
+        free(r);
+        return 4;
+    }
+    const double dt = cdpr_clock_now_s() - t0;
+    print_check(stdout, r, dt);
+    char path[1200];
+    snprintf(path, sizeof path, "%s/check.json", dir);
+    FILE *f = fopen(path, "w");
+    int rc = 0;
+    if (f == NULL) {
+        rc = cdpr_app_exit_code(CDPR_E_IO);
+    } else {
+        print_check(f, r, dt);
+        rc = (fclose(f) == 0) ? 0 : cdpr_app_exit_code(CDPR_E_IO);
+    }
+    free(r);
+    return rc;
 }
 
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"at", required_argument, NULL, 'a'},
                                              {"step-test", required_argument, NULL, 's'},
+                                             {"check", no_argument, NULL, 'c'},
+                                             {"zoh", no_argument, NULL, 'z'},
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     double at_s = (double)NAN;
     double cable = -1.0;
+    int check = 0;
+    int zoh = 0;
     int c;
     opterr = 0;
     while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
@@ -409,6 +289,10 @@ int main(int argc, char **argv)
             bad = (bad == CDPR_OK && floor(cable) < cable)
                       ? cdpr_app_usage_error("cdpr-design", "--step-test: a winch 0..5")
                       : bad;
+        } else if (c == 'c') {
+            check = 1;
+        } else if (c == 'z') {
+            zoh = 1;
         } else {
             return cdpr_app_exit_code(
                 cdpr_app_other_option("cdpr-design", c, argv, longopts, usage));
@@ -421,18 +305,45 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(cdpr_app_usage_error("cdpr-design", "SCENARIO and OUT expected"));
     }
     const int step_cable = (int)cable;
-    double pose[6];
-    const cdpr_status_t st = setup(argv[optind], at_s, pose);
+    const char *dir = argv[optind + 1];
+    const double t0 = cdpr_clock_now_s();
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    static cdpr_scenario_t sc;
+    cdpr_status_t st = cdpr_app_scenario("cdpr-design", argv[optind], &ov, &sc);
     if (st != CDPR_OK) {
         return cdpr_app_exit_code(st);
     }
-    if (write_all(argv[optind + 1], pose) != 0) {
-        fprintf(stderr, "cdpr-design: %s: cannot write the model\n", argv[optind + 1]);
-        return cdpr_app_exit_code(CDPR_E_IO);
+    cdpr_design_point_t *pt = NULL;
+    cdpr_design_error_t err;
+    st = cdpr_design_point_new(&sc, at_s, &pt, &err);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-design: %s\n", err.msg);
+        return cdpr_app_exit_code(st);
     }
-    if (step_cable >= 0 && step_test(argv[optind + 1], step_cable) != 0) {
+    cdpr_design_model_t m;
+    st = cdpr_design_linearise(pt, &m, &err);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-design: %s\n", err.msg);
+        cdpr_design_point_free(pt);
+        return cdpr_app_exit_code(st);
+    }
+    int rc = 0;
+    if (write_all(dir, pt, &m) != 0) {
+        fprintf(stderr, "cdpr-design: %s: cannot write the model\n", dir);
+        rc = cdpr_app_exit_code(CDPR_E_IO);
+    }
+    if (rc == 0 && step_cable >= 0 && step_test(pt, dir, step_cable) != 0) {
         fprintf(stderr, "cdpr-design: step test failed\n");
-        return 1;
+        rc = 1;
     }
-    return 0;
+    if (rc == 0 && zoh != 0) {
+        rc = write_zoh(dir, &m);
+    }
+    if (rc == 0 && check != 0) {
+        rc = run_check(dir, &m, t0);
+    }
+    cdpr_design_model_free(&m);
+    cdpr_design_point_free(pt);
+    return rc;
 }

@@ -303,6 +303,11 @@ int main(int argc, char **argv)
     if (st != CDPR_OK) {
         return cdpr_app_exit_code(st);
     }
+    /* The scenario's controller runs only in the in-process tracker. */
+    if (o.with_tracker != 0 &&
+        (st = cdpr_app_design_check("cdpr-rt", o.scenario, &sc)) != CDPR_OK) {
+        return cdpr_app_exit_code(st);
+    }
     o.rt.stop = cdpr_app_stop_on_signals();
     o.rt.lcm.on_other_plant = on_other_plant;
     o.rt.on_overload = on_overload;

@@ -30,6 +30,7 @@ typedef struct {
     int plot;
     int progress; /* -1 auto (a tty), 0 off, 1 forced */
     int quiet;
+    int unchecked; /* --unchecked-gains */
 } options_t;
 
 /* The default gnuplot script: the installation's (cdpr_app_data_file). */
@@ -54,6 +55,8 @@ static void usage(FILE *f)
             "                      %s\n"
             "  --progress          progress on stderr even when it is not a terminal\n"
             "  --quiet             no progress and no summary on stdout\n"
+            "  --unchecked-gains   run a controller the check at load refuses (the linearised\n"
+            "                      closed loop grows, or the learning diverges): to measure it\n"
             "  --help              this text\n"
             "  --version           version and git description\n\n"
             "exit codes: 0 run completed (status ok or warnings), 1 simulation stopped early,\n"
@@ -72,6 +75,7 @@ static int parse(int argc, char **argv, options_t *o)
         {"plot-script", required_argument, NULL, 's'},
         {"progress", no_argument, NULL, 'p'},
         {"quiet", no_argument, NULL, 'q'},
+        {"unchecked-gains", no_argument, NULL, 'u'},
         CDPR_APP_STD_OPTIONS,
         {NULL, 0, NULL, 0}};
     int c;
@@ -99,6 +103,9 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 'q':
             o->quiet = 1;
+            break;
+        case 'u':
+            o->unchecked = 1;
             break;
         default:
             (void)cdpr_app_other_option("cdpr-sim", c, argv, longopts, usage);
@@ -142,6 +149,12 @@ int main(int argc, char **argv)
     const cdpr_status_t ls = cdpr_app_scenario("cdpr-sim", o.scenario, &o.ov, &sc);
     if (ls != CDPR_OK) {
         return cdpr_app_exit_code(ls);
+    }
+    if (o.unchecked == 0) {
+        const cdpr_status_t ds = cdpr_app_design_check("cdpr-sim", o.scenario, &sc);
+        if (ds != CDPR_OK) {
+            return cdpr_app_exit_code(ds);
+        }
     }
     cdpr_sim_opts_t so;
     cdpr_sim_opts_default(&so);

@@ -364,6 +364,10 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     if (st != CDPR_OK) {
         return st;
     }
+    st = cdpr_app_design_check("cdpr-tracker", o->scenario, sc);
+    if (st != CDPR_OK) {
+        return st;
+    }
     cdpr_scenario_error_t err;
     st = cdpr_host_plant_model(&g_model, sc, &err);
     if (st != CDPR_OK) {

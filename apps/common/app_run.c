@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cdpr/design/design.h"
 #include "cdpr/host/cli.h"
 #include "cdpr/host/fs.h"
 #include "cdpr/host/plot.h"
@@ -118,4 +119,24 @@ cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc
                             cdpr_app_title(sc));
     }
     return CDPR_OK;
+}
+
+cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc)
+{
+    if (cdpr_design_has_feedback(&sc->gains) == 0) {
+        return CDPR_OK;
+    }
+    int checked = 0;
+    int warn = 0;
+    cdpr_design_error_t err;
+    const cdpr_status_t st = cdpr_design_check_scenario(sc, path, &checked, &warn, NULL, &err);
+    if (st == CDPR_E_OUT_OF_RANGE) {
+        fprintf(stderr, "%s: %s\n", prog, err.msg);
+    } else if (st != CDPR_OK) {
+        fprintf(stderr, "%s: %s: the check of the controller's design failed: %s\n", prog, path,
+                err.msg);
+    } else if (warn != 0) {
+        fprintf(stderr, "%s: warning: %s\n", prog, err.msg);
+    }
+    return st;
 }

@@ -40,6 +40,16 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
                                 const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc);
 
+/// The check at load of the controller's design (cdpr/design/design.h): when sc's controller
+/// has feedback or learning (kp, kd_s, damping_N_s_per_m, damping_rot_N_m_s,
+/// tension_gain_m_per_s_per_N, learning_gain > 0), linearise the loop at the pose cdpr-design
+/// uses by default and analyse it. Refused (the closed loop grows, or the learning's ρ(M) >= 1
+/// at a lap harmonic): prints "PROG: PATH: controller (...): ..." and returns
+/// CDPR_E_OUT_OF_RANGE (exit status 2). Stable below the goal margins (6 dB / 30°): one
+/// "PROG: warning: ..." line, CDPR_OK. The check itself failing: its status after printing
+/// why. Feed-forward only: CDPR_OK at once, nothing computed or printed.
+cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc);
+
 /// Install SIGINT, SIGTERM and SIGHUP handlers (alike, without SA_RESTART) that set the
 /// returned flag (0 until a signal came; the apps' loops, cdpr_sim_run and the plant node's
 /// periodic thread check it). Same flag on every call. The apps then end as for a stop: whole

@@ -121,13 +121,13 @@ fi
 pc_dir=$(dirname "$(find "$host" -name cdpr-core.pc | head -n 1)")
 export PKG_CONFIG_PATH=$pc_dir
 pc_ok=1
-for m in cdpr-core cdpr-host cdpr-lcm cdpr-rt cdpr-gsl; do
+for m in cdpr-core cdpr-host cdpr-design cdpr-lcm cdpr-rt cdpr-gsl; do
     if ! pkg-config --validate "$m" || ! pkg-config --exists --print-errors "$m"; then
         bad "pkg-config $m does not validate or resolve"
         pc_ok=0
     fi
 done
-[[ $pc_ok == 1 ]] && ok "pkg-config: cdpr-core cdpr-host cdpr-lcm cdpr-rt cdpr-gsl validate and resolve"
+[[ $pc_ok == 1 ]] && ok "pkg-config: cdpr-core cdpr-host cdpr-design cdpr-lcm cdpr-rt cdpr-gsl validate and resolve"
 read -r -a pc_cflags <<<"$(pkg-config --cflags cdpr-core)"
 read -r -a pc_libs <<<"$(pkg-config --libs cdpr-core)"
 if cc -O2 -Wall -Wextra -Werror "${pc_cflags[@]}" tests/consumer/state_bits.c "${pc_libs[@]}" \

@@ -133,5 +133,67 @@ refused l9_infeasible_circle l9d.yaml \
     "l9d.yaml:48: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad) is not reachable" \
     "cable 3 would need a tension of -2615 N (pushing; straight-cable estimate): CDPR_E_INFEASIBLE"
 
+# The controller's design, checked at load (lib/design, docs/validation.md §8 "Feedback design":
+# the same linearisation and margins as cdpr-design + scripts/feedback_design.py, held at the
+# trajectory's end pose): gains whose linearised closed loop grows, and learning whose lap-to-lap
+# map has rho >= 1 at a lap harmonic, are refused with the margin named; a stable loop below
+# the goal margins runs with one warning; feed-forward only runs no check.
+base | sed 's/^  kp: 0.0$/  kp: 0.0\n  kd_s: 0.1/' >d1.yaml
+refused d1_design_grows d1.yaml \
+    "cdpr-sim: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s at 8.65 Hz (loop-at-a-time margins 11.3 dB / 45.7°, α 0.170; goal 6 dB / 30°)"
+sed 's/^  kp: 0.0 .*/  kp: 0.0\n  learning_gain: 0.3\n  learning_lead_s: 0.7\n  learning_cutoff_hz: 1.0\n  learning_limit_m: 1.0/;
+     s/^  duration_s: 12.6 .*/  duration_s: 0.1/' "$src/scenarios/paper-circle.yaml" >d2.yaml
+refused d2_learning_diverges d2.yaml \
+    "cdpr-sim: d2.yaml: controller.learning_gain 0.3 (lead 0.7 s, cutoff 1 Hz): learning diverges at lap harmonic 2 (0.318 Hz), ρ = 1.08 (ρ >= 1 at harmonics 2, 3, 6; largest 2.21 at harmonic 6)"
+
+# accepted NAME FILE [WARNING]: exit 0; stderr is exactly the one warning line (or empty).
+accepted() {
+    local name=$1 file=$2 want=${3:-}
+    if [ -n "$only" ] && [ "$only" != "$name" ]; then
+        return
+    fi
+    timeout 300 "$sim" "$file" --out "out-$name" --no-plot --quiet >"$name.stdout" 2>"$name.stderr"
+    local rc=$? ok=1
+    [ "$rc" -eq 0 ] || { echo "FAIL $name: exit $rc, expected 0"; ok=0; }
+    if [ -n "$want" ]; then
+        [ "$(wc -l <"$name.stderr")" -eq 1 ] && grep -qxF -- "$want" "$name.stderr" ||
+            { echo "FAIL $name: stderr is not the one line: $want"; ok=0; }
+    else
+        [ ! -s "$name.stderr" ] || { echo "FAIL $name: unexpected stderr"; ok=0; }
+    fi
+    if [ "$ok" -eq 1 ]; then
+        echo "ok   $name: $(head -c 400 "$name.stderr")"
+    else
+        echo "     stderr: $(head -c 600 "$name.stderr")"
+        fails=$((fails + 1))
+    fi
+}
+base | sed 's/^  kp: 0.0$/  kp: 0.0\n  tension_gain_m_per_s_per_N: 3e-3\n  tension_filter_s: 0.1/' >d3.yaml
+accepted d3_design_below_goal d3.yaml \
+    "cdpr-sim: warning: d3.yaml: controller (tension_gain_m_per_s_per_N 0.003, tension_filter_s 0.1): below the goal margins: loop-at-a-time margins 10.6 dB / 9.4°, α 0.110; goal 6 dB / 30° (the linearised closed loop does not grow)"
+base | sed 's/^  kp: 0.0$/  kp: 0.0\n  tension_gain_m_per_s_per_N: 1e-3\n  tension_filter_s: 0.05/' >d4.yaml
+accepted d4_design_meets_goal d4.yaml
+sed 's/learning_gain: 0.3/learning_gain: 0.2/; s/learning_cutoff_hz: 1.0/learning_cutoff_hz: 0.5/' d2.yaml >d5.yaml
+accepted d5_learning_converges d5.yaml
+# cdpr-rt (its in-process tracker) and cdpr-tracker refuse the same controller before any LCM.
+for app in cdpr-rt cdpr-tracker; do
+    exe="$build/apps/$app/$app"
+    [ -x "$exe" ] || exe="$build/apps/$app"
+    name="d1_design_grows_$app"
+    if [ ! -x "$exe" ] || { [ -n "$only" ] && [ "$only" != "$name" ]; }; then
+        continue
+    fi
+    args=()
+    [ "$app" = cdpr-rt ] && args=(--with-tracker)
+    timeout 300 "$exe" d1.yaml --lcm-url memq:// "${args[@]}" >"$name.stdout" 2>"$name.stderr"
+    rc=$?
+    if [ "$rc" -eq 2 ] && grep -qF "$app: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s" "$name.stderr"; then
+        echo "ok   $name: $(head -c 400 "$name.stderr")"
+    else
+        echo "FAIL $name: exit $rc: $(head -c 600 "$name.stderr")"
+        fails=$((fails + 1))
+    fi
+done
+
 [ "$fails" -eq 0 ] || { echo "$fails case(s) failed"; exit 1; }
 echo "all cases passed"

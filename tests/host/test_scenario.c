@@ -481,7 +481,10 @@ static void test_bad_files_name_file_key_and_line(void)
         /* The app: exit status 2 and the same file and key on stderr. */
         char args[1600];
         char out[4096];
-        snprintf(args, sizeof args, "'%s' --out '%s/bad_out' --no-plot --quiet", path, tmp_dir);
+        /* --unchecked-gains: GOOD_LINE's feedback is one the design check at load refuses
+         * (test_design_check_refuses_good_line); these cases are about the file. */
+        snprintf(args, sizeof args, "'%s' --out '%s/bad_out' --no-plot --quiet --unchecked-gains",
+                 path, tmp_dir);
         TEST_ASSERT_EQUAL_INT_MESSAGE(2, run_sim(args, out, sizeof out), what);
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, path), out);
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, b->key), out);
@@ -533,6 +536,41 @@ static void test_command_line(void)
     TEST_ASSERT_EQUAL_INT(3, run_sim("nope.yaml --out x", out, sizeof out));
     TEST_ASSERT_NOT_NULL(strstr(out, "nope.yaml: cannot open"));
     TEST_ASSERT_EQUAL_INT(2, run_sim("--bogus", out, sizeof out));
+#endif
+}
+
+/* The design check at load (lib/design): GOOD_LINE's feedback (kp 0.5, kd_s 0.05, wrench
+ * damping 30 / 20, filter 0.25 s) makes the linearised closed loop grow, so cdpr-sim refuses
+ * it with exit 2, the file, the keys and the growth named, before running anything;
+ * --unchecked-gains runs it. */
+static void test_design_check_refuses_good_line(void)
+{
+#ifndef CDPR_SIM_EXE
+    TEST_IGNORE_MESSAGE("cdpr-sim not built (CDPR_BUILD_APPS=OFF)");
+#else
+    make_tmp();
+    char path[700];
+    snprintf(path, sizeof path, "%s/good_line.yaml", tmp_dir);
+    static char text[sizeof GOOD_LINE + 64];
+    replace(GOOD_LINE, "  duration_s: 12.0\n", "  duration_s: 0.04\n", text, sizeof text);
+    write_text(path, text);
+    char args[1600];
+    char out[4096];
+    char summary[800];
+    snprintf(summary, sizeof summary, "%s/good_out/summary.json", tmp_dir);
+    (void)remove(summary); /* a previous run's */
+    snprintf(args, sizeof args, "'%s' --out '%s/good_out' --no-plot --quiet", path, tmp_dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run_sim(args, out, sizeof out), out);
+    char want[900];
+    snprintf(want, sizeof want,
+             "cdpr-sim: %s: controller (kp 0.5, kd_s 0.05, damping_N_s_per_m 30, "
+             "damping_rot_N_m_s 20, filter_s 0.25): the linearised closed loop grows at ",
+             path);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, want), out);
+    TEST_ASSERT_NULL_MESSAGE(fopen(summary, "r"), "refused, yet something ran");
+    snprintf(args, sizeof args, "'%s' --out '%s/good_out' --no-plot --quiet --unchecked-gains",
+             path, tmp_dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run_sim(args, out, sizeof out), out);
 #endif
 }
 
@@ -621,6 +659,7 @@ int main(void)
     RUN_TEST(test_bad_files_name_file_key_and_line);
     RUN_TEST(test_unreadable_files);
     RUN_TEST(test_command_line);
+    RUN_TEST(test_design_check_refuses_good_line);
     RUN_TEST(test_cyclic_and_counts);
     RUN_TEST(test_file_checks_before_parsing);
     return UNITY_END() ? 1 : 0;

@@ -1,0 +1,144 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/// @file design.h
+/// The linear design of a scenario's feedback loop (docs/validation.md §8, "Feedback design"):
+/// the loop linearised about a held pose, and its analysis -- the closed-loop eigenvalues,
+/// the loop broken at the six rate commands (loop-at-a-time margins, α = min σ(I + L)) and
+/// the convergence of the learning over laps -- with the definitions of
+/// scripts/feedback_design.py, on LAPACK.
+///
+/// Library cdpr_design (component `design`, target cdpr::design, pkg-config cdpr-design):
+/// host only, links cdpr_host and LAPACK/BLAS (Debian liblapack-dev, BSD). Everything here
+/// allocates (heap, at load) and frees what it allocated before returning; every failure is
+/// a status, never an abort (NaN/Inf in a matrix: CDPR_E_NOT_FINITE, a LAPACK failure:
+/// CDPR_E_NO_CONVERGENCE or CDPR_E_SINGULAR, no memory: CDPR_E_CAPACITY), with the reason
+/// in the error's text.
+#ifndef CDPR_DESIGN_DESIGN_H
+#define CDPR_DESIGN_DESIGN_H
+
+#include <stddef.h>
+
+#include "cdpr/status.h"
+#include "cdpr/host/plant.h"
+#include "cdpr/host/scenario.h"
+#include "cdpr/host/tracker.h"
+
+#define CDPR_DESIGN_NZ            30 ///< filter states of the tracker: err_f1, err_f (12 each), ten_f (6)
+#define CDPR_DESIGN_NU            6    ///< rate commands (payout rates)
+#define CDPR_DESIGN_NM            18   ///< linearised outputs (p, θ, v, ω, six lengths)
+#define CDPR_DESIGN_GOAL_GM_DB    6.0  ///< goal: loop-at-a-time gain margin [dB]
+#define CDPR_DESIGN_GOAL_PM_DEG   30.0 ///< goal: loop-at-a-time phase margin [deg]
+#define CDPR_DESIGN_GROWTH_TOL    1e-5 ///< growth [1/s] below which the loop counts as not growing
+#define CDPR_DESIGN_MAX_HARMONICS 256  ///< lap harmonics reported (knots / 2 at most)
+
+/// Why a call failed (or, for cdpr_design_check_scenario, the verdict's text).
+typedef struct {
+    char msg[1024];
+} cdpr_design_error_t;
+
+/// The operating point: the scenario with its trajectory replaced by a hold at the
+/// trajectory's pose, the plant settled there and the controller built to hold it.
+typedef struct {
+    cdpr_scenario_t sc; ///< the scenario as held (trajectory: hold; no transfer)
+    cdpr_plant_t plant; ///< settled at the held pose
+    cdpr_tracker_t tr0; ///< the tracker holding it, before its first step
+    cdpr_tracker_t tr;  ///< scratch copy (internal)
+    double pose[6];     ///< the held pose (x, y, z, roll, pitch, yaw as the trajectory's)
+    double lap_s;       ///< lap of the scenario's own trajectory (0: not periodic)
+    double learn_knots; ///< the tracker's knots for that lap
+} cdpr_design_point_t;
+
+/// The linear model (row-major doubles, as cdpr-design's .bin files; see apps/cdpr-design).
+typedef struct {
+    int n;           ///< plant states
+    double period_s; ///< control period T
+    double *A;       ///< n x n    ∂f/∂y of cdpr_robot_rhs
+    double *B;       ///< n x 6    ∂f/∂u (payout rates)
+    double *Kx;      ///< 6 x n    u_k = Kx x_k + Kz z_k + Ku u_{k-1}
+    double *Kz;      ///< 6 x 30
+    double *Zx;      ///< 30 x n   z_{k+1} = Zx x_k + Zz z_k + Zu u_{k-1}
+    double *Zz;      ///< 30 x 30
+    double *Ku;      ///< 6 x 6
+    double *Zu;      ///< 30 x 6
+    double *Cm;      ///< 18 x n   outputs (pose, v, ω, lengths)
+    double J[36];    ///< 6 x 6 straight-cable length Jacobian at the pose
+    double lap_s;    ///< lap of the trajectory (0: none)
+    double learn_knots;
+    double k_length_per_s;
+    double learning_gain;
+    double learning_lead_s;
+    double learning_cutoff_hz;
+} cdpr_design_model_t;
+
+/// The analysis (feedback_design.py's design.json names in brackets).
+typedef struct {
+    double max_abs_eig;  ///< largest |λ| of the closed loop [closed_loop_max_abs_eig]
+    double growth_per_s; ///< ln|λ|/T of it [closed_loop_max_growth_per_s]
+    double growth_hz;    ///< |arg λ|/(2πT) [closed_loop_worst_hz]
+    int grows;           ///< growth_per_s > CDPR_DESIGN_GROWTH_TOL
+    int n_freq;          ///< points of the frequency grid
+    double alpha;        ///< min σ_min(I + L) [sigma_min_I_plus_L]
+    double alpha_hz;     ///< where [sigma_min_at_hz]
+    int active;          ///< the loop has any gain (else no margins)
+    double gm_db[6];     ///< per channel: gain margin [dB] (HUGE_VAL: no -180° crossing)
+    double gm_hz[6];     ///< its frequency (NaN: none)
+    double pm_deg[6];    ///< phase margin [deg] (HUGE_VAL: no crossover)
+    double pm_hz[6];     ///< its frequency (NaN: none)
+    double gm_min_db;    ///< min_j |gm_db[j]| [loop_at_a_time_min.gm_db]
+    double gm_min_hz;    ///< the frequency of that channel's margin
+    double pm_min_deg;   ///< min_j pm_deg[j] [loop_at_a_time_min.pm_deg]
+    double pm_min_hz;    ///< the frequency of that channel's margin
+    int learning;        ///< the learning is analysed (periodic trajectory, γ > 0)
+    double band_top_hz;  ///< top of the band Q >= 0.01 [learning.band_top_hz]
+    int n_harmonics;     ///< lap harmonics in that band (at most CDPR_DESIGN_MAX_HARMONICS)
+    double harmonic_hz[CDPR_DESIGN_MAX_HARMONICS]; ///< k / T_lap
+    double harmonic_q[CDPR_DESIGN_MAX_HARMONICS];  ///< Q there
+    double rho[CDPR_DESIGN_MAX_HARMONICS];         ///< ρ(M) there
+    double sigma_max[CDPR_DESIGN_MAX_HARMONICS];   ///< σ_max(M) there
+    double max_rho;      ///< max ρ at the harmonics [learning.max_rho_at_harmonics]
+    int worst_harmonic;  ///< the harmonic (1-based) where ρ is largest (0: none)
+    int first_diverging; ///< the first harmonic with ρ >= 1 (0: none)
+    double g0_diag[6];   ///< Re diag G(1e-4 Hz) [learning.G_at_0_diag]
+} cdpr_design_report_t;
+
+/// The controller has a feedback or learning term (kp, kd_s, damping_N_s_per_m,
+/// damping_rot_N_m_s, tension_gain_m_per_s_per_N or learning_gain > 0): 1, else 0.
+int cdpr_design_has_feedback(const cdpr_tracker_gains_t *g);
+
+/// Settle scenario `sc` at its trajectory's pose at `at_s` (NaN: where it stops, or its start
+/// when it never stops) held, and build the controller holding it. Allocates *pt (free with
+/// cdpr_design_point_free). CDPR_OK, or the status of the plant / tracker init (err: why).
+cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
+                                    cdpr_design_point_t **pt, cdpr_design_error_t *err);
+void cdpr_design_point_free(cdpr_design_point_t *pt);
+
+/// The 18 outputs (p, rotation vector of q q0^-1, v, ω world, six measured lengths) of the
+/// measurement at plant state y (pt->plant.robot.dim values), q0 the held attitude.
+void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR_DESIGN_NM]);
+
+/// Linearise the loop at `pt` (central differences of cdpr_robot_rhs and of one real
+/// cdpr_tracker_step). Allocates the model's matrices (free with cdpr_design_model_free).
+cdpr_status_t cdpr_design_linearise(cdpr_design_point_t *pt, cdpr_design_model_t *m,
+                                    cdpr_design_error_t *err);
+void cdpr_design_model_free(cdpr_design_model_t *m);
+
+/// Zero-order hold: Phi (n x n) and Gam (n x 6), row-major, the blocks of
+/// exp([[A, B], [0, 0]] T) (scaling and squaring, Padé degree 13). Caller's buffers.
+cdpr_status_t cdpr_design_discretise(const cdpr_design_model_t *m, double *Phi, double *Gam,
+                                     cdpr_design_error_t *err);
+
+/// Analyse model `m` (feedback_design.py's closed_loop, Loop, channel_loops, margins and,
+/// with learn != 0, learning_report at the lap harmonics).
+cdpr_status_t cdpr_design_analyse(const cdpr_design_model_t *m, int learn, cdpr_design_report_t *r,
+                                  cdpr_design_error_t *err);
+
+/// The check at load: when sc's controller has feedback or learning (cdpr_design_has_feedback),
+/// linearise it at the pose cdpr-design uses by default and analyse it. Returns CDPR_OK when
+/// accepted (*warn set when below the goal margins: err->msg says which), CDPR_E_OUT_OF_RANGE
+/// when refused (the closed loop grows, or ρ(M) >= 1 at a lap harmonic; err->msg names the
+/// keys and the margin, prefixed by `path`), another status when the check itself failed. No
+/// feedback: CDPR_OK at once (*checked 0). `r` (may be NULL) receives the report.
+cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *path, int *checked,
+                                         int *warn, cdpr_design_report_t *r,
+                                         cdpr_design_error_t *err);
+
+#endif /* CDPR_DESIGN_DESIGN_H */

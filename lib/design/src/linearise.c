@@ -1,0 +1,303 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/// @file linearise.c
+/// The operating point and the linear model of the loop about it (cdpr/design/design.h):
+/// central differences of cdpr_robot_rhs and of one real cdpr_tracker_step on copies of the
+/// tracker, as cdpr-design wrote them (docs/validation.md §8, "Feedback design").
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cdpr/design/design.h"
+#include "cdpr/vec3.h"
+
+#define NZ CDPR_DESIGN_NZ
+#define NM CDPR_DESIGN_NM
+#define NU CDPR_DESIGN_NU
+
+int cdpr_design_has_feedback(const cdpr_tracker_gains_t *g)
+{
+    return (g->kp > 0.0 || g->kd_s > 0.0 || g->damping_N_s_per_m > 0.0 ||
+            g->damping_rot_N_m_s > 0.0 || g->tension_gain_m_per_s_per_N > 0.0 ||
+            g->learning_gain > 0.0)
+               ? 1
+               : 0;
+}
+
+/* Perturbation of state component i (relative above 1). */
+static double step_of(double y, double rel)
+{
+    return rel * fmax(1.0, fabs(y));
+}
+
+void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR_DESIGN_NM])
+{
+    cdpr_plant_t *pl = &pt->plant;
+    const int n = pl->robot.dim;
+    const cdpr_quat_t q0 = cdpr_quat_normalize(pl->pp.initial.q);
+    double save[CDPR_ROBOT_STATE_MAX];
+    memcpy(save, pl->y, sizeof(double) * (size_t)n);
+    memcpy(pl->y, y, sizeof(double) * (size_t)n);
+    cdpr_plant_meas_t m;
+    cdpr_plant_measure(pl, &m);
+    memcpy(pl->y, save, sizeof(double) * (size_t)n);
+    const cdpr_quat_t q0i = {q0.w, -q0.x, -q0.y, -q0.z};
+    const cdpr_vec3_t th = cdpr_quat_to_rotvec(cdpr_quat_mul(m.cabin.q, q0i));
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(m.cabin.q, &R);
+    const cdpr_vec3_t w = cdpr_m3_mul_v3(&R, m.cabin.w_rad_per_s);
+    const double v[12] = {
+        m.cabin.p_m.x,       m.cabin.p_m.y,       m.cabin.p_m.z,       th.x, th.y, th.z,
+        m.cabin.v_m_per_s.x, m.cabin.v_m_per_s.y, m.cabin.v_m_per_s.z, w.x,  w.y,  w.z};
+    memcpy(o, v, sizeof v);
+    for (int j = 0; j < 6; ++j) {
+        o[12 + j] = m.length_m[j];
+    }
+}
+
+/* One tracker step from the held tracker with filter state z at plant state y and payout
+ * rates in force up: the six rate commands into u, the new filter state into zn. */
+static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, const double *up,
+                    double *u, double *zn)
+{
+    cdpr_plant_t *pl = &pt->plant;
+    const int n = pl->robot.dim;
+    double save[CDPR_ROBOT_STATE_MAX];
+    memcpy(save, pl->y, sizeof(double) * (size_t)n);
+    memcpy(pl->y, y, sizeof(double) * (size_t)n);
+    for (int j = 0; j < NU; ++j) {
+        pl->robot.in.payout_m_per_s[j] = up[j];
+    }
+    cdpr_plant_meas_t m;
+    cdpr_plant_measure(pl, &m);
+    for (int j = 0; j < NU; ++j) {
+        pl->robot.in.payout_m_per_s[j] = 0.0;
+    }
+    memcpy(pl->y, save, sizeof(double) * (size_t)n);
+    m.t_s = pt->tr0.t_next_s;
+    pt->tr = pt->tr0;
+    memcpy(pt->tr.err_f1, z, sizeof(double) * 12);
+    memcpy(pt->tr.err_f, z + 12, sizeof(double) * 12);
+    memcpy(pt->tr.ten_f, z + 24, sizeof(double) * 6);
+    pt->tr.filter_primed = 1;
+    cdpr_tracker_cmd_t cmd;
+    (void)cdpr_tracker_step(&pt->tr, &m, &cmd);
+    memcpy(u, cmd.rate_m_per_s, sizeof(double) * NU);
+    memcpy(zn, pt->tr.err_f1, sizeof(double) * 12);
+    memcpy(zn + 12, pt->tr.err_f, sizeof(double) * 12);
+    memcpy(zn + 24, pt->tr.ten_f, sizeof(double) * 6);
+}
+
+/* A and B by central differences of cdpr_robot_rhs (payout rates zero at the settled state). */
+static void plant_jacobians(cdpr_design_point_t *pt, double *y, double *fp, double *fm, double *A,
+                            double *B)
+{
+    cdpr_robot_t *r = &pt->plant.robot;
+    const int n = r->dim;
+    memcpy(y, pt->plant.y, sizeof(double) * (size_t)n);
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        r->in.payout_m_per_s[j] = 0.0;
+    }
+    for (int i = 0; i < n + NU; ++i) {
+        const double h = (i < n) ? step_of(y[i], 1e-6) : 1e-6;
+        double *slot = (i < n) ? &y[i] : &r->in.payout_m_per_s[i - n];
+        const double y0 = *slot;
+        *slot = y0 + h;
+        (void)cdpr_robot_rhs(0.0, y, fp, r);
+        *slot = y0 - h;
+        (void)cdpr_robot_rhs(0.0, y, fm, r);
+        *slot = y0;
+        for (int k = 0; k < n; ++k) {
+            const double d = (fp[k] - fm[k]) / (2.0 * h);
+            if (i < n) {
+                A[(size_t)k * (size_t)n + (size_t)i] = d;
+            } else {
+                B[(size_t)k * NU + (size_t)(i - n)] = d;
+            }
+        }
+    }
+}
+
+/* Kx, Zx, Cm (columns: plant state), Kz, Zz (filter state), Ku, Zu (rates in force) by
+ * central differences of the real tracker step and measurement about (y0, z0). */
+static void ctrl_jacobians(cdpr_design_point_t *pt, double *y, const double *z0,
+                           cdpr_design_model_t *md)
+{
+    const int n = pt->plant.robot.dim;
+    memcpy(y, pt->plant.y, sizeof(double) * (size_t)n);
+    double z[NZ];
+    memcpy(z, z0, sizeof z);
+    double u0[NU] = {0.0};
+    double up[NU], um[NU], zp[NZ], zm[NZ], op[NM], om[NM];
+    for (int i = 0; i < n + NZ + NU; ++i) {
+        double *slot = (i < n) ? &y[i] : (i < n + NZ) ? &z[i - n] : &u0[i - n - NZ];
+        const double v0 = *slot;
+        const double h = (i < n + NZ) ? step_of(v0, 1e-6) : 1e-6;
+        *slot = v0 + h;
+        ctrl_at(pt, y, z, u0, up, zp);
+        if (i < n) {
+            cdpr_design_outputs(pt, y, op);
+        }
+        *slot = v0 - h;
+        ctrl_at(pt, y, z, u0, um, zm);
+        if (i < n) {
+            cdpr_design_outputs(pt, y, om);
+        }
+        *slot = v0;
+        const size_t nc = (i < n) ? (size_t)n : (i < n + NZ) ? NZ : NU;
+        const size_t c = (i < n)        ? (size_t)i
+                         : (i < n + NZ) ? (size_t)(i - n)
+                                        : (size_t)(i - n - NZ);
+        double *K = (i < n) ? md->Kx : (i < n + NZ) ? md->Kz : md->Ku;
+        double *Z = (i < n) ? md->Zx : (i < n + NZ) ? md->Zz : md->Zu;
+        for (int k = 0; k < NU; ++k) {
+            K[(size_t)k * nc + c] = (up[k] - um[k]) / (2.0 * h);
+        }
+        for (int k = 0; k < NZ; ++k) {
+            Z[(size_t)k * nc + c] = (zp[k] - zm[k]) / (2.0 * h);
+        }
+        for (int k = 0; i < n && k < NM; ++k) {
+            md->Cm[(size_t)k * nc + c] = (op[k] - om[k]) / (2.0 * h);
+        }
+    }
+}
+
+cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
+                                    cdpr_design_point_t **out, cdpr_design_error_t *err)
+{
+    *out = NULL;
+    err->msg[0] = '\0';
+    cdpr_design_point_t *pt = calloc(1, sizeof *pt);
+    if (pt == NULL) {
+        snprintf(err->msg, sizeof err->msg, "design: out of memory");
+        return CDPR_E_CAPACITY;
+    }
+    pt->sc = *sc;
+    double t = at_s;
+    if (!isfinite(t)) {
+        t = cdpr_traj_end_time(&pt->sc.traj);
+        t = isfinite(t) ? t : 0.0;
+    }
+    cdpr_traj_sample_t s;
+    cdpr_traj_eval(&pt->sc.traj, t, &s);
+    memcpy(pt->pose, s.pose, sizeof s.pose);
+    pt->lap_s = cdpr_traj_lap_s(&pt->sc.traj);
+    const double per_lap = floor(pt->lap_s / pt->sc.period_s + 0.5);
+    pt->learn_knots =
+        (per_lap > (double)CDPR_TRACKER_LEARN_KNOTS) ? (double)CDPR_TRACKER_LEARN_KNOTS : per_lap;
+    pt->sc.traj.type = CDPR_TRAJ_HOLD;
+    memcpy(pt->sc.traj.hold_pose, s.pose, sizeof s.pose);
+    pt->sc.has_initial_pose = 0;
+    memset(pt->sc.initial_offset, 0, sizeof pt->sc.initial_offset);
+    pt->sc.gains.transfer_s = 0.0;
+    cdpr_scenario_error_t se;
+    se.msg[0] = '\0';
+    cdpr_status_t st = cdpr_host_plant_init(&pt->plant, &pt->sc, NULL, &se);
+    if (st != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "design: plant at the held pose: %s (%.400s)",
+                 cdpr_status_str(st), se.msg);
+        free(pt);
+        return st;
+    }
+    cdpr_tracker_gains_t g = pt->sc.gains;
+    g.wind_m_per_s = pt->plant.pp.wind_m_per_s;
+    cdpr_diag_t d;
+    st = cdpr_tracker_init(&pt->tr0, &pt->plant.params, &pt->sc.traj, &g, pt->sc.period_s, 0.0, &d);
+    if (st != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "design: controller: field '%.100s': %s", d.field,
+                 cdpr_status_str(st));
+        free(pt);
+        return st;
+    }
+    *out = pt;
+    return CDPR_OK;
+}
+
+void cdpr_design_point_free(cdpr_design_point_t *pt)
+{
+    free(pt);
+}
+
+/* Filter state at the operating point: both stages primed with the error of the settled
+ * state (the discrete equilibrium's small offset from the IK pose). */
+static void operating_filter(cdpr_design_point_t *pt, double *z0)
+{
+    cdpr_plant_meas_t m;
+    cdpr_plant_measure(&pt->plant, &m);
+    m.t_s = pt->tr0.t_next_s;
+    pt->tr = pt->tr0;
+    pt->tr.filter_primed = 0;
+    cdpr_tracker_cmd_t cmd;
+    (void)cdpr_tracker_step(&pt->tr, &m, &cmd);
+    memcpy(z0, pt->tr.err_f1, sizeof(double) * 12);
+    memcpy(z0 + 12, pt->tr.err_f, sizeof(double) * 12);
+    memcpy(z0 + 24, pt->tr.ten_f, sizeof(double) * 6);
+}
+
+/* J: the straight-cable length Jacobian at the settled pose (rows u_j, (R b_j) x u_j). */
+static void length_jacobian(cdpr_design_point_t *pt, double *J)
+{
+    cdpr_plant_meas_t m;
+    cdpr_plant_measure(&pt->plant, &m);
+    for (int j = 0; j < NU; ++j) {
+        cdpr_vec3_t u;
+        cdpr_vec3_t g;
+        cdpr_tracker_jacobian(&pt->tr0.model, j, &m.cabin, &u, &g);
+        const double row[6] = {u.x, u.y, u.z, g.x, g.y, g.z};
+        memcpy(&J[j * 6], row, sizeof row);
+    }
+}
+
+void cdpr_design_model_free(cdpr_design_model_t *m)
+{
+    if (m == NULL) {
+        return;
+    }
+    double **p[] = {&m->A, &m->B, &m->Kx, &m->Kz, &m->Zx, &m->Zz, &m->Ku, &m->Zu, &m->Cm};
+    for (size_t i = 0; i < sizeof p / sizeof p[0]; ++i) {
+        free(*p[i]);
+        *p[i] = NULL;
+    }
+}
+
+cdpr_status_t cdpr_design_linearise(cdpr_design_point_t *pt, cdpr_design_model_t *m,
+                                    cdpr_design_error_t *err)
+{
+    memset(m, 0, sizeof *m);
+    err->msg[0] = '\0';
+    const int n = pt->plant.robot.dim;
+    const size_t nn = (size_t)n;
+    m->n = n;
+    m->period_s = pt->sc.period_s;
+    m->A = calloc(nn * nn, sizeof(double));
+    m->B = calloc(nn * NU, sizeof(double));
+    m->Kx = calloc(NU * nn, sizeof(double));
+    m->Zx = calloc(NZ * nn, sizeof(double));
+    m->Cm = calloc(NM * nn, sizeof(double));
+    m->Kz = calloc(NU * NZ, sizeof(double));
+    m->Zz = calloc(NZ * NZ, sizeof(double));
+    m->Ku = calloc(NU * NU, sizeof(double));
+    m->Zu = calloc(NZ * NU, sizeof(double));
+    double *work = calloc(3 * nn, sizeof(double));
+    if (m->A == NULL || m->B == NULL || m->Kx == NULL || m->Zx == NULL || m->Cm == NULL ||
+        m->Kz == NULL || m->Zz == NULL || m->Ku == NULL || m->Zu == NULL || work == NULL) {
+        free(work);
+        cdpr_design_model_free(m);
+        snprintf(err->msg, sizeof err->msg, "design: out of memory (n = %d)", n);
+        return CDPR_E_CAPACITY;
+    }
+    double z0[NZ];
+    operating_filter(pt, z0);
+    plant_jacobians(pt, work, work + nn, work + 2 * nn, m->A, m->B);
+    ctrl_jacobians(pt, work, z0, m);
+    free(work);
+    length_jacobian(pt, m->J);
+    const cdpr_tracker_gains_t *g = &pt->sc.gains;
+    m->lap_s = pt->lap_s;
+    m->learn_knots = pt->learn_knots;
+    m->k_length_per_s = g->k_length_per_s;
+    m->learning_gain = g->learning_gain;
+    m->learning_lead_s = g->learning_lead_s;
+    m->learning_cutoff_hz = g->learning_cutoff_hz;
+    return CDPR_OK;
+}
