@@ -56,8 +56,21 @@ if [[ $multicast -eq 1 ]]; then
 fi
 if [[ $multicast -eq 1 ]]; then
     echo "two processes over $url; lcm-logger records to $out/circle.lcmlog"
-    "$bin/cdpr-tracker" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url "$url" --out "$out" &
+    # The tracker checks its controller's design at load (a few seconds with feedback on):
+    # start the plant only once it listens, so that it sees state 0.
+    "$bin/cdpr-tracker" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url "$url" --out "$out" \
+        2> >(tee "$out/tracker.stderr" >&2) &
     tracker=$!
+    for _ in $(seq 600); do
+        grep -q "waiting for" "$out/tracker.stderr" 2>/dev/null && break
+        kill -0 "$tracker" 2>/dev/null || break
+        sleep 0.1
+    done
+    if ! grep -q "waiting for" "$out/tracker.stderr" 2>/dev/null; then
+        kill -INT "$logger" 2>/dev/null || true
+        echo "demo: cdpr-tracker did not come up (see $out/tracker.stderr)"
+        exit 1
+    fi
     status=0
     "$bin/cdpr-rt" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url "$url" --start-delay 0.5 --realtime \
         || status=$?
