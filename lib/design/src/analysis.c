@@ -741,7 +741,7 @@ static cdpr_status_t loop_margins(const work_t *w, int F, cdpr_design_report_t *
     for (int k = 0; k < F; ++k) {
         const cplx *H = &w->H[(size_t)k * 36];
         for (int j = 0; j < 6; ++j) {
-            int o[5];
+            int o[5] = {0, 0, 0, 0, 0}; /* filled below: the five i != j */
             int c = 0;
             for (int i = 0; i < 6; ++i) {
                 if (i != j) {

@@ -253,10 +253,11 @@ void cdpr_design_model_free(cdpr_design_model_t *m)
     if (m == NULL) {
         return;
     }
-    double **p[] = {&m->A, &m->B, &m->Kx, &m->Kz, &m->Zx, &m->Zz, &m->Ku, &m->Zu, &m->Cm};
-    for (size_t i = 0; i < sizeof p / sizeof p[0]; ++i) {
-        free(*p[i]);
-        *p[i] = NULL;
+    double **fields[] = {&m->A, &m->B, &m->Kx, &m->Kz, &m->Zx, &m->Zz, &m->Ku, &m->Zu, &m->Cm};
+    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; ++i) {
+        double **const field = fields[i];
+        free(*field);
+        *field = NULL;
     }
 }
 
