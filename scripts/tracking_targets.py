@@ -77,7 +77,15 @@ def window(d, key, t0, t1=math.inf):
     return [x for t, x in zip(d["t_s"], d[key]) if t0 <= t < t1]
 
 
-def measure(kind, d, s):
+def circle_keys(text):
+    """radius_m and speed_m_per_s of the scenario text's trajectory.circle block (written as
+    the files in scenarios/ are: one key per line, the block after its `  circle:` line)."""
+    block = text[text.index("\n  circle:"):]
+    return {k: float(re.search(r"^    %s:\s*([-0-9.eE+]+)" % k, block, re.M).group(1))
+            for k in ("radius_m", "speed_m_per_s")}
+
+
+def measure(kind, d, s, circle=None):
     t_end = d["t_s"][-1]
     if kind == "line":
         return {"rms_after_2s_m": rms(window(d, "epos_m", 2.0)),
@@ -88,7 +96,7 @@ def measure(kind, d, s):
                 "lap_rms_m": s["lap_rms_m"]}
     if kind == "laps":
         laps = s["lap_rms_m"]
-        lap_s = 2.0 * math.pi * 2.0 / 2.0
+        lap_s = 2.0 * math.pi * circle["radius_m"] / circle["speed_m_per_s"]
         t5 = (len(laps) - 5) * lap_s
         n = len([k for k in d if k.startswith("T_cabin")])
         slack = [sum(1 for t, x in zip(d["t_s"], d["T_cabin%d_N" % (j + 1)])
@@ -114,16 +122,16 @@ def run_case(name, bindir, out):
     path = os.path.join(d, "scenario.yaml")
     with open(path, "w") as fh:
         fh.write(text)
-    # Relative robot files (robot.file) resolve against the scenario's own directory.
-    text_ok = "file:" not in text
-    if not text_ok:
+    # A robot file (robot.file) would resolve against the copy's directory: not supported.
+    if "file:" in text:
         raise SystemExit("tracking_targets: %s uses a robot file; copy it along" % scen)
     r = subprocess.run([os.path.join(bindir, "cdpr-sim"), path, "--out", d, "--no-plot",
                         "--quiet"] + opts, capture_output=True, text=True)
     if r.returncode not in (0,):
         return name, {"error": "cdpr-sim exit %d: %s" % (r.returncode, r.stderr.strip()[-300:])}
     s = json.load(open(os.path.join(d, "summary.json")))
-    return name, measure(kind, load_csv(os.path.join(d, "timeseries.csv")), s)
+    circle = circle_keys(text) if kind == "laps" else None
+    return name, measure(kind, load_csv(os.path.join(d, "timeseries.csv")), s, circle)
 
 
 def tracker_cost(bindir, out):

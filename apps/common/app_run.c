@@ -123,10 +123,7 @@ cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc
 
 cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc)
 {
-    if (cdpr_design_has_feedback(&sc->gains) == 0) {
-        return CDPR_OK;
-    }
-    int checked = 0;
+    int checked = 0; /* 0: feed-forward only, nothing computed */
     int warn = 0;
     cdpr_design_error_t err;
     const cdpr_status_t st = cdpr_design_check_scenario(sc, path, &checked, &warn, NULL, &err);

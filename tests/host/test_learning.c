@@ -335,14 +335,9 @@ static void test_no_learning_on_a_line_and_off_is_bit_identical(void)
 {
     cdpr_robot_params_t p;
     model_params(&p);
-    cdpr_traj_t line;
-    memset(&line, 0, sizeof line);
-    line.type = CDPR_TRAJ_LINE;
     const double from[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const double to[6] = {0.3, 0.2, 9.5, 0.0, 0.0, 0.05};
-    memcpy(line.from, from, sizeof from);
-    memcpy(line.to, to, sizeof to);
-    line.duration_s = 20.0;
+    const cdpr_traj_t line = test_line(from, to, 20.0);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_traj_lap_s(&line));
     const cdpr_tracker_gains_t on = gains(0.5, 0.1, 1.0, 0.5);
     cdpr_tracker_gains_t off = gains(0.0, 0.3, 2.0, 0.1);

@@ -216,14 +216,9 @@ static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
     cdpr_robot_params_t p;
     model_params(&p);
     /* From the nominal pose straight up through the exit-point plane (z = 30 m). */
-    cdpr_traj_t tr;
-    memset(&tr, 0, sizeof tr);
-    tr.type = CDPR_TRAJ_LINE;
     const double from[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const double to[6] = {0.0, 0.0, 40.0, 0.0, 0.0, 0.0};
-    memcpy(tr.from, from, sizeof from);
-    memcpy(tr.to, to, sizeof to);
-    tr.duration_s = 1.0;
+    const cdpr_traj_t tr = test_line(from, to, 1.0);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
@@ -389,12 +384,9 @@ static void test_inertial_wrench_is_minus_the_momentum_rates(void)
     trs[0].ramp_s = 1.0;
     trs[0].attitude_rad[0] = 0.1;
     trs[0].attitude_rad[2] = 0.4;
-    trs[1].type = CDPR_TRAJ_LINE;
     const double from[6] = {0.0, 0.0, 10.0, 0.0, 0.0, 0.0};
     const double to[6] = {1.0, -1.0, 11.0, 1.0, -0.8, 2.0};
-    memcpy(trs[1].from, from, sizeof from);
-    memcpy(trs[1].to, to, sizeof to);
-    trs[1].duration_s = 2.0;
+    trs[1] = test_line(from, to, 2.0);
     const double h = 1e-4;
     for (int k = 0; k < 2; ++k) {
         for (int n = 1; n < 12; ++n) {

@@ -68,13 +68,9 @@ static void test_blend_closed_form(void)
  * rotation. */
 static void line_and_start(cdpr_traj_t *tr, cdpr_cabin_motion_t *m0)
 {
-    memset(tr, 0, sizeof *tr);
-    tr->type = CDPR_TRAJ_LINE;
     const double from[6] = {2.0, 1.0, 16.0, 0.0889, -0.1756, -0.0336};
     const double to[6] = {2.5, 1.5, 16.2, 0.135, -0.263, -0.0206};
-    memcpy(tr->from, from, sizeof from);
-    memcpy(tr->to, to, sizeof to);
-    tr->duration_s = 10.0;
+    *tr = test_line(from, to, 10.0);
     cdpr_traj_sample_t d;
     cdpr_traj_eval(tr, 0.5, &d);
     memset(m0, 0, sizeof *m0);
