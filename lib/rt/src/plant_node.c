@@ -3,6 +3,8 @@
 /// The real-time plant node (plant_node.h).
 #include "cdpr/rt/plant_node.h"
 
+#include "hist.h"
+
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
@@ -156,18 +158,8 @@ static void sleep_until(int64_t t_ns)
 
 static int64_t hist_quantile(const uint32_t *hist, long total, double q)
 {
-    if (total <= 0) {
-        return 0;
-    }
-    const long want = (long)ceil(q * (double)total);
-    long acc = 0;
-    for (int i = 0; i <= CDPR_RT_HIST_US; ++i) {
-        acc += (long)hist[i];
-        if (acc >= want) {
-            return (int64_t)i * 1000;
-        }
-    }
-    return (int64_t)CDPR_RT_HIST_US * 1000;
+    const uint64_t n = (total > 0) ? (uint64_t)total : 0;
+    return (int64_t)cdpr_rt_hist_quantile_bin(hist, CDPR_RT_HIST_US, n, q) * 1000;
 }
 
 static void record(cdpr_rt_t *rt, int64_t ns)

@@ -3,6 +3,8 @@
 /// The tracking controller as an LCM node (tracker_node.h).
 #include "cdpr/rt/tracker_node.h"
 
+#include "hist.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -244,16 +246,10 @@ static void time_step(cdpr_rt_tracker_t *t, int64_t ns)
 
 static int64_t step_quantile(const cdpr_rt_tracker_t *t, double q)
 {
-    const uint64_t want = (uint64_t)ceil(q * (double)t->steps_timed);
-    uint64_t acc = 0;
-    for (int i = 0; i < CDPR_RT_TRACKER_HIST_US; ++i) {
-        acc += t->step_hist[i];
-        if (acc >= want) {
-            const int64_t ns = (int64_t)i * 1000;
-            return (ns < t->step_ns_max) ? ns : t->step_ns_max;
-        }
-    }
-    return t->step_ns_max;
+    const int bin =
+        cdpr_rt_hist_quantile_bin(t->step_hist, CDPR_RT_TRACKER_HIST_US, t->steps_timed, q);
+    const int64_t ns = (int64_t)bin * 1000;
+    return (bin < CDPR_RT_TRACKER_HIST_US && ns < t->step_ns_max) ? ns : t->step_ns_max;
 }
 
 uint64_t cdpr_rt_tracker_step_times(const cdpr_rt_tracker_t *t, int64_t *median_ns, int64_t *p99_ns,
