@@ -43,6 +43,7 @@
 #include "cdpr/design/design.h"
 #include "cdpr/host/cli.h"
 #include "cdpr/host/clock.h"
+#include "cdpr/host/fs.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/tracker.h"
@@ -57,7 +58,7 @@ static int write_bin(const char *dir, const char *name, const double *a, size_t 
 {
     char path[1200];
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "wb");
+    FILE *f = cdpr_fs_fopen(path, "wb", NULL, 0);
     if (f == NULL) {
         fprintf(stderr, "cdpr-design: %s: cannot write\n", path);
         return -1;
@@ -71,7 +72,7 @@ static int step_test(cdpr_design_point_t *pt, const char *dir, int j)
 {
     char path[1200];
     snprintf(path, sizeof path, "%s/step.csv", dir);
-    FILE *f = fopen(path, "w");
+    FILE *f = cdpr_fs_fopen(path, "w", NULL, 0);
     if (f == NULL) {
         return -1;
     }
@@ -118,7 +119,7 @@ static int write_all(const char *dir, const cdpr_design_point_t *pt, const cdpr_
              write_bin(dir, "Zu.bin", m->Zu, NZ * NU) | write_bin(dir, "J.bin", m->J, NU * 6);
     char path[1200];
     snprintf(path, sizeof path, "%s/meta.txt", dir);
-    FILE *f = fopen(path, "w");
+    FILE *f = cdpr_fs_fopen(path, "w", NULL, 0);
     if (f != NULL) {
         const double *pose = pt->pose;
         fprintf(f, "n %d\nperiod_s %.17g\nnz %d\nnu %d\nnm %d\n", n, m->period_s, NZ, NU, NM);
@@ -254,7 +255,7 @@ static int run_check(const char *dir, const cdpr_design_model_t *m, double t0)
     print_check(stdout, r, dt);
     char path[1200];
     snprintf(path, sizeof path, "%s/check.json", dir);
-    FILE *f = fopen(path, "w");
+    FILE *f = cdpr_fs_fopen(path, "w", NULL, 0);
     int rc = 0;
     if (f == NULL) {
         rc = cdpr_app_exit_code(CDPR_E_IO);

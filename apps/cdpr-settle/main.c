@@ -363,7 +363,7 @@ int main(int argc, char **argv)
 
     char path[600];
     FILE *csv = (cdpr_fs_path(path, sizeof path, o.out_dir, "nodes.csv") == CDPR_OK)
-                    ? fopen(path, "w")
+                    ? cdpr_fs_fopen(path, "w", NULL, 0)
                     : NULL;
     if (csv == NULL) {
         fprintf(stderr, "cdpr-settle: cannot write '%s': %s\n", path, strerror(errno));

@@ -9,6 +9,7 @@
 /// written out here, never regenerated from the code.
 #include <errno.h>
 #include <math.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -412,23 +413,51 @@ static void test_node_events_from_segment_counts(void)
     TEST_ASSERT_EQUAL_INT(22, sum.nodes_max);
 }
 
+/* A file-size limit of `bytes` for this process (EFBIG past it, SIGXFSZ ignored): a write
+ * error on a regular file, without a full disk. Returns the old limit. */
+static struct rlimit limit_file_size(rlim_t bytes, void (**prev)(int))
+{
+    struct rlimit old;
+    TEST_ASSERT_EQUAL_INT(0, getrlimit(RLIMIT_FSIZE, &old));
+    struct rlimit lim = old;
+    lim.rlim_cur = bytes;
+    *prev = signal(SIGXFSZ, SIG_IGN);
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &lim));
+    return old;
+}
+
+static void restore_file_size(const struct rlimit *old, void (*prev)(int))
+{
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, old));
+    (void)signal(SIGXFSZ, prev);
+}
+
 static void test_write_errors_are_io(void)
 {
     cdpr_scenario_t sc;
     scenario(&sc);
     cdpr_sim_summary_t s;
     fill(&s);
+    /* Outputs go to regular files only: a device is refused at the open, before any write. */
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_write_summary("/dev/full", &sc, &s));
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO,
                           cdpr_sim_write_summary("/nonexistent-cdpr-dir/summary.json", &sc, &s));
-    /* The CSV writer on a full device: the error shows at the close. */
     cdpr_csv_t c;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_csv_open(&c, "/dev/full"));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_open(&c, "/dev/full"));
+    TEST_ASSERT_EQUAL_INT(EINVAL, c.error);
+    /* The CSV writer on a regular file that cannot grow: the error shows at the close. */
+    mkdir(CDPR_TEST_TMP, 0775);
+    void (*prev)(int);
+    const struct rlimit old = limit_file_size(100, &prev);
+    const cdpr_status_t open_st = cdpr_csv_open(&c, CDPR_TEST_TMP "/no-room.csv");
     for (int i = 0; i < 10000; ++i) {
         cdpr_csv_num(&c, 0.1 * (double)i);
     }
     cdpr_csv_end_row(&c);
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_close(&c));
+    const cdpr_status_t close_st = cdpr_csv_close(&c);
+    restore_file_size(&old, prev);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, open_st);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, close_st);
     /* The recorder in a directory that cannot be created (below a file). */
     cdpr_sim_rec_t rec;
     cdpr_scenario_error_t err;
@@ -436,6 +465,33 @@ static void test_write_errors_are_io(void)
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO,
                           cdpr_sim_rec_open(&rec, &sc, NULL, "/dev/null/out", 6, &s, &err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "/dev/null/out"), err.msg);
+}
+
+/* A FIFO where an output goes: refused at once (a blocking open would wait forever for a
+ * reader), and nothing is written to it. */
+static void test_outputs_refuse_a_fifo_without_blocking(void)
+{
+    mkdir(CDPR_TEST_TMP, 0775);
+    const char *path = CDPR_TEST_TMP "/fifo.json";
+    (void)unlink(path);
+    TEST_ASSERT_EQUAL_INT(0, mkfifo(path, 0600));
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    cdpr_sim_summary_t s;
+    fill(&s);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_write_summary(path, &sc, &s));
+    cdpr_csv_t c;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_open(&c, path));
+    /* With a reader on the FIFO the open succeeds at once, and the file check refuses it. */
+    const int rd = open(path, O_RDONLY | O_NONBLOCK);
+    TEST_ASSERT_TRUE(rd >= 0);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_open(&c, path));
+    TEST_ASSERT_EQUAL_INT(EINVAL, c.error);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_write_summary(path, &sc, &s));
+    char b[16];
+    TEST_ASSERT_TRUE(read(rd, b, sizeof b) <= 0); /* nothing written */
+    (void)close(rd);
+    (void)unlink(path);
 }
 
 /* Every line of `text` ends with '\n' and has `fields` comma-separated fields; returns lines. */
@@ -464,12 +520,8 @@ static void test_csv_cut_mid_row_leaves_whole_rows(void)
      * stdio, the file ended at byte 3000, inside row 4. */
     mkdir(CDPR_TEST_TMP, 0775);
     const char *path = CDPR_TEST_TMP "/limited.csv";
-    struct rlimit old;
-    TEST_ASSERT_EQUAL_INT(0, getrlimit(RLIMIT_FSIZE, &old));
-    struct rlimit lim = old;
-    lim.rlim_cur = 3000;
-    void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
-    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &lim));
+    void (*prev)(int);
+    const struct rlimit old = limit_file_size(3000, &prev);
     cdpr_csv_t c;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_csv_open(&c, path));
     for (int r = 0; r < 100; ++r) {
@@ -479,8 +531,7 @@ static void test_csv_cut_mid_row_leaves_whole_rows(void)
         cdpr_csv_end_row(&c);
     }
     const cdpr_status_t st = cdpr_csv_close(&c);
-    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &old));
-    (void)signal(SIGXFSZ, prev);
+    restore_file_size(&old, prev);
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO, st);
     const char *text = slurp(path);
     const int rows = whole_rows(text, 40);
@@ -489,34 +540,23 @@ static void test_csv_cut_mid_row_leaves_whole_rows(void)
 
 static void test_write_error_keeps_errno(void)
 {
-    /* /dev/full: every write fails with ENOSPC. */
+    /* A regular file that cannot grow: every write fails with EFBIG. */
+    mkdir(CDPR_TEST_TMP, 0775);
+    void (*prev)(int);
+    const struct rlimit old = limit_file_size(0, &prev);
     cdpr_csv_t c;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_csv_open(&c, "/dev/full"));
+    const cdpr_status_t open_st = cdpr_csv_open(&c, CDPR_TEST_TMP "/no-room-2.csv");
     cdpr_csv_num(&c, 1.0);
     cdpr_csv_end_row(&c);
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_flush(&c));
-    TEST_ASSERT_EQUAL_INT(ENOSPC, c.error);
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_close(&c));
-    TEST_ASSERT_EQUAL_INT(ENOSPC, c.error);
-    /* The recorder: its timeseries.csv is /dev/full; the error (path and strerror) for the app. */
-    mkdir(CDPR_TEST_TMP, 0775);
-    mkdir(CDPR_TEST_TMP "/full", 0775);
-    (void)unlink(CDPR_TEST_TMP "/full/timeseries.csv");
-    TEST_ASSERT_EQUAL_INT(0, symlink("/dev/full", CDPR_TEST_TMP "/full/timeseries.csv"));
-    cdpr_scenario_t sc;
-    scenario(&sc);
-    cdpr_sim_summary_t sum;
-    memset(&sum, 0, sizeof sum);
-    cdpr_sim_rec_t rec;
-    cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK,
-                          cdpr_sim_rec_open(&rec, &sc, NULL, CDPR_TEST_TMP "/full", 2, &sum, &err));
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_rec_close(&rec));
-    TEST_ASSERT_EQUAL_INT(ENOSPC, cdpr_sim_rec_errno(&rec));
-    cdpr_sim_rec_io_error(&rec, &err);
-    TEST_ASSERT_EQUAL_STRING(CDPR_TEST_TMP "/full/timeseries.csv: write failed: "
-                                           "No space left on device",
-                             err.msg);
+    const cdpr_status_t flush_st = cdpr_csv_flush(&c);
+    const int flush_errno = c.error;
+    const cdpr_status_t close_st = cdpr_csv_close(&c);
+    restore_file_size(&old, prev);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, open_st);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, flush_st);
+    TEST_ASSERT_EQUAL_INT(EFBIG, flush_errno);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, close_st);
+    TEST_ASSERT_EQUAL_INT(EFBIG, c.error);
 }
 
 static void test_status_names_round_trip(void)
@@ -611,6 +651,7 @@ int main(void)
     RUN_TEST(test_summary_without_provenance_keys_reads);
     RUN_TEST(test_node_events_from_segment_counts);
     RUN_TEST(test_write_errors_are_io);
+    RUN_TEST(test_outputs_refuse_a_fifo_without_blocking);
     RUN_TEST(test_read_errors);
     RUN_TEST(test_csv_cut_mid_row_leaves_whole_rows);
     RUN_TEST(test_write_error_keeps_errno);

@@ -6,12 +6,14 @@
 /// key, wrong type, unknown key, NaN/Inf, out of range, wrong length, inconsistent sections,
 /// unreachable pose, broken YAML) is rejected with a message naming the file, the key and
 /// the line, and makes cdpr-sim exit with status 2.
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sim.h"
@@ -360,6 +362,21 @@ static const bad_case_t BAD[] = {
     {"the section's setting under the method in use", "  rtol: 1.0e-7\n",
      "  method: ros34pw2\n  ros34pw2:\n    rtol: 1.0e-3\n  rtol: 0.5\n", "integrator.rtol",
      "  rtol: 0.5", 0},
+    /* Strict numbers (issue 26): the whole value is a decimal number; libcyaml alone read a
+     * prefix ("4O.0" as 4, "2_500_000" as 2, "41 kg" as 41) and hex. */
+    {"trailing text (letter O)", "mass_kg: 41.0", "mass_kg: 4O.0", "robot.cabin.mass_kg",
+     "mass_kg:", 0},
+    {"digit separators", "ea_N: 2.5e6", "ea_N: 2_500_000", "robot.cable.ea_N", "ea_N:", 0},
+    {"a unit", "mass_kg: 41.0", "mass_kg: 41 kg", "robot.cabin.mass_kg", "mass_kg:", 0},
+    {"a unit suffix", "period_s: 0.02", "period_s: 0.02s", "run.period_s", "period_s:", 0},
+    {"hex", "segments: 12", "segments: 0x0C", "robot.segments", "segments:", 0},
+    {"hex float in a list", "[0.1, 0.2, 10.0, 0.01, -0.02, 0.03]\n  offset",
+     "[0.1, 0x1p-3, 10.0, 0.01, -0.02, 0.03]\n  offset", "initial.pose[1]", "  pose:", 0},
+    {"a second document", "controller:\n", "controller:\n  kp: 0.5\n---\ncontroller:\n",
+     "a second YAML document", "---", 0},
+    {"nesting deeper than the limit", "  kp: 0.5\n",
+     "  kp: [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]\n",
+     "nested deeper than 32 levels", "", 0},
     {"method key unknown", "  max_attempts: 2\n", "  max_attempts: 2\n  ros34pw2:\n    method: x\n",
      "integrator.ros34pw2.method", "    method: x", 0},
 };
@@ -646,6 +663,82 @@ static void test_file_checks_before_parsing(void)
         strstr(err.msg, "bytes: larger than the limit of YAML input files (1048576 bytes, 1 MiB)"),
         err.msg);
     TEST_ASSERT_TRUE(strlen(err.msg) < 200 + strlen(path));
+
+    /* Deep nesting within the size limit: refused at the limit's depth, at once (libyaml's
+     * scanner costs depth per token: before the bound, 400 kB of '[' took 282 s of CPU). */
+    snprintf(path, sizeof path, "%s/deep.yaml", tmp_dir);
+    f = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL(f);
+    fputs("description: ", f);
+    for (long i = 0; i < CDPR_YAML_MAX_FILE_BYTES - 100; ++i) {
+        fputc('[', f);
+    }
+    fputc('\n', f);
+    fclose(f);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "deep.yaml:1:"), err.msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "nested deeper than 32 levels"), err.msg);
+
+    /* A FIFO as the scenario, and as the robot file it names: refused without blocking,
+     * whether or not a writer holds it open (an open(2) without O_NONBLOCK waited forever). */
+    snprintf(path, sizeof path, "%s/fifo.yaml", tmp_dir);
+    (void)unlink(path);
+    TEST_ASSERT_EQUAL_INT(0, mkfifo(path, 0600));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "fifo.yaml: not a regular file"), err.msg);
+    const int writer_rd = open(path, O_RDONLY | O_NONBLOCK); /* lets a writer open */
+    const int writer = open(path, O_WRONLY | O_NONBLOCK);
+    TEST_ASSERT_TRUE(writer_rd >= 0 && writer >= 0);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "fifo.yaml: not a regular file"), err.msg);
+    char scn[700];
+    snprintf(scn, sizeof scn, "%s/robot-fifo.yaml", tmp_dir);
+    write_text(scn, "robot:\n  file: fifo.yaml\ntrajectory:\n  type: hold\n  hold:\n"
+                    "    pose: [0, 0, 9, 0, 0, 0]\ncontroller:\n  kp: 0.0\n"
+                    "  k_length_per_s: 5.0\nrun:\n  duration_s: 0.1\n  period_s: 0.01\n");
+    TEST_ASSERT_TRUE(cdpr_scenario_load(scn, &sc, &err) < 0);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "fifo.yaml: not a regular file"), err.msg);
+    (void)close(writer);
+    (void)close(writer_rd);
+    (void)unlink(path);
+}
+
+/* Paths longer than the loaders hold: "path too long", never a cut path (before: the first 511
+ * characters were loaded, silently, another file or none). */
+static void test_long_paths_are_refused_not_cut(void)
+{
+    make_tmp();
+    char good[700];
+    snprintf(good, sizeof good, "%s/minimal.yaml", tmp_dir);
+    write_text(good, MINIMAL);
+    /* tmp_dir/././.../minimal.yaml: the same file, by a path of over 600 characters. */
+    static char path[2048];
+    int n = snprintf(path, sizeof path, "%s/", tmp_dir);
+    while (n < 620) {
+        n += snprintf(path + n, sizeof path - (size_t)n, "./");
+    }
+    snprintf(path + n, sizeof path - (size_t)n, "minimal.yaml");
+    static cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "path too long ("), err.msg);
+    /* A robot file named by a long relative path. */
+    static char text[4096];
+    static char rel[1024];
+    int m = 0;
+    while (m < 600) {
+        m += snprintf(rel + m, sizeof rel - (size_t)m, "./");
+    }
+    snprintf(rel + m, sizeof rel - (size_t)m, "robot.yaml");
+    snprintf(text, sizeof text,
+             "robot:\n  file: %s\ntrajectory:\n  type: hold\n  hold:\n"
+             "    pose: [0, 0, 9, 0, 0, 0]\ncontroller:\n  kp: 0.0\n"
+             "  k_length_per_s: 5.0\nrun:\n  duration_s: 0.1\n  period_s: 0.01\n",
+             rel);
+    snprintf(good, sizeof good, "%s/long-robot-path.yaml", tmp_dir);
+    write_text(good, text);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_scenario_load(good, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, ":2: robot.file: path too long ("), err.msg);
 }
 
 int main(void)
@@ -662,5 +755,6 @@ int main(void)
     RUN_TEST(test_design_check_refuses_good_line);
     RUN_TEST(test_cyclic_and_counts);
     RUN_TEST(test_file_checks_before_parsing);
+    RUN_TEST(test_long_paths_are_refused_not_cut);
     return UNITY_END() ? 1 : 0;
 }

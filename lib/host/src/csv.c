@@ -5,16 +5,16 @@
 #include "cdpr/host/csv.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "cdpr/host/fs.h"
+
 cdpr_status_t cdpr_csv_open(cdpr_csv_t *c, const char *path)
 {
     memset(c, 0, sizeof *c);
-    c->fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    if (c->fd < 0) {
+    if (cdpr_fs_open_regular(path, 1, &c->fd, NULL, 0) != CDPR_OK) {
         c->failed = 1;
         c->error = errno;
         return CDPR_E_IO;

@@ -679,6 +679,12 @@ cdpr_status_t cdpr_rig_check(const cdpr_rig_t *rig, const char *path, const char
 
 cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t *err)
 {
+    if (strlen(path) >= sizeof rig->name) {
+        snprintf(err->msg, sizeof err->msg,
+                 "%.200s...: path too long (%zu characters; a robot-file path has at most %zu)",
+                 path, strlen(path), sizeof rig->name - 1U);
+        return CDPR_E_INVALID_ARG;
+    }
     cdpr_yaml_log_t lg;
     void *data = NULL;
     cdpr_status_t st = cdpr_yaml_load(path, &file_schema, CYAML_CFG_DEFAULT, &data, &lg);

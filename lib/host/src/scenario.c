@@ -688,10 +688,20 @@ static cdpr_status_t resolve_rig(const cdpr_raw_rig_t *rr, cdpr_scenario_t *sc,
         }
         char file[sizeof sc->rig.name];
         const char *slash = strrchr(sc->path, '/');
+        int n;
         if (rr->file[0] == '/' || slash == NULL) {
-            snprintf(file, sizeof file, "%s", rr->file);
+            n = snprintf(file, sizeof file, "%s", rr->file);
         } else {
-            snprintf(file, sizeof file, "%.*s/%s", (int)(slash - sc->path), sc->path, rr->file);
+            n = snprintf(file, sizeof file, "%.*s/%s", (int)(slash - sc->path), sc->path, rr->file);
+        }
+        if (n < 0 || (size_t)n >= sizeof file) {
+            char what[256];
+            snprintf(what, sizeof what,
+                     "path too long (%d characters with the scenario's folder; a robot-file "
+                     "path has at most %zu)",
+                     n, sizeof file - 1U);
+            cdpr_scenario_error(sc, "robot.file", what, err);
+            return CDPR_E_INVALID_ARG;
         }
         sc->robot_source = CDPR_ROBOT_FROM_FILE;
         st = cdpr_rig_load(file, &sc->rig, &re);
@@ -815,6 +825,12 @@ static cdpr_status_t check_integrator_sections(const raw_t *r, const cdpr_scenar
 cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
     memset(sc, 0, sizeof *sc);
+    if (strlen(path) >= sizeof sc->path) {
+        snprintf(err->msg, sizeof err->msg,
+                 "%.200s...: path too long (%zu characters; a scenario path has at most %zu)", path,
+                 strlen(path), sizeof sc->path - 1U);
+        return CDPR_E_INVALID_ARG;
+    }
     snprintf(sc->path, sizeof sc->path, "%s", path);
     /* Size, type and syntax before anything parses the file (the key lookup below does). */
     const cdpr_status_t fs = cdpr_yaml_check_file(path, err->msg, sizeof err->msg);

@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cdpr/host/fs.h"
+
 /* The first 32 bits of the fractional parts of the cube roots of the first 64 primes. */
 static const uint32_t K[64] = {
     0x428a2f98U, 0x71374491U, 0xb5c0fbcfU, 0xe9b5dba5U, 0x3956c25bU, 0x59f111f1U, 0x923f82a4U,
@@ -126,7 +128,7 @@ void cdpr_sha256_hex(const unsigned char digest[CDPR_SHA256_BYTES], char hex[CDP
 cdpr_status_t cdpr_sha256_file(const char *path, char hex[CDPR_SHA256_HEX + 1])
 {
     hex[0] = '\0';
-    FILE *f = fopen(path, "rb");
+    FILE *f = cdpr_fs_fopen(path, "rb", NULL, 0);
     if (f == NULL) {
         return CDPR_E_IO;
     }

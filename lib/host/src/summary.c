@@ -11,6 +11,7 @@
 
 #include "cdpr/version.h"
 #include "cdpr/host/csv.h"
+#include "cdpr/host/fs.h"
 #include "cdpr/host/yaml.h"
 
 /* CMAKE_BUILD_TYPE of this library (lib/host/CMakeLists.txt). */
@@ -192,7 +193,7 @@ static void write_counts(FILE *f, const char *key, int n, const unsigned long *c
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum)
 {
-    FILE *f = fopen(path, "w");
+    FILE *f = cdpr_fs_fopen(path, "w", NULL, 0);
     if (f == NULL) {
         return CDPR_E_IO;
     }

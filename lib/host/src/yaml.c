@@ -8,8 +8,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h> /* strcasecmp */
 #include <sys/stat.h>
+#include <unistd.h>
 #include <yaml.h>
+
+#include "cdpr/host/fs.h"
 
 /* Error-level lines, appended in order, truncated at the buffer's end. */
 static void collect_log(cyaml_log_t level, void *ctx, const char *fmt, va_list args)
@@ -82,60 +86,335 @@ static void syntax_error(const char *path, const yaml_parser_t *ps, char *out, s
     }
 }
 
-/* A syntax pass of libyaml over the whole file (every event, nothing kept). */
-static cdpr_status_t syntax_check(const char *path, FILE *fp, char *out, size_t cap)
+/* ---------------------------------------------------------------- the checks before a load */
+
+/* One open collection of the check pass. */
+typedef struct {
+    const cyaml_schema_value_t *schema; /* its schema, NULL where the schema does not reach */
+    const cyaml_schema_value_t *value;  /* mapping: the schema of the current key's value */
+    int is_map;                         /* mapping (1) or sequence (0) */
+    int want_key;                       /* mapping: the next node is a key */
+    int index;                          /* sequence: index of the next entry */
+    char key[64];                       /* mapping: the current key */
+    char path[CDPR_YAML_CHECK_PATH];    /* key path of this collection ("" at the root) */
+} check_frame_t;
+
+/* The whole text is a decimal number: [+-] digits [. digits] [e [+-] digits], at least one
+ * digit before the exponent; integers without the fraction and the exponent. strtod would
+ * also read hex ("0x10"), "inf", "nan" and a prefix of anything ("4O.0", "400 kg"). */
+static int is_decimal(const char *s, int integer)
+{
+    const char *p = s;
+    p += (*p == '+' || *p == '-') ? 1 : 0;
+    int digits = 0;
+    while (*p >= '0' && *p <= '9') {
+        ++p;
+        ++digits;
+    }
+    if (integer == 0 && *p == '.') {
+        ++p;
+        while (*p >= '0' && *p <= '9') {
+            ++p;
+            ++digits;
+        }
+    }
+    if (digits == 0) {
+        return 0;
+    }
+    if (integer == 0 && (*p == 'e' || *p == 'E')) {
+        ++p;
+        p += (*p == '+' || *p == '-') ? 1 : 0;
+        if (!(*p >= '0' && *p <= '9')) {
+            return 0;
+        }
+        while (*p >= '0' && *p <= '9') {
+            ++p;
+        }
+    }
+    return (*p == '\0') ? 1 : 0;
+}
+
+static int is_null_text(const char *s)
+{
+    return (s[0] == '\0' || strcmp(s, "~") == 0 || strcmp(s, "null") == 0 ||
+            strcmp(s, "Null") == 0 || strcmp(s, "NULL") == 0)
+               ? 1
+               : 0;
+}
+
+static const cyaml_schema_field_t *find_field(const cyaml_schema_value_t *map, const char *key)
+{
+    if (map == NULL || map->type != CYAML_MAPPING || map->mapping.fields == NULL) {
+        return NULL;
+    }
+    for (const cyaml_schema_field_t *f = map->mapping.fields; f->key != NULL; ++f) {
+        if (strcmp(f->key, key) == 0) {
+            return f;
+        }
+    }
+    return NULL;
+}
+
+/* The schema of the node that starts now in `top` (NULL: the root, whose schema is `root`),
+ * and its key path into `path`. Consumes the mapping's key or the sequence's index. */
+static const cyaml_schema_value_t *node_schema(check_frame_t *top, const cyaml_schema_value_t *root,
+                                               char *path, size_t cap)
+{
+    if (top == NULL) {
+        path[0] = '\0';
+        return root;
+    }
+    int n;
+    const cyaml_schema_value_t *v;
+    if (top->is_map != 0) {
+        n = snprintf(path, cap, "%s%s%s", top->path, (top->path[0] != '\0') ? "." : "", top->key);
+        v = top->value;
+        top->want_key = 1;
+    } else {
+        n = snprintf(path, cap, "%s[%d]", top->path, top->index);
+        ++top->index;
+        v = (top->schema != NULL) ? top->schema->sequence.entry : NULL;
+    }
+    if (n < 0 || (size_t)n >= cap) {
+        path[cap - 1U] = '\0';
+    }
+    return v;
+}
+
+/* A non-finite number as strtod (libcyaml) reads one: [+-] inf, infinity, nan, and YAML's
+ * .inf and .nan, in any case. */
+static int is_non_finite_text(const char *s)
+{
+    static const char *const words[] = {"inf", "infinity", "nan", ".inf", ".nan"};
+    const char *p = s + ((s[0] == '+' || s[0] == '-') ? 1 : 0);
+    for (size_t i = 0; i < sizeof words / sizeof words[0]; ++i) {
+        if (strcasecmp(p, words[i]) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Why a scalar cannot stand where the schema wants a number (NULL if it can), with the
+ * status to return. */
+static const char *number_problem(const cyaml_schema_value_t *v, const yaml_event_t *ev,
+                                  cdpr_status_t *st)
+{
+    *st = CDPR_E_PARSE;
+    if (v == NULL || !(v->type == CYAML_FLOAT || v->type == CYAML_INT || v->type == CYAML_UINT)) {
+        return NULL;
+    }
+    if (ev->type == YAML_ALIAS_EVENT) {
+        return "an alias (*name) where a number is wanted: write the number";
+    }
+    const char *text = (const char *)ev->data.scalar.value;
+    const unsigned flags = (unsigned)v->flags;
+    if ((flags & ((unsigned)CYAML_FLAG_POINTER_NULL | (unsigned)CYAML_FLAG_POINTER_NULL_STR)) !=
+            0U &&
+        is_null_text(text) != 0) {
+        return NULL;
+    }
+    if (is_decimal(text, (v->type == CYAML_FLOAT) ? 0 : 1) != 0) {
+        return NULL;
+    }
+    if (is_non_finite_text(text) != 0) {
+        *st = CDPR_E_NOT_FINITE;
+        return "not finite";
+    }
+    return "not a number";
+}
+
+/* libyaml's pass over the text (every event, nothing kept) with the checks that libyaml and
+ * libcyaml do not make: nesting at most CDPR_YAML_MAX_DEPTH deep (checked as each collection
+ * opens, so a deeply nested file costs no more than that depth: libyaml's scanner does work
+ * proportional to the flow depth for every token), one document, and, where `schema` (may be
+ * NULL) wants a number, a whole decimal number. */
+static cdpr_status_t check_text(const char *path, const unsigned char *text, size_t len,
+                                const cyaml_schema_value_t *schema, char *out, size_t cap)
 {
     yaml_parser_t ps;
-    if (yaml_parser_initialize(&ps) == 0) {
+    check_frame_t *st = calloc(CDPR_YAML_MAX_DEPTH, sizeof *st);
+    if (st == NULL || yaml_parser_initialize(&ps) == 0) {
+        free(st);
         snprintf(out, cap, "%s: out of memory", path);
         return CDPR_E_IO;
     }
-    yaml_parser_set_input_file(&ps, fp);
-    cdpr_status_t st = CDPR_OK;
-    /* Bounded by the file (<= CDPR_YAML_MAX_FILE_BYTES): each iteration consumes one event. */
+    yaml_parser_set_input_string(&ps, text, len);
+    cdpr_status_t st_ok = CDPR_OK;
+    int depth = 0;
+    int documents = 0;
+    /* Bounded by the text (<= CDPR_YAML_MAX_FILE_BYTES): each iteration consumes one event. */
     for (int done = 0; done == 0;) {
         yaml_event_t ev;
         if (yaml_parser_parse(&ps, &ev) == 0) {
             syntax_error(path, &ps, out, cap);
-            st = CDPR_E_PARSE;
+            st_ok = CDPR_E_PARSE;
             break;
         }
-        done = (ev.type == YAML_STREAM_END_EVENT) ? 1 : 0;
+        const int line = (int)ev.start_mark.line + 1;
+        const int col = (int)ev.start_mark.column + 1;
+        check_frame_t *top = (depth > 0) ? &st[depth - 1] : NULL;
+        switch (ev.type) {
+        case YAML_STREAM_END_EVENT:
+            done = 1;
+            break;
+        case YAML_DOCUMENT_START_EVENT:
+            if (++documents > 1) {
+                snprintf(out, cap,
+                         "%s:%d: a second YAML document ('---'): a cdpr file holds one document",
+                         path, line);
+                st_ok = CDPR_E_PARSE;
+                done = 1;
+            }
+            break;
+        case YAML_SCALAR_EVENT:
+        case YAML_ALIAS_EVENT:
+        case YAML_MAPPING_START_EVENT:
+        case YAML_SEQUENCE_START_EVENT: {
+            if (top != NULL && top->is_map != 0 && top->want_key != 0) {
+                top->want_key = 0;
+                const char *k =
+                    (ev.type == YAML_SCALAR_EVENT) ? (const char *)ev.data.scalar.value : "";
+                snprintf(top->key, sizeof top->key, "%s", k);
+                const cyaml_schema_field_t *f = find_field(top->schema, k);
+                top->value = (f != NULL) ? &f->value : NULL;
+                if (ev.type == YAML_SCALAR_EVENT || ev.type == YAML_ALIAS_EVENT) {
+                    break;
+                }
+            }
+            char key[CDPR_YAML_CHECK_PATH];
+            const cyaml_schema_value_t *v = node_schema(top, schema, key, sizeof key);
+            if (ev.type == YAML_SCALAR_EVENT || ev.type == YAML_ALIAS_EVENT) {
+                cdpr_status_t why_st;
+                const char *why = number_problem(v, &ev, &why_st);
+                if (why != NULL) {
+                    char echo[CDPR_YAML_ECHO_MAX + 8];
+                    char what[CDPR_YAML_ECHO_MAX + 256];
+                    if (ev.type == YAML_SCALAR_EVENT) {
+                        cdpr_yaml_echo(echo, sizeof echo, (const char *)ev.data.scalar.value);
+                        snprintf(what, sizeof what,
+                                 "'%s' is %s: a decimal number, the whole value (such as 40.0 "
+                                 "or 2e6; no unit, hex, digit separator, inf or nan)",
+                                 echo, why);
+                    } else {
+                        snprintf(what, sizeof what, "%s", why);
+                    }
+                    cdpr_yaml_format_error(out, cap, path, line,
+                                           (key[0] != '\0') ? key : "(document)", what);
+                    st_ok = why_st;
+                    done = 1;
+                }
+                break;
+            }
+            if (depth >= CDPR_YAML_MAX_DEPTH) {
+                snprintf(out, cap,
+                         "%s:%d:%d: nested deeper than %d levels of lists and mappings (a cdpr "
+                         "file needs at most 6)",
+                         path, line, col, CDPR_YAML_MAX_DEPTH);
+                st_ok = CDPR_E_PARSE;
+                done = 1;
+                break;
+            }
+            check_frame_t *f = &st[depth++];
+            memset(f, 0, sizeof *f);
+            f->is_map = (ev.type == YAML_MAPPING_START_EVENT) ? 1 : 0;
+            f->want_key = 1;
+            if (v != NULL && ((f->is_map != 0 && v->type == CYAML_MAPPING) ||
+                              (f->is_map == 0 &&
+                               (v->type == CYAML_SEQUENCE || v->type == CYAML_SEQUENCE_FIXED)))) {
+                f->schema = v;
+            }
+            snprintf(f->path, sizeof f->path, "%s", key);
+            break;
+        }
+        case YAML_MAPPING_END_EVENT:
+        case YAML_SEQUENCE_END_EVENT:
+            depth = (depth > 0) ? depth - 1 : 0;
+            break;
+        default:
+            break;
+        }
         yaml_event_delete(&ev);
     }
     yaml_parser_delete(&ps);
-    return st;
+    free(st);
+    return st_ok;
+}
+
+/* The file's bytes into a new buffer (free it), through cdpr_fs_open_regular: a regular file
+ * of at most CDPR_YAML_MAX_FILE_BYTES, read once. */
+static cdpr_status_t read_file(const char *path, unsigned char **buf, size_t *len, char *out,
+                               size_t cap)
+{
+    *buf = NULL;
+    *len = 0;
+    char why[256];
+    int fd;
+    const cdpr_status_t os = cdpr_fs_open_regular(path, 0, &fd, why, sizeof why);
+    if (os == CDPR_E_IO) {
+        snprintf(out, cap, "%s", why);
+        return CDPR_E_IO;
+    }
+    if (os != CDPR_OK) {
+        snprintf(out, cap, "%s: %s, not a YAML file", path, why);
+        return CDPR_E_PARSE;
+    }
+    struct stat sb;
+    if (fstat(fd, &sb) == 0 && sb.st_size > (off_t)CDPR_YAML_MAX_FILE_BYTES) {
+        (void)close(fd);
+        snprintf(out, cap,
+                 "%s: %lld bytes: larger than the limit of YAML input files (%ld bytes, 1 MiB)",
+                 path, (long long)sb.st_size, (long)CDPR_YAML_MAX_FILE_BYTES);
+        return CDPR_E_PARSE;
+    }
+    /* One byte more than the limit tells a file that grew while read. */
+    const size_t room = (size_t)CDPR_YAML_MAX_FILE_BYTES + 1U;
+    unsigned char *b = malloc(room);
+    if (b == NULL) {
+        (void)close(fd);
+        snprintf(out, cap, "%s: out of memory", path);
+        return CDPR_E_IO;
+    }
+    size_t n = 0;
+    while (n < room) {
+        const ssize_t r = read(fd, b + n, room - n);
+        if (r < 0 && errno == EINTR) {
+            continue;
+        }
+        if (r < 0) {
+            snprintf(out, cap, "%s", strerror(errno));
+            free(b);
+            (void)close(fd);
+            return CDPR_E_IO;
+        }
+        if (r == 0) {
+            break;
+        }
+        n += (size_t)r;
+    }
+    (void)close(fd);
+    if (n > (size_t)CDPR_YAML_MAX_FILE_BYTES) {
+        snprintf(out, cap,
+                 "%s: grew past the limit of YAML input files (%ld bytes, 1 MiB) while read", path,
+                 (long)CDPR_YAML_MAX_FILE_BYTES);
+        free(b);
+        return CDPR_E_PARSE;
+    }
+    *buf = b;
+    *len = n;
+    return CDPR_OK;
 }
 
 cdpr_status_t cdpr_yaml_check_file(const char *path, char *out, size_t cap)
 {
     out[0] = '\0';
-    struct stat sb;
-    FILE *fp = fopen(path, "rb");
-    if (fp == NULL || fstat(fileno(fp), &sb) != 0) {
-        snprintf(out, cap, "%s", strerror(errno));
-        if (fp != NULL) {
-            fclose(fp);
-        }
-        return CDPR_E_IO;
+    unsigned char *buf;
+    size_t len;
+    cdpr_status_t st = read_file(path, &buf, &len, out, cap);
+    if (st == CDPR_OK) {
+        st = check_text(path, buf, len, NULL, out, cap);
+        free(buf);
     }
-    cdpr_status_t st = CDPR_OK;
-    if (S_ISDIR(sb.st_mode)) {
-        snprintf(out, cap, "%s: is a directory, not a YAML file", path);
-        st = CDPR_E_PARSE;
-    } else if (!S_ISREG(sb.st_mode)) {
-        snprintf(out, cap, "%s: not a regular file (a pipe or a device): the file is read twice",
-                 path);
-        st = CDPR_E_PARSE;
-    } else if (sb.st_size > (off_t)CDPR_YAML_MAX_FILE_BYTES) {
-        snprintf(out, cap,
-                 "%s: %lld bytes: larger than the limit of YAML input files (%ld bytes, 1 MiB)",
-                 path, (long long)sb.st_size, (long)CDPR_YAML_MAX_FILE_BYTES);
-        st = CDPR_E_PARSE;
-    } else {
-        st = syntax_check(path, fp, out, cap);
-    }
-    fclose(fp);
     return st;
 }
 
@@ -144,16 +423,24 @@ cdpr_status_t cdpr_yaml_load(const char *path, const cyaml_schema_value_t *schem
 {
     memset(log, 0, sizeof *log);
     *data = NULL;
-    const cdpr_status_t cs = cdpr_yaml_check_file(path, log->text, sizeof log->text);
+    unsigned char *buf;
+    size_t len;
+    cdpr_status_t cs = read_file(path, &buf, &len, log->text, sizeof log->text);
+    if (cs == CDPR_OK) {
+        cs = check_text(path, buf, len, schema, log->text, sizeof log->text);
+    }
     if (cs != CDPR_OK) {
+        free(buf);
         log->len = strlen(log->text);
         log->whole = (cs == CDPR_E_IO) ? 0 : 1;
         log->what_at = (log->whole != 0) ? strlen(path) + 1 : 0;
         return cs;
     }
+    /* The bytes checked above, not the path again: what is checked is what is loaded. */
     const cyaml_config_t cfg = config(flags, log);
     cyaml_data_t *out = NULL;
-    log->err = cyaml_load_file(path, &cfg, schema, &out, NULL);
+    log->err = cyaml_load_data(buf, len, &cfg, schema, &out, NULL);
+    free(buf);
     if (log->err != CYAML_OK) {
         return CDPR_E_PARSE;
     }
@@ -226,7 +513,7 @@ static int node_path(frame_t *f, int ev_line, char *path, size_t cap)
 /* One walk of the file: the line of `want`, or 0. Frames live on the heap (16 x 344 bytes). */
 static int walk_line(const char *path, const char *want)
 {
-    FILE *fp = fopen(path, "rb");
+    FILE *fp = cdpr_fs_fopen(path, "rb", NULL, 0);
     if (fp == NULL) {
         return 0;
     }

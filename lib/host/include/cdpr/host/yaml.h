@@ -30,26 +30,41 @@ typedef struct {
 /// bounded by it). Checked with fstat before anything parses the file.
 #define CDPR_YAML_MAX_FILE_BYTES (1024L * 1024L)
 
+/// Deepest nesting of lists and mappings in a YAML input file (the shipped files need at most
+/// 6). Checked as each collection opens, before libcyaml reads anything: libyaml's scanner
+/// does work proportional to the flow depth for every token, so an unbounded depth makes a
+/// 1 MiB file cost minutes.
+#define CDPR_YAML_MAX_DEPTH 32
+
+/// Longest key path the checks name [characters] (deeper paths are cut).
+#define CDPR_YAML_CHECK_PATH 256
+
 /// Longest piece of a file's text echoed in an error message [characters]; longer pieces are
 /// cut and end in "…".
 #define CDPR_YAML_ECHO_MAX 60
 
-/// The checks before any parse: the file opens (CDPR_E_IO, out = strerror), is a regular file
-/// ("FILE: is a directory, not a YAML file"), at most CDPR_YAML_MAX_FILE_BYTES, and valid YAML
-/// syntax (one libyaml pass; "FILE:LINE:COLUMN: what", the construct named where it opened:
-/// "unclosed list '[' (opened at line 7, column 11)", "a tab character: YAML indents with
-/// spaces only"); those give CDPR_E_PARSE with the whole message in `out`. Work: one read of
-/// at most 1 MiB; no allocation beyond libyaml's parser. Returns CDPR_OK otherwise.
+/// The checks before any parse: the file opens without blocking (cdpr_fs_open_regular: a FIFO
+/// or a device never blocks the caller; CDPR_E_IO, out = strerror), is a regular file ("FILE:
+/// is a directory, not a YAML file", "FILE: not a regular file (a pipe, socket or device), not
+/// a YAML file"), at most CDPR_YAML_MAX_FILE_BYTES, valid YAML syntax (one libyaml pass;
+/// "FILE:LINE:COLUMN: what", the construct named where it opened: "unclosed list '[' (opened
+/// at line 7, column 11)", "a tab character: YAML indents with spaces only"), nested at most
+/// CDPR_YAML_MAX_DEPTH deep, and one document ("FILE:LINE: a second YAML document"); those
+/// give CDPR_E_PARSE with the whole message in `out`. Work: one read of at most 1 MiB; the
+/// file's bytes and libyaml's parser allocated and freed. Returns CDPR_OK otherwise.
 cdpr_status_t cdpr_yaml_check_file(const char *path, char *out, size_t cap);
 
 /// At most CDPR_YAML_ECHO_MAX characters of `s` (up to its first newline) into out, "…"
 /// appended when cut.
 void cdpr_yaml_echo(char *out, size_t cap, const char *s);
 
-/// Load `path` against `schema` (a CYAML_FLAG_POINTER mapping) into *data, after
-/// cdpr_yaml_check_file. `flags`: libcyaml configuration flags (CYAML_CFG_DEFAULT,
-/// CYAML_CFG_IGNORE_UNKNOWN_KEYS, ...). Returns CDPR_OK (*data set: free it with
-/// cdpr_yaml_free), CDPR_E_IO (the file cannot be opened; log->text holds strerror) or
+/// Load `path` against `schema` (a CYAML_FLAG_POINTER mapping) into *data: the file read once,
+/// cdpr_yaml_check_file's checks on its bytes plus strict numbers (every value where the
+/// schema wants a number is a whole decimal number: "mass_kg: 4O.0", "400 kg", "0x10",
+/// "2_000_000", "inf" refused as "FILE:LINE: KEY: '4O.0' is not a number: ...", where libcyaml
+/// alone would read the prefix), then libcyaml on the same bytes. `flags`: libcyaml configuration
+/// flags (CYAML_CFG_DEFAULT, CYAML_CFG_IGNORE_UNKNOWN_KEYS, ...). Returns CDPR_OK (*data set: free
+/// it with cdpr_yaml_free), CDPR_E_IO (the file cannot be opened; log->text holds strerror) or
 /// CDPR_E_PARSE (the file check refused it: log->whole = 1, log->text its message; or libcyaml
 /// refused it, log->err and log->text say why; or the file is empty, log->empty = 1); *data is
 /// NULL on error.
