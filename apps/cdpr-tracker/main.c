@@ -336,7 +336,9 @@ static cdpr_plant_t g_model; /* the controller's own model: IK of the initial po
 static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_record_t g_record;
 static cdpr_sim_summary_t g_sum;
-static int g_silence; /* serve stopped because no state came for --idle-exit */
+static int g_silence;        /* serve stopped because no state came for --idle-exit */
+static int g_refused;        /* serve stopped: CDPR_RT_MAX_REFUSED_IN_ROW states refused in a row */
+static int g_not_in_control; /* the plant applied another controller's commands too often */
 
 /* Session events of the node (docs/realtime.md, "Sessions"): one line each on stderr. */
 static void on_plant_restart(int64_t old_session, int64_t new_session, void *ctx)
@@ -355,6 +357,36 @@ static void on_other_plant(int64_t followed, int64_t other, void *ctx)
             "cdpr-tracker: warning: another plant (session %lld) publishes on the channels of "
             "plant %lld: its states are ignored; one plant per channel prefix\n",
             (long long)other, (long long)followed);
+}
+
+static void on_other_controller(int64_t ours, int64_t other, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-tracker: warning: the plant applied the commands of another controller "
+            "(session %lld), not ours (%lld): this controller is not in control\n",
+            (long long)other, (long long)ours);
+}
+
+/* Warnings the first time states are refused or arrive at another rate. */
+static void warn_once(void)
+{
+    static uint64_t refused_seen;
+    static int rate_warned;
+    const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
+    const uint64_t refused =
+        s->refused_seq + s->refused_time + s->refused_implausible + s->bad_measurement;
+    if (refused > 0 && refused_seen == 0) {
+        fprintf(stderr, "cdpr-tracker: warning: a state was refused: %s\n", g_tracker.last_refusal);
+    }
+    refused_seen = refused;
+    if (s->rate_mismatch > 0 && rate_warned == 0) {
+        rate_warned = 1;
+        fprintf(stderr,
+                "cdpr-tracker: warning: the plant's states do not advance by one control period "
+                "(%g s): plant and controller run at different rates\n",
+                g_tracker.period_s);
+    }
 }
 
 /* The scenario (with the overrides), the controller's model, the node and its recorder. */
@@ -396,6 +428,7 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     g_tracker.on_step_ctx = &g_record;
     g_tracker.on_plant_restart = on_plant_restart;
     g_tracker.on_other_plant = on_other_plant;
+    g_tracker.on_other_controller = on_other_controller;
     return CDPR_OK;
 }
 
@@ -443,6 +476,13 @@ static cdpr_status_t serve(const options_t *o, const cdpr_scenario_t *sc, lcm_t 
         while (h > 0 && lcm_handle_timeout(lcm, 0) > 0) {
         }
         (void)cdpr_rt_tracker_service(&g_tracker);
+        warn_once();
+        if (g_tracker.refused_in_row >= CDPR_RT_MAX_REFUSED_IN_ROW) {
+            fprintf(stderr, "cdpr-tracker: %ld states in a row refused: stopping (last: %s)\n",
+                    g_tracker.refused_in_row, g_tracker.last_refusal);
+            g_refused = 1;
+            return CDPR_E_MISMATCH;
+        }
         const double now = cdpr_clock_now_s();
         if (g_tracker.stats.states != states_seen) {
             states_seen = g_tracker.stats.states;
@@ -468,6 +508,13 @@ static void finish_status(cdpr_status_t rc, int csv_failed)
     if (csv_failed != 0) {
         g_sum.status = CDPR_SIM_IO_ERROR;
         why = "timeseries.csv write failed; ";
+    } else if (rc == CDPR_E_CONFLICT && g_not_in_control != 0) {
+        g_sum.status = CDPR_SIM_FAILED;
+        why = "not in control: the plant applied another controller's commands; ";
+    } else if (rc == CDPR_E_MISMATCH) {
+        g_sum.status = CDPR_SIM_FAILED;
+        why = (g_refused != 0) ? "stopped: the plant's states were refused; "
+                               : "the plant runs at another rate; ";
     } else if (rc == CDPR_OK) {
         g_sum.status = (g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK;
     } else if (rc == CDPR_E_INTERRUPTED && g_silence == 0) {
@@ -478,9 +525,14 @@ static void finish_status(cdpr_status_t rc, int csv_failed)
         why = (g_silence != 0) ? "stopped: no state came; " : "";
     }
     snprintf(g_sum.message, sizeof g_sum.message,
-             "%sover LCM: %llu states, %llu commands, %llu superseded, %llu clamped", why,
-             (unsigned long long)s->states, (unsigned long long)s->answered,
-             (unsigned long long)s->superseded, (unsigned long long)g_tracker.clamped);
+             "%sover LCM: %llu states, %llu commands, %llu superseded, %llu clamped, %llu "
+             "refused; applied ours %llu, none %llu, another controller's %llu",
+             why, (unsigned long long)s->states, (unsigned long long)s->answered,
+             (unsigned long long)s->superseded, (unsigned long long)g_tracker.clamped,
+             (unsigned long long)(s->refused_seq + s->refused_time + s->refused_implausible +
+                                  s->bad_measurement),
+             (unsigned long long)s->applied_ours, (unsigned long long)s->applied_none,
+             (unsigned long long)s->applied_other);
 }
 
 /* The summary of what the controller saw (status `rc` of the run), its files (the CSV's whole
@@ -525,7 +577,9 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     if (o->quiet == 0) {
         cdpr_sim_print_summary(stdout, "cdpr-tracker", &g_sum);
         printf("  LCM             decode errors %llu, refused pairs %llu\n",
-               (unsigned long long)s->decode_errors, (unsigned long long)s->bad_measurement);
+               (unsigned long long)s->decode_errors,
+               (unsigned long long)(s->bad_measurement + s->refused_seq + s->refused_time +
+                                    s->refused_implausible));
         cdpr_rt_tracker_print_cost(stdout, &g_tracker);
         if (o->out_dir != NULL) {
             printf("  outputs         %s/timeseries.csv, %s/summary.json, figures\n", o->out_dir,
@@ -569,6 +623,15 @@ int main(int argc, char **argv)
     if (st == CDPR_OK && g_tracker.stats.other_plant_states > 0) {
         st = CDPR_E_CONFLICT; /* completed, but next to another plant */
     }
+    if ((st == CDPR_OK || st == CDPR_E_CONFLICT) &&
+        cdpr_rt_tracker_in_control(&g_tracker, CDPR_RT_MAX_OTHER_SHARE) == 0) {
+        g_not_in_control = 1;
+        st = CDPR_E_CONFLICT;
+    }
+    if (st == CDPR_OK && g_tracker.stats.rate_mismatch > 0) {
+        st = CDPR_E_MISMATCH;
+    }
+    cdpr_rt_tracker_print_trust(stderr, "cdpr-tracker", &g_tracker);
     cdpr_rt_tracker_detach(&g_tracker);
     lcm_destroy(lcm);
     return cdpr_app_exit_code(finish(&o, &sc, st, wall0));

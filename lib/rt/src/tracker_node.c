@@ -60,6 +60,39 @@ cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_ca
     return CDPR_OK;
 }
 
+/* The physical range of a measurement of this robot (tracker_node.h, "Trust"). */
+static void set_bounds(cdpr_rt_meas_bounds_t *b, const cdpr_robot_params_t *model,
+                       const cdpr_winch_params_t *winch)
+{
+    memset(b, 0, sizeof *b);
+    double spread = 0.0;
+    double longest = 0.0;
+    double u_max = 0.0;
+    double r_min = INFINITY;
+    for (int j = 0; j < model->n_cables; ++j) {
+        const cdpr_robot_cable_params_t *c = &model->cables[j];
+        const double ea = (double)c->cable.ea_N;
+        b->t_max_N[j] = ea;
+        b->t_min_N[j] = (c->cable.slack_law == CDPR_SLACK_MOORDYN) ? -ea : 0.0;
+        b->l_min_m[j] = (double)winch[j].min_length_m;
+        b->u_max_m_per_s[j] = (double)winch[j].u_max_m_per_s;
+        b->exit_m[j][0] = (double)c->exit_point_m.x;
+        b->exit_m[j][1] = (double)c->exit_point_m.y;
+        b->exit_m[j][2] = (double)c->exit_point_m.z;
+        b->attach_r_m[j] = (double)cdpr_v3_norm(c->attach_body_m);
+        longest = fmax(longest, (double)c->length_m);
+        u_max = fmax(u_max, b->u_max_m_per_s[j]);
+        r_min = fmin(r_min, b->attach_r_m[j]);
+        for (int i = 0; i < j; ++i) {
+            spread = fmax(spread, (double)cdpr_v3_norm(
+                                      cdpr_v3_sub(c->exit_point_m, model->cables[i].exit_point_m)));
+        }
+    }
+    b->v_max_m_per_s =
+        sqrt(2.0 * (double)model->g_m_per_s2 * (spread + longest)) + 2.0 * u_max + 1.0;
+    b->w_max_rad_per_s = b->v_max_m_per_s / fmax(r_min, 0.1);
+}
+
 cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params_t *model,
                                    const cdpr_winch_params_t *winch, const cdpr_traj_t *traj,
                                    const cdpr_tracker_gains_t *g, double period_s,
@@ -94,6 +127,8 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
         t->u_max_m_per_s[j] = winch[j].u_max_m_per_s;
     }
+    set_bounds(&t->bounds, model, winch);
+    t->other_controller = -1;
     t->answered_state_seq = -1;
     t->cmd_seq = -1;
     return CDPR_OK;
@@ -109,6 +144,8 @@ static void follow_plant(cdpr_rt_tracker_t *t, int64_t session)
         return;
     }
     t->stats.plant_restarts++;
+    t->have_accepted = 0;
+    t->have_cand = 0;
     t->answered_state_seq = -1;
     t->have_state = 0;
     t->have_ten = 0;
@@ -281,20 +318,216 @@ void cdpr_rt_tracker_print_cost(FILE *f, const cdpr_rt_tracker_t *t)
     }
 }
 
+static double norm3(const double *v)
+{
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+/* The values of one pair within the robot's physical range (no history). */
+static cdpr_status_t check_values(const cdpr_rt_meas_bounds_t *b, const cdpr_cabin_state_t *st,
+                                  const cdpr_cable_tensions_t *ten, int n, char *why, size_t cap)
+{
+    const double *q = st->orientation;
+    const double qn = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    if (!(fabs(qn - 1.0) <= 1e-6)) {
+        snprintf(why, cap, "orientation: |q|^2 = %.9g, not a unit quaternion", qn);
+        return CDPR_E_INFEASIBLE;
+    }
+    const double v = norm3(st->velocity_m_per_s);
+    if (!(v <= b->v_max_m_per_s)) {
+        snprintf(why, cap, "cabin speed %.4g m/s above the robot's %.4g m/s", v, b->v_max_m_per_s);
+        return CDPR_E_INFEASIBLE;
+    }
+    const double w = norm3(st->angular_velocity_rad_per_s);
+    if (!(w <= b->w_max_rad_per_s)) {
+        snprintf(why, cap, "cabin angular speed %.4g rad/s above the robot's %.4g rad/s", w,
+                 b->w_max_rad_per_s);
+        return CDPR_E_INFEASIBLE;
+    }
+    for (int j = 0; j < n; ++j) {
+        const double tw = ten->tension_winch_N[j];
+        const double tc = ten->tension_cabin_N[j];
+        if (!(tw >= b->t_min_N[j] && tw <= b->t_max_N[j] && tc >= b->t_min_N[j] &&
+              tc <= b->t_max_N[j])) {
+            snprintf(why, cap,
+                     "cable %d: tension %.4g N (winch) / %.4g N (cabin) outside [%.4g, %.4g] N",
+                     j + 1, tw, tc, b->t_min_N[j], b->t_max_N[j]);
+            return CDPR_E_INFEASIBLE;
+        }
+        const double l = ten->length_m[j];
+        if (!(l >= b->l_min_m[j] * (1.0 - 1e-9))) {
+            snprintf(why, cap, "cable %d: length %.6g m below the winch's minimum %.6g m", j + 1, l,
+                     b->l_min_m[j]);
+            return CDPR_E_INFEASIBLE;
+        }
+        const double d[3] = {st->position_m[0] - b->exit_m[j][0],
+                             st->position_m[1] - b->exit_m[j][1],
+                             st->position_m[2] - b->exit_m[j][2]};
+        const double reach = 2.0 * l + b->attach_r_m[j];
+        if (!(norm3(d) <= reach)) {
+            snprintf(why, cap,
+                     "cabin %.4g m from exit point %d, beyond its cable's reach %.4g m (twice "
+                     "the length %.4g m)",
+                     norm3(d), j + 1, reach, l);
+            return CDPR_E_INFEASIBLE;
+        }
+    }
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_rt_tracker_check_pair(const cdpr_rt_tracker_t *t, const cdpr_cabin_state_t *st,
+                                         const cdpr_cable_tensions_t *ten, char *why, size_t cap)
+{
+    why[0] = '\0';
+    cdpr_tracker_meas_t m;
+    const cdpr_status_t ms = cdpr_rt_meas_from_msgs(st, ten, t->period_s, t->n_cables, &m);
+    if (ms != CDPR_OK) {
+        snprintf(why, cap, "%s",
+                 (ms == CDPR_E_NOT_FINITE) ? "a value is not finite"
+                                           : "the pair does not fit (seq, cable count or time)");
+        return ms;
+    }
+    if (t->have_accepted != 0) {
+        const int64_t dseq = st->seq - t->acc_seq;
+        if (dseq <= 0 || dseq > CDPR_RT_STATE_SEQ_WINDOW) {
+            snprintf(why, cap, "seq %lld outside (%lld, %lld] (the last accepted + %d)",
+                     (long long)st->seq, (long long)t->acc_seq,
+                     (long long)(t->acc_seq + CDPR_RT_STATE_SEQ_WINDOW), CDPR_RT_STATE_SEQ_WINDOW);
+            return CDPR_E_MISMATCH;
+        }
+        const int64_t dt = st->utime_us - t->acc_utime_us;
+        const double ahead = (double)dseq * t->period_s * 1e6 + 1.0;
+        if (dt < 0 || (double)dt > ahead) {
+            snprintf(why, cap,
+                     "time %lld us: %lld us after the last accepted state, %lld periods on "
+                     "(0 to %.0f us allowed)",
+                     (long long)st->utime_us, (long long)dt, (long long)dseq, ahead);
+            return CDPR_E_OUT_OF_RANGE;
+        }
+        for (int j = 0; j < t->n_cables; ++j) {
+            const double dl = fabs(ten->length_m[j] - t->acc_length_m[j]);
+            const double room = t->bounds.u_max_m_per_s[j] * (double)dt * 1e-6 +
+                                1e-9 * (1.0 + fabs(t->acc_length_m[j]));
+            if (!(dl <= room)) {
+                snprintf(why, cap,
+                         "cable %d: length changed by %.6g m in %.6g s, more than the winch's "
+                         "%.4g m/s allow",
+                         j + 1, dl, (double)dt * 1e-6, t->bounds.u_max_m_per_s[j]);
+                return CDPR_E_INFEASIBLE;
+            }
+        }
+    }
+    return check_values(&t->bounds, st, ten, t->n_cables, why, cap);
+}
+
+/* Whose command the plant applied in the step that led to an accepted state. */
+static void count_control(cdpr_rt_tracker_t *t, const cdpr_cabin_state_t *st)
+{
+    if (t->cmd_seq < 0) {
+        return; /* before our first command nothing of ours could be applied */
+    }
+    if (st->controller_session == t->controller_session) {
+        t->stats.applied_ours++;
+    } else if (st->controller_session == 0) {
+        t->stats.applied_none++;
+    } else {
+        t->stats.applied_other++;
+        if (st->controller_session != t->other_controller) {
+            t->other_controller = st->controller_session;
+            if (t->on_other_controller != NULL) {
+                t->on_other_controller(t->controller_session, st->controller_session,
+                                       t->on_session_ctx);
+            }
+        }
+    }
+}
+
+/* A pair refused: counted, remembered as a candidate anchor; two refused pairs in a row
+ * that agree (seq within the window, time within its periods) re-anchor the window. Returns
+ * 1 when it re-anchored (the pair is then accepted). */
+static int refuse(cdpr_rt_tracker_t *t, cdpr_status_t why_st, const char *why)
+{
+    const cdpr_cabin_state_t *st = &t->state;
+    uint64_t *count = (why_st == CDPR_E_MISMATCH)       ? &t->stats.refused_seq
+                      : (why_st == CDPR_E_OUT_OF_RANGE) ? &t->stats.refused_time
+                                                        : &t->stats.refused_implausible;
+    if (why_st == CDPR_E_MISMATCH || why_st == CDPR_E_OUT_OF_RANGE) {
+        const int64_t dseq = st->seq - t->cand_seq;
+        const int64_t dt = st->utime_us - t->cand_utime_us;
+        /* Backwards only while the anchor has no accepted successor: a forged first state;
+         * never two replayed old pairs against an established stream. */
+        const int backwards = (st->seq < t->acc_seq) ? 1 : 0;
+        if (t->have_cand != 0 && dseq > 0 && dseq <= CDPR_RT_STATE_SEQ_WINDOW && dt >= 0 &&
+            (double)dt <= (double)dseq * t->period_s * 1e6 + 1.0 &&
+            (backwards == 0 || t->acc_run < 2)) {
+            t->stats.resyncs++;
+            t->have_cand = 0;
+            if (st->utime_us < t->acc_utime_us) {
+                /* The old anchor was ahead of the plant (a forged first state): the
+                 * controller's filters saw its time; start them again (same inputs as at
+                 * init, which accepted them: cannot fail). */
+                (void)cdpr_tracker_init(&t->tracker, t->model, t->traj, &t->gains, t->period_s, 0.0,
+                                        NULL);
+            }
+            return 1;
+        }
+        t->have_cand = 1;
+        t->cand_seq = st->seq;
+        t->cand_utime_us = st->utime_us;
+    }
+    (*count)++;
+    snprintf(t->last_refusal, sizeof t->last_refusal, "%s", why);
+    return 0;
+}
+
 int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
 {
+    /* A pair is used once: have_state is cleared when it is answered or refused (its order
+     * against the pairs before it is the sequence window's to judge). */
     if (t->have_state == 0 || t->have_ten == 0 || t->state.seq != t->ten.seq ||
-        t->state.plant_session != t->ten.plant_session || t->state.seq <= t->answered_state_seq ||
-        t->lcm == NULL) {
+        t->state.plant_session != t->ten.plant_session || t->lcm == NULL) {
         return 0;
     }
-    t->answered_state_seq = t->state.seq;
-    cdpr_tracker_meas_t m;
-    cdpr_tracker_cmd_t c;
-    if (cdpr_rt_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m) != CDPR_OK) {
+    char why[sizeof t->last_refusal];
+    const cdpr_status_t cs = cdpr_rt_tracker_check_pair(t, &t->state, &t->ten, why, sizeof why);
+    if (cs != CDPR_OK) {
+        t->refused_in_row++;
+    }
+    if (cs == CDPR_E_NOT_FINITE || cs == CDPR_E_INVALID_ARG) {
         t->stats.bad_measurement++;
+        t->have_state = 0; /* this pair only: the next one is checked afresh */
+        snprintf(t->last_refusal, sizeof t->last_refusal, "%s", why);
         return -1;
     }
+    if (cs != CDPR_OK) {
+        /* A re-anchor accepts the pair if its values are plausible. */
+        if (refuse(t, cs, why) == 0 ||
+            check_values(&t->bounds, &t->state, &t->ten, t->n_cables, why, sizeof why) != CDPR_OK) {
+            t->have_state = 0;
+            return -1;
+        }
+    }
+    /* Accepted: a one-period step of another length than T is a plant at another rate. */
+    if (t->have_accepted != 0 && t->state.seq - t->acc_seq == 1 &&
+        (t->state.flags & CDPR_CABIN_STATE_T_FLAG_STEP_FAILED) == 0 &&
+        fabs((double)(t->state.utime_us - t->acc_utime_us) - t->period_s * 1e6) > 1.0) {
+        t->stats.rate_mismatch++;
+    }
+    t->refused_in_row = 0;
+    t->acc_run = (cs == CDPR_OK) ? t->acc_run + 1 : 1;
+    t->have_cand = 0;
+    t->have_accepted = 1;
+    t->acc_seq = t->state.seq;
+    t->acc_utime_us = t->state.utime_us;
+    for (int j = 0; j < t->n_cables; ++j) {
+        t->acc_length_m[j] = t->ten.length_m[j];
+    }
+    count_control(t, &t->state);
+    t->answered_state_seq = t->state.seq;
+    t->have_state = 0;
+    cdpr_tracker_meas_t m;
+    cdpr_tracker_cmd_t c;
+    (void)cdpr_rt_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m);
     const int64_t t0 = now_ns();
     const cdpr_status_t st = cdpr_tracker_step(&t->tracker, &m, &c);
     time_step(t, now_ns() - t0);
@@ -362,4 +595,38 @@ void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracke
     (void)cdpr_sim_rec_period(&r->rec, k, last, &row);
     r->last_t_s = m->t_s;
     r->periods++;
+}
+
+int cdpr_rt_tracker_in_control(const cdpr_rt_tracker_t *t, double max_share)
+{
+    const cdpr_rt_tracker_stats_t *s = &t->stats;
+    const uint64_t n = s->applied_ours + s->applied_none + s->applied_other;
+    return (n == 0 || (double)s->applied_other <= max_share * (double)n) ? 1 : 0;
+}
+
+void cdpr_rt_tracker_print_trust(FILE *f, const char *app, const cdpr_rt_tracker_t *t)
+{
+    const cdpr_rt_tracker_stats_t *s = &t->stats;
+    const uint64_t refused = s->refused_seq + s->refused_time + s->refused_implausible;
+    if (refused > 0 || s->bad_measurement > 0) {
+        fprintf(f,
+                "%s: refused states: %llu outside the sequence window, %llu with a bad time, "
+                "%llu implausible, %llu not usable (%llu re-anchors); last: %s\n",
+                app, (unsigned long long)s->refused_seq, (unsigned long long)s->refused_time,
+                (unsigned long long)s->refused_implausible, (unsigned long long)s->bad_measurement,
+                (unsigned long long)s->resyncs, t->last_refusal);
+    }
+    if (s->rate_mismatch > 0) {
+        fprintf(f,
+                "%s: %llu state steps were not one control period (%g s): the plant runs at "
+                "another rate\n",
+                app, (unsigned long long)s->rate_mismatch, t->period_s);
+    }
+    if (s->applied_other > 0 || s->applied_none > 0) {
+        fprintf(f,
+                "%s: after its first command the plant applied this controller's commands in "
+                "%llu periods, none in %llu (held), another controller's in %llu\n",
+                app, (unsigned long long)s->applied_ours, (unsigned long long)s->applied_none,
+                (unsigned long long)s->applied_other);
+    }
 }

@@ -28,6 +28,34 @@
 /// ignored and counted (`other_plant_states`; on_other_plant once per session): two plants
 /// share the channels.
 ///
+/// Trust (docs/realtime.md, "The controller side"): every (state, tensions) pair of the
+/// followed plant is checked before the controller sees it, as the plant checks commands:
+/// - sequence: seq in (last accepted, last accepted + CDPR_RT_STATE_SEQ_WINDOW]; a pair outside
+///   the window is refused, and two refused pairs in a row that agree with each other (seq and
+///   time) re-anchor the window (`resyncs`: a controller that fell far behind, or a forged
+///   anchor, costs two refused updates); backwards only while the anchor has no accepted
+///   successor, so replayed old pairs never move an established stream;
+/// - time: utime_us never goes back and advances by at most the periods the seq advanced
+///   (0 <= dt <= dseq T + 1 us; a failed plant step repeats its time); a step of one period
+///   that is not T (±1 us) is counted as `rate_mismatch` (the plant runs at another rate);
+/// - plausibility, from the robot the node was built with: every value finite; a unit
+///   quaternion (| |q|^2 - 1 | <= 1e-6); |v| and |omega| within what the robot can reach
+///   (v_max = sqrt(2 g D) + 2 u_max + 1 m/s, D = the spread of the exit points plus the
+///   longest initial cable; omega_max = v_max / the smallest attachment radius, at least
+///   0.1 m); winch-end and cabin-end tensions within [0, EA] (MoorDyn slack law: [-EA, EA]);
+///   lengths at least the winch's minimum and changed by at most u_max times the time since
+///   the last accepted pair; the cabin within twice its cable's length (+ attachment radius)
+///   of every exit point.
+/// A refused pair is counted by reason (`refused_*`), its reason kept in `last_refusal`, and
+/// changes nothing: no filter, no time, no anchor sees it. One bad message costs at most one
+/// refused update.
+///
+/// Control (issue 26): each accepted state names the controller session whose command the
+/// plant applied in the step that led to it. After this node's first command, every state is
+/// counted as applied_ours, applied_none (0: the plant held) or applied_other (another
+/// controller holds the plant); on_other_controller is called once per other session.
+/// cdpr_rt_tracker_in_control tells whether the share not applied stayed within a bound.
+///
 /// Threads: every function on the thread that owns the lcm_t. The generated *_publish
 /// allocates (liblcm); this node is not real-time code and is never run on the plant's RT
 /// thread.
@@ -54,17 +82,25 @@ typedef void (*cdpr_rt_tracker_step_fn)(const cdpr_tracker_meas_t *m, const cdpr
 
 /// Counters (outputs).
 typedef struct {
-    uint64_t states;             ///< cabin states received
-    uint64_t tensions;           ///< tension messages received
-    uint64_t decode_errors;      ///< messages on our channels that did not decode
-    uint64_t answered;           ///< commands published
-    uint64_t publish_errors;     ///< publications that failed
-    uint64_t superseded;         ///< states replaced by a newer one before they were answered
-    uint64_t bad_measurement;    ///< pairs refused (non-finite, cable count, time)
-    uint64_t ik_failures;        ///< periods whose feed-forward IK failed (last good held)
-    uint64_t resent;             ///< commands sent again for a state the plant sent again
-    uint64_t plant_restarts;     ///< new plant sessions followed after the first
-    uint64_t other_plant_states; ///< states (and tensions) of a plant session not followed
+    uint64_t states;              ///< cabin states received
+    uint64_t tensions;            ///< tension messages received
+    uint64_t decode_errors;       ///< messages on our channels that did not decode
+    uint64_t answered;            ///< commands published
+    uint64_t publish_errors;      ///< publications that failed
+    uint64_t superseded;          ///< states replaced by a newer one before they were answered
+    uint64_t bad_measurement;     ///< pairs refused (non-finite, cable count, time)
+    uint64_t ik_failures;         ///< periods whose feed-forward IK failed (last good held)
+    uint64_t resent;              ///< commands sent again for a state the plant sent again
+    uint64_t plant_restarts;      ///< new plant sessions followed after the first
+    uint64_t other_plant_states;  ///< states (and tensions) of a plant session not followed
+    uint64_t refused_seq;         ///< pairs outside the sequence window (or stale)
+    uint64_t refused_time;        ///< pairs whose time goes back or runs ahead of the seq
+    uint64_t refused_implausible; ///< pairs with a value outside its physical range
+    uint64_t resyncs;             ///< sequence window re-anchored on two agreeing pairs
+    uint64_t rate_mismatch;       ///< one-period steps whose time step is not the period
+    uint64_t applied_ours;        ///< states after our first command that applied ours
+    uint64_t applied_none;        ///< ... that applied no command (the plant held)
+    uint64_t applied_other;       ///< ... that applied another controller session's command
 } cdpr_rt_tracker_stats_t;
 
 /// Session events (optional callbacks; on the lcm thread). `old_session` 0: none.
@@ -73,6 +109,29 @@ typedef void (*cdpr_rt_tracker_session_fn)(int64_t old_session, int64_t new_sess
 /// A plant that sent no state for this long may have been restarted [s] (default of
 /// cdpr_rt_tracker_t.plant_silence_s).
 #define CDPR_RT_PLANT_SILENCE_S 0.5
+
+/// A controller stops when this many pairs in a row were refused (cdpr-tracker: exit 1).
+#define CDPR_RT_MAX_REFUSED_IN_ROW 100
+
+/// Sequence window of the states a controller accepts after the last accepted one (1 s at
+/// 1 kHz; the plant's command window is the same idea).
+#define CDPR_RT_STATE_SEQ_WINDOW 1000
+
+/// Default share of the states (after the first command) that may apply another controller
+/// session's command before cdpr_rt_tracker_in_control says no (1 %).
+#define CDPR_RT_MAX_OTHER_SHARE 0.01
+
+/// The physical bounds of a measurement (set by cdpr_rt_tracker_init from the robot).
+typedef struct {
+    double v_max_m_per_s;                  ///< cabin speed
+    double w_max_rad_per_s;                ///< cabin angular speed
+    double t_min_N[CDPR_MAX_CABLES];       ///< lowest tension (0, or -EA: MoorDyn law)
+    double t_max_N[CDPR_MAX_CABLES];       ///< highest tension (EA: a strain of 100 %)
+    double l_min_m[CDPR_MAX_CABLES];       ///< the winch's minimum length
+    double u_max_m_per_s[CDPR_MAX_CABLES]; ///< the winch's speed limit
+    double exit_m[CDPR_MAX_CABLES][3];     ///< exit points
+    double attach_r_m[CDPR_MAX_CABLES];    ///< |b_j|
+} cdpr_rt_meas_bounds_t;
 
 /// The node (caller-owned; about 50 kB: declare it static).
 /// Resolution range of the controller's step-time histogram: 1 µs bins up to this, one bin
@@ -117,6 +176,19 @@ typedef struct {
     uint32_t step_hist[CDPR_RT_TRACKER_HIST_US + 1]; ///< cdpr_tracker_step times, 1 µs bins
     uint64_t steps_timed;                            ///< steps in step_hist
     int64_t step_ns_max;                             ///< slowest step [ns]
+    cdpr_rt_meas_bounds_t bounds;                    ///< plausibility bounds
+    int have_accepted;                               ///< a pair was accepted (this session)
+    int64_t acc_seq;                                 ///< last accepted pair: seq
+    int64_t acc_utime_us;                            ///< ... its time
+    double acc_length_m[CDPR_MAX_CABLES];            ///< ... its lengths
+    int have_cand;                                   ///< a refused pair that may re-anchor
+    int64_t cand_seq;                                ///< ... its seq
+    int64_t cand_utime_us;                           ///< ... its time
+    char last_refusal[160];                          ///< why the last pair was refused
+    long refused_in_row;                             ///< pairs refused since the last accepted
+    long acc_run;                                    ///< pairs accepted since the anchor
+    int64_t other_controller;                        ///< last other session reported
+    cdpr_rt_tracker_session_fn on_other_controller;  ///< optional (old = ours, new = other)
 } cdpr_rt_tracker_t;
 
 /// Build the node: the controller (cdpr_tracker_init with `model` params, `traj`, gains `g`
@@ -160,6 +232,21 @@ void cdpr_rt_tracker_print_cost(FILE *f, const cdpr_rt_tracker_t *t);
 /// `n_cables`, negative time, period not > 0) or CDPR_E_NOT_FINITE (a non-finite value).
 cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
                                      double period_s, int n_cables, cdpr_tracker_meas_t *m);
+
+/// Check a pair against the node's bounds and its last accepted pair (the rules above).
+/// Returns CDPR_OK, or the reason's status: CDPR_E_MISMATCH (sequence window),
+/// CDPR_E_OUT_OF_RANGE (time), CDPR_E_NOT_FINITE / CDPR_E_INFEASIBLE (a value outside its
+/// range), CDPR_E_INVALID_ARG (the pair does not fit); `why` says which value. Changes nothing.
+cdpr_status_t cdpr_rt_tracker_check_pair(const cdpr_rt_tracker_t *t, const cdpr_cabin_state_t *st,
+                                         const cdpr_cable_tensions_t *ten, char *why, size_t cap);
+
+/// 1 when the plant applied another controller session's commands in at most `max_share`
+/// of the states since this node's first command (and, with no state since, 1).
+int cdpr_rt_tracker_in_control(const cdpr_rt_tracker_t *t, double max_share);
+
+/// One line on `f` for each kind of refused state and for the periods not applied, nothing
+/// when all is well.
+void cdpr_rt_tracker_print_trust(FILE *f, const char *app, const cdpr_rt_tracker_t *t);
 
 /// Recording what the controller sees (the tracker's timeseries.csv and summary, in
 /// cdpr-sim's format): use cdpr_rt_tracker_record_step as on_step with a cdpr_rt_record_t.

@@ -1,0 +1,348 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/// @file test_tracker_trust.c
+/// The controller side of the protocol trusts nothing that arrives (tracker_node.h, "Trust";
+/// issue 26): the tracker node over a real LCM (memq://) fed by a scripted plant that holds the
+/// paper's cabin at rest (state and tensions from the sag-aware IK, seq k, time k T), and the
+/// hostile messages of the probes, each against the same run without them:
+///  - a forged pair with seq = real + 2^40 (before: every later real state was ignored);
+///  - a forged tension of 1e300 N with tension feedback on (before: it stuck in the filter and
+///    every winch paid out at the limit);
+///  - a forged time far ahead (before: the controller jumped to the end of its run);
+///  - implausible values (quaternion, speed, length jump, position, tension);
+///  - a forged first state (the window re-anchors after two agreeing pairs);
+///  - another controller's session applied (counted, in_control says no);
+///  - a plant at another rate (counted).
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <lcm/lcm.h>
+
+#include "cdpr/rt/tracker_node.h"
+#include "cdpr/statics.h"
+#include "paper_model.h"
+#include "unity.h"
+
+#define T_S      0.01
+#define N_STATES 60
+
+static cdpr_robot_params_t g_params;
+static cdpr_robot_t g_model;
+static cdpr_winch_params_t g_winch[CDPR_MAX_CABLES];
+static cdpr_traj_t g_traj;
+static cdpr_statics_result_t g_ik;
+static cdpr_rt_tracker_t g_node;
+static lcm_t *g_lcm;
+
+/* Commands received by the scripted plant. */
+static long g_commands;
+static double g_max_rate;
+static int64_t g_last_state_seq;
+
+static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    (void)user;
+    cdpr_winch_command_t c;
+    if (cdpr_winch_command_t_decode(rbuf->data, 0, (int)rbuf->data_size, &c) !=
+        (int)rbuf->data_size) {
+        return;
+    }
+    g_commands++;
+    g_last_state_seq = c.state_seq;
+    for (int j = 0; j < c.n_cables; ++j) {
+        g_max_rate = fmax(g_max_rate, fabs(c.value[j]));
+    }
+}
+
+static const double HOME[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
+
+void setUp(void)
+{
+    test_paper_model_params(&g_params, &g_model);
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        cdpr_winch_params_default(&g_winch[j]);
+    }
+    g_traj = test_line(HOME, HOME, 10.0); /* hold the home pose */
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    const cdpr_real_t pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
+    const cdpr_cabin_motion_t m = cdpr_cabin_motion_at_pose(pose);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&g_model, &m, &o, &g_ik));
+    cdpr_tracker_gains_t g;
+    memset(&g, 0, sizeof g);
+    g.k_length_per_s = 5.0;
+    g.tension_gain_m_per_s_per_N = 1e-3; /* the tension filter a forged tension would poison */
+    g.tension_filter_s = 0.05;
+    cdpr_diag_t d;
+    TEST_ASSERT_EQUAL_INT(
+        CDPR_OK, cdpr_rt_tracker_init(&g_node, &g_params, g_winch, &g_traj, &g, T_S, NULL, &d));
+    g_lcm = lcm_create("memq://");
+    TEST_ASSERT_NOT_NULL(g_lcm);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rt_tracker_attach(&g_node, g_lcm));
+    TEST_ASSERT_NOT_NULL(lcm_subscribe(g_lcm, "CDPR_WINCH_COMMAND", on_command, NULL));
+    g_commands = 0;
+    g_max_rate = 0.0;
+    g_last_state_seq = -1;
+}
+
+void tearDown(void)
+{
+    cdpr_rt_tracker_detach(&g_node);
+    lcm_destroy(g_lcm);
+}
+
+/* The plant's messages of period k: the cabin at rest at home, the IK's tensions and lengths. */
+static void make_pair(int64_t k, cdpr_cabin_state_t *st, cdpr_cable_tensions_t *ten)
+{
+    memset(st, 0, sizeof *st);
+    memset(ten, 0, sizeof *ten);
+    st->utime_us = k * (int64_t)llround(T_S * 1e6);
+    st->seq = k;
+    st->command_seq = -1;
+    st->plant_session = 77;
+    st->controller_session = (g_node.cmd_seq >= 0) ? g_node.controller_session : 0;
+    st->position_m[2] = HOME[2];
+    st->orientation[0] = 1.0;
+    ten->utime_us = st->utime_us;
+    ten->seq = k;
+    ten->plant_session = 77;
+    ten->n_cables = 6;
+    for (int j = 0; j < 6; ++j) {
+        ten->tension_cabin_N[j] = g_ik.cable[j].tension_cabin_N;
+        ten->tension_winch_N[j] = g_ik.cable[j].tension_winch_N;
+        ten->length_m[j] = g_ik.cable[j].length_m;
+        ten->n_segments[j] = 8;
+    }
+}
+
+/* Publish a pair and let the node answer it (memq delivers on lcm_handle). */
+static void send(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten)
+{
+    unsigned char buf[1024];
+    int n = cdpr_cabin_state_t_encode(buf, 0, (int)sizeof buf, st);
+    TEST_ASSERT_TRUE(n > 0);
+    TEST_ASSERT_EQUAL_INT(0, lcm_publish(g_lcm, "CDPR_CABIN_STATE", buf, (unsigned)n));
+    n = cdpr_cable_tensions_t_encode(buf, 0, (int)sizeof buf, ten);
+    TEST_ASSERT_TRUE(n > 0);
+    TEST_ASSERT_EQUAL_INT(0, lcm_publish(g_lcm, "CDPR_CABLE_TENSIONS", buf, (unsigned)n));
+    for (int i = 0; i < 4; ++i) {
+        (void)lcm_handle_timeout(g_lcm, 0);
+    }
+    (void)cdpr_rt_tracker_service(&g_node);
+    for (int i = 0; i < 4; ++i) {
+        (void)lcm_handle_timeout(g_lcm, 0); /* the command */
+    }
+}
+
+static void send_real(int64_t k)
+{
+    cdpr_cabin_state_t st;
+    cdpr_cable_tensions_t ten;
+    make_pair(k, &st, &ten);
+    send(&st, &ten);
+}
+
+static uint64_t refused(void)
+{
+    const cdpr_rt_tracker_stats_t *s = &g_node.stats;
+    return s->refused_seq + s->refused_time + s->refused_implausible + s->bad_measurement;
+}
+
+static void test_clean_run_answers_every_state(void)
+{
+    for (int64_t k = 0; k < N_STATES; ++k) {
+        send_real(k);
+    }
+    TEST_ASSERT_EQUAL_INT(N_STATES, g_commands);
+    TEST_ASSERT_EQUAL_UINT64(0, refused());
+    TEST_ASSERT_EQUAL_UINT64(0, g_node.stats.rate_mismatch);
+    TEST_ASSERT_EQUAL_UINT64(N_STATES - 1, g_node.stats.applied_ours);
+    TEST_ASSERT_TRUE(cdpr_rt_tracker_in_control(&g_node, CDPR_RT_MAX_OTHER_SHARE));
+    TEST_ASSERT_TRUE_MESSAGE(g_max_rate < 0.05, "at rest the commands are small");
+}
+
+static void test_forged_far_seq_costs_one_update(void)
+{
+    for (int64_t k = 0; k < N_STATES; ++k) {
+        if (k == 10) {
+            cdpr_cabin_state_t st;
+            cdpr_cable_tensions_t ten;
+            make_pair(k + ((int64_t)1 << 40), &st, &ten);
+            send(&st, &ten);
+        }
+        send_real(k);
+    }
+    TEST_ASSERT_EQUAL_UINT64(1, g_node.stats.refused_seq);
+    TEST_ASSERT_EQUAL_INT(N_STATES, g_commands); /* every real state answered */
+    TEST_ASSERT_EQUAL_INT64(N_STATES - 1, g_last_state_seq);
+    TEST_ASSERT_EQUAL_UINT64(0, g_node.stats.resyncs);
+}
+
+static void test_forged_tension_never_reaches_the_filter(void)
+{
+    for (int64_t k = 0; k < N_STATES; ++k) {
+        if (k == 10) {
+            /* The forged tensions of period 10 arrive first and pair with the real state. */
+            cdpr_cabin_state_t st;
+            cdpr_cable_tensions_t ten;
+            make_pair(k, &st, &ten);
+            ten.tension_winch_N[2] = 1e300;
+            send(&st, &ten);
+            TEST_ASSERT_EQUAL_UINT64(1, g_node.stats.refused_implausible);
+            TEST_ASSERT_NOT_NULL(strstr(g_node.last_refusal, "cable 3: tension"));
+            continue; /* period 10's real pair then finds the state already refused */
+        }
+        send_real(k);
+    }
+    TEST_ASSERT_EQUAL_INT(N_STATES - 1, g_commands);
+    for (int j = 0; j < 6; ++j) {
+        TEST_ASSERT_TRUE(isfinite(g_node.tracker.ten_f[j]) && fabs(g_node.tracker.ten_f[j]) < 1.0);
+    }
+    TEST_ASSERT_TRUE_MESSAGE(g_max_rate < 0.05, "no winch ran off");
+}
+
+static void test_forged_time_ahead_is_refused(void)
+{
+    for (int64_t k = 0; k < N_STATES; ++k) {
+        if (k == 20) {
+            cdpr_cabin_state_t st;
+            cdpr_cable_tensions_t ten;
+            make_pair(k, &st, &ten);
+            st.utime_us = ten.utime_us = 8000000; /* the end of an 8 s run */
+            send(&st, &ten);
+            TEST_ASSERT_EQUAL_UINT64(1, g_node.stats.refused_time);
+        }
+        send_real(k);
+    }
+    TEST_ASSERT_EQUAL_INT(N_STATES, g_commands);
+    TEST_ASSERT_TRUE(g_node.tracker.t_next_s < 1.0); /* the controller's clock did not jump */
+}
+
+typedef struct {
+    const char *name;
+    int what;
+} bad_t;
+
+static void test_implausible_values_are_refused(void)
+{
+    static const bad_t bad[] = {{"not a unit quaternion", 0},
+                                {"speed", 1},
+                                {"angular speed", 2},
+                                {"length jump", 3},
+                                {"far away", 4},
+                                {"negative tension", 5},
+                                {"below the winch's minimum", 6}};
+    int64_t k = 0;
+    send_real(k++);
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        cdpr_cabin_state_t st;
+        cdpr_cable_tensions_t ten;
+        make_pair(k, &st, &ten);
+        switch (bad[i].what) {
+        case 0:
+            st.orientation[1] = 0.1;
+            break;
+        case 1:
+            st.velocity_m_per_s[0] = 1e3;
+            break;
+        case 2:
+            st.angular_velocity_rad_per_s[2] = 1e3;
+            break;
+        case 3:
+            ten.length_m[4] += 1.0; /* 1 m in 10 ms: 100 m/s */
+            break;
+        case 4:
+            st.position_m[0] = 500.0;
+            break;
+        case 5:
+            ten.tension_cabin_N[0] = -5.0;
+            break;
+        default:
+            ten.length_m[1] = 0.1;
+            break;
+        }
+        const uint64_t before = g_node.stats.refused_implausible;
+        send(&st, &ten);
+        TEST_ASSERT_EQUAL_UINT64_MESSAGE(before + 1, g_node.stats.refused_implausible, bad[i].name);
+        send_real(k++); /* the real pair of the same period after it: answered */
+    }
+    TEST_ASSERT_EQUAL_INT(8, g_commands);
+}
+
+static void test_forged_anchor_resyncs_after_two_pairs(void)
+{
+    cdpr_cabin_state_t st;
+    cdpr_cable_tensions_t ten;
+    make_pair((int64_t)1 << 40, &st, &ten); /* the first state ever seen is forged */
+    st.utime_us = ten.utime_us = (int64_t)1 << 40;
+    send(&st, &ten);
+    const long before = g_commands; /* answered or not: nothing to compare it with */
+    for (int64_t k = 0; k < 20; ++k) {
+        send_real(k);
+    }
+    TEST_ASSERT_EQUAL_UINT64(1, g_node.stats.resyncs);
+    TEST_ASSERT_EQUAL_UINT64(1, g_node.stats.refused_seq); /* real 0; real 1 re-anchors */
+    TEST_ASSERT_EQUAL_INT(19, g_commands - before);
+    TEST_ASSERT_EQUAL_INT64(19, g_last_state_seq);
+}
+
+static void test_another_controller_in_control(void)
+{
+    for (int64_t k = 0; k < N_STATES; ++k) {
+        cdpr_cabin_state_t st;
+        cdpr_cable_tensions_t ten;
+        make_pair(k, &st, &ten);
+        if (k >= 30) {
+            st.controller_session = 999; /* a take-over */
+        } else if (k == 5) {
+            st.controller_session = 0; /* one period on hold */
+        }
+        send(&st, &ten);
+    }
+    TEST_ASSERT_EQUAL_UINT64(30, g_node.stats.applied_other);
+    TEST_ASSERT_EQUAL_UINT64(1, g_node.stats.applied_none);
+    TEST_ASSERT_EQUAL_UINT64(28, g_node.stats.applied_ours);
+    TEST_ASSERT_FALSE(cdpr_rt_tracker_in_control(&g_node, CDPR_RT_MAX_OTHER_SHARE));
+    TEST_ASSERT_TRUE(cdpr_rt_tracker_in_control(&g_node, 0.6));
+}
+
+static void test_plant_at_another_rate(void)
+{
+    /* A plant at 200 Hz against a 100 Hz controller: every step is half a period. */
+    for (int64_t k = 0; k < 20; ++k) {
+        cdpr_cabin_state_t st;
+        cdpr_cable_tensions_t ten;
+        make_pair(k, &st, &ten);
+        st.utime_us = ten.utime_us = k * 5000;
+        send(&st, &ten);
+    }
+    TEST_ASSERT_EQUAL_UINT64(19, g_node.stats.rate_mismatch);
+    /* A plant at 50 Hz: its time runs ahead of the periods: every pair refused. */
+    cdpr_rt_tracker_detach(&g_node);
+    lcm_destroy(g_lcm);
+    setUp();
+    for (int64_t k = 0; k < 20; ++k) {
+        cdpr_cabin_state_t st;
+        cdpr_cable_tensions_t ten;
+        make_pair(k, &st, &ten);
+        st.utime_us = ten.utime_us = k * 20000;
+        send(&st, &ten);
+    }
+    TEST_ASSERT_TRUE(g_node.stats.refused_time >= 18);
+    TEST_ASSERT_TRUE(g_node.refused_in_row >= 18);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_clean_run_answers_every_state);
+    RUN_TEST(test_forged_far_seq_costs_one_update);
+    RUN_TEST(test_forged_tension_never_reaches_the_filter);
+    RUN_TEST(test_forged_time_ahead_is_refused);
+    RUN_TEST(test_implausible_values_are_refused);
+    RUN_TEST(test_forged_anchor_resyncs_after_two_pairs);
+    RUN_TEST(test_another_controller_in_control);
+    RUN_TEST(test_plant_at_another_rate);
+    return UNITY_END() ? 1 : 0;
+}
