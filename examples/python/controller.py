@@ -17,9 +17,24 @@ one plant: the first it hears, then a new plant session only after the followed 
 silent for 0.5 s (a restarted plant: the controller starts over); states of another session
 meanwhile are ignored and counted (two plants on one channel prefix).
 
-Exit status: 0 when at least one state (with --count: N states) was answered, 1 otherwise.
+Trust (docs/realtime.md, "The controller side"): the same rules as cdpr-tracker's. Each
+(state, tensions) pair of the followed plant is checked before the law sees it: seq within
+(last accepted, last accepted + 1000] (two refused pairs in a row that agree re-anchor the
+window, backwards only while the anchor has no accepted successor), time never going back and
+advancing by at most the periods the seq advanced (--period), every value finite, a unit
+quaternion, |v| <= --speed-max, tensions in [0, --tension-max], lengths > 0 and changing by at
+most --winch-u-max times the time elapsed. A refused pair changes nothing (counted; the first
+refusal of each kind printed). After its first command, the controller counts whose command
+the plant applied (cabin_state_t.controller_session): its own, none (held) or another
+controller's, and warns at once when another controller holds the plant. At most 64 unpaired
+messages are kept.
+
+Exit status: 0 when at least one state (with --count: N states) was answered; 5 when the
+plant applied another controller's commands in more than 1 % of the states after our first
+command (not in control); 1 otherwise (also: 100 pairs in a row refused).
 """
 import argparse
+import math
 import secrets
 import sys
 import time
@@ -40,13 +55,26 @@ def main():
     ap.add_argument("--lift", type=float, default=0.05, help="length change [m] (+: shorter)")
     ap.add_argument("--ramp", type=float, default=1.0, help="duration of the change [s]")
     ap.add_argument("--u-max", type=float, default=0.5, help="rate limit [m/s]")
+    ap.add_argument("--period", type=float, default=0.0,
+                    help="the plant's control period [s] for the time check (0: only "
+                         "monotonic time is checked)")
+    ap.add_argument("--speed-max", type=float, default=50.0,
+                    help="largest plausible cabin speed [m/s] (default 50)")
+    ap.add_argument("--tension-max", type=float, default=1e7,
+                    help="largest plausible tension [N] (default 1e7: set the rope's EA)")
+    ap.add_argument("--winch-u-max", type=float, default=4.0,
+                    help="the winches' speed limit [m/s] (default 4, the winch default)")
     a = ap.parse_args()
 
     lc = lcm.LCM(a.lcm_url) if a.lcm_url else lcm.LCM()
     states = {}
     tens = {}
     ctl = {"answered": 0, "seq": 0, "l0": None, "t0": None, "last": -1, "cmd": b"",
-           "session": secrets.randbits(63) or 1, "plant": 0, "heard": 0.0, "ignored": 0}
+           "session": secrets.randbits(63) or 1, "plant": 0, "heard": 0.0, "ignored": 0,
+           "acc": None, "run": 0, "cand": None, "in_row": 0, "other_seen": 0}
+    refused = {"seq": 0, "time": 0, "value": 0}
+    applied = {"ours": 0, "none": 0, "other": 0}
+    window = 1000
 
     def follows(plant_session, is_state):
         """True for a message of the plant followed (or of a new one after a silence)."""
@@ -59,7 +87,8 @@ def main():
             if ctl["plant"] != 0:
                 print("controller: plant restarted (session %d -> %d)" %
                       (ctl["plant"], plant_session), file=sys.stderr)
-            ctl.update(plant=plant_session, heard=now, l0=None, t0=None, last=-1, cmd=b"")
+            ctl.update(plant=plant_session, heard=now, l0=None, t0=None, last=-1, cmd=b"",
+                       acc=None, run=0, cand=None)
             states.clear()
             tens.clear()
             return True
@@ -71,10 +100,87 @@ def main():
         rate = (-a.lift / a.ramp) if (a.ramp > 0 and 0.0 < s < 1.0) else 0.0
         return [l0 - a.lift * s for l0 in ctl["l0"]], rate
 
+    def values_problem(s, m):
+        """Why a pair's values are implausible, or None."""
+        n = m.n_cables
+        vals = (list(s.position_m) + list(s.orientation) + list(s.velocity_m_per_s) +
+                list(s.angular_velocity_rad_per_s) + list(m.length_m[:n]) +
+                list(m.tension_winch_N[:n]) + list(m.tension_cabin_N[:n]))
+        if not all(math.isfinite(v) for v in vals):
+            return "a value is not finite"
+        if not 1 <= n <= winch_command_t.MAX_CABLES:
+            return "cable count %d" % n
+        qn = sum(q * q for q in s.orientation)
+        if abs(qn - 1.0) > 1e-6:
+            return "orientation: |q|^2 = %.9g, not a unit quaternion" % qn
+        v = math.sqrt(sum(x * x for x in s.velocity_m_per_s))
+        if v > a.speed_max:
+            return "cabin speed %.4g m/s above --speed-max %.4g" % (v, a.speed_max)
+        for j in range(n):
+            for t in (m.tension_winch_N[j], m.tension_cabin_N[j]):
+                if not 0.0 <= t <= a.tension_max:
+                    return "cable %d: tension %.4g N outside [0, %.4g] N" % (j + 1, t,
+                                                                            a.tension_max)
+            if not m.length_m[j] > 0.0:
+                return "cable %d: length %.6g m" % (j + 1, m.length_m[j])
+        return None
+
+    def order_problem(s, m, ref):
+        """Why a pair does not follow `ref` = (seq, utime_us, lengths), or None."""
+        seq0, t0, l0 = ref
+        dseq = s.seq - seq0
+        if not 0 < dseq <= window:
+            return "seq", "seq %d outside (%d, %d]" % (s.seq, seq0, seq0 + window)
+        dt = s.utime_us - t0
+        if dt < 0 or (a.period > 0 and dt > dseq * a.period * 1e6 + 1.0):
+            return "time", "time %d us: %d us after %d periods" % (s.utime_us, dt, dseq)
+        for j in range(m.n_cables):
+            if abs(m.length_m[j] - l0[j]) > a.winch_u_max * dt * 1e-6 + 1e-9 * (1 + abs(l0[j])):
+                return "value", "cable %d: length changed faster than --winch-u-max" % (j + 1)
+        return None
+
+    def accept(s, m):
+        """Check a pair (the rules in the module's text); True to use it."""
+        why = values_problem(s, m)
+        kind = "value" if why else None
+        if why is None and ctl["acc"] is not None:
+            problem = order_problem(s, m, ctl["acc"])
+            if problem is not None:
+                kind, why = problem
+                cand = ctl["cand"]
+                backwards = s.seq < ctl["acc"][0]
+                if (kind != "value" and cand is not None and order_problem(s, m, cand) is None
+                        and (not backwards or ctl["run"] < 2)):
+                    why = None  # two agreeing pairs: the window re-anchors on them
+                    ctl["run"] = 0
+                elif kind != "value":
+                    ctl["cand"] = (s.seq, s.utime_us, list(m.length_m[:m.n_cables]))
+        if why is not None:
+            if refused[kind] == 0:
+                print("controller: warning: a state was refused: %s" % why, file=sys.stderr)
+            refused[kind] += 1
+            ctl["in_row"] += 1
+            return False
+        ctl.update(acc=(s.seq, s.utime_us, list(m.length_m[:m.n_cables])), cand=None,
+                   run=ctl["run"] + 1, in_row=0)
+        if ctl["answered"] > 0:
+            if s.controller_session == ctl["session"]:
+                applied["ours"] += 1
+            elif s.controller_session == 0:
+                applied["none"] += 1
+            else:
+                applied["other"] += 1
+                if s.controller_session != ctl["other_seen"]:
+                    ctl["other_seen"] = s.controller_session
+                    print("controller: warning: the plant applied the commands of another "
+                          "controller (session %d): not in control" % s.controller_session,
+                          file=sys.stderr)
+        return True
+
     def answer(k):
         s = states.pop(k)
         m = tens.pop(k)
-        if k <= ctl["last"]:
+        if k == ctl["last"] or not accept(s, m):
             return
         t = s.utime_us * 1e-6
         n = m.n_cables
@@ -111,6 +217,8 @@ def main():
             lc.publish(a.prefix + "WINCH_COMMAND", ctl["cmd"])
             return
         states[s.seq] = s
+        while len(states) > 64:
+            del states[min(states)]
         if s.seq in tens:
             answer(s.seq)
 
@@ -119,22 +227,41 @@ def main():
         if not follows(m.plant_session, False):
             return
         tens[m.seq] = m
+        while len(tens) > 64:
+            del tens[min(tens)]
         if m.seq in states:
             answer(m.seq)
 
     lc.subscribe(a.prefix + "CABIN_STATE", on_state)
     lc.subscribe(a.prefix + "CABLE_TENSIONS", on_tensions)
     timeout_ms = int(a.timeout * 1000) if a.timeout > 0 else 1000
+    print("controller: session %d, waiting for %sCABIN_STATE" % (ctl["session"], a.prefix),
+          file=sys.stderr, flush=True)
     try:
         while a.count <= 0 or ctl["answered"] < a.count:
             if lc.handle_timeout(timeout_ms) == 0 and a.timeout > 0:
                 break
+            if ctl["in_row"] >= 100:
+                print("controller: 100 states in a row refused: stopping", file=sys.stderr)
+                return 1
     except KeyboardInterrupt:
         pass
     print("controller: answered %d states (last state seq %d)" % (ctl["answered"], ctl["last"]))
     if ctl["ignored"]:
         print("controller: warning: %d messages of another plant session ignored" %
               ctl["ignored"], file=sys.stderr)
+    if any(refused.values()):
+        print("controller: refused states: %d outside the sequence window, %d with a bad "
+              "time, %d implausible" % (refused["seq"], refused["time"], refused["value"]),
+              file=sys.stderr)
+    counted = sum(applied.values())
+    if applied["other"] or applied["none"]:
+        print("controller: after its first command the plant applied its commands in %d "
+              "periods, none in %d, another controller's in %d" %
+              (applied["ours"], applied["none"], applied["other"]), file=sys.stderr)
+    if counted and applied["other"] > 0.01 * counted:
+        print("controller: not in control: another controller held the plant", file=sys.stderr)
+        return 5
     want = a.count if a.count > 0 else 1
     return 0 if ctl["answered"] >= want else 1
 

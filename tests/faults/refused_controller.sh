@@ -1,0 +1,77 @@
+#!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
+# Fault H5: a controller that is not in control must say so (issue 26). The plant follows one
+# controller session at a time and takes over a new one only after the active one fell silent
+# (docs/realtime.md, "Sessions"). Free-running, 100 Hz, 6 s, 0.1 s watchdog:
+#  1. cdpr-tracker controls; it is stopped (SIGSTOP), examples/python/controller.py starts
+#     and takes the plant over, the tracker resumes 1 s (10 watchdog periods) after the Python
+#     controller listens and is refused (session busy) for the rest of the run. The tracker
+#     must warn, exit 5 and mark its summary failed, "not in control" (before: exit 0 and a time
+#     series of commands the plant never applied); the Python controller, in control from its
+#     first command, exits 0.
+#  2. The roles swapped: controller.py is stopped, cdpr-tracker takes over; controller.py must
+#     exit 5 ("not in control").
+# Each resume waits until the new controller listens, and the take-over holds for the rest of
+# the run: the outcome does not depend on the machine's speed.
+# Runs inside a private network namespace (udpm on loopback).
+set -eu
+. "$(dirname "$0")/lib.sh" "$@"
+python_or_skip
+sc=$src/scenarios/paper-line.yaml
+common="--rate 100 --duration 6 --lcm-url $url"
+
+# 1. The tracker loses the plant.
+"$bin/cdpr-tracker" "$sc" $common --out "$w/t" --no-plot --quiet --idle-exit 30 > "$w/t.txt" 2>&1 &
+t=$!
+sleep 0.5
+"$bin/cdpr-rt" "$sc" $common --watchdog 0.1 > "$w/rt.txt" 2> "$w/rt.err" &
+rt=$!
+wait_for "$w/rt.err" "running" 60
+sleep 1
+kill -STOP "$t"
+"$py" "$src/examples/python/controller.py" --lcm-url "$url" --timeout 5 > "$w/ctl.txt" 2>&1 &
+ctl=$!
+wait_for "$w/ctl.txt" "waiting for" 60
+sleep 1
+kill -CONT "$t"
+rc=0
+wait "$rt" || rc=$?
+trc=0
+wait "$t" || trc=$?
+crc=0
+wait "$ctl" || crc=$?
+cat "$w/rt.txt" "$w/t.txt" "$w/ctl.txt"
+expect_exit 0 "$rc" "cdpr-rt"
+expect_exit 5 "$trc" "cdpr-tracker that lost the plant"
+expect_exit 0 "$crc" "controller.py that took the plant over"
+grep -q "warning: the plant applied the commands of another controller" "$w/t.txt" ||
+    fail "the tracker did not warn"
+grep -qF '"status": "failed",' "$w/t/summary.json" || fail "the tracker's summary is not failed"
+grep -qF 'not in control' "$w/t/summary.json" || fail "the tracker's summary does not say why"
+echo "PASS: the refused tracker warned, exited 5 and marked its summary"
+
+# 2. The Python controller loses the plant.
+"$py" "$src/examples/python/controller.py" --lcm-url "$url" --timeout 5 > "$w/ctl2.txt" 2>&1 &
+ctl=$!
+sleep 1
+"$bin/cdpr-rt" "$sc" $common --watchdog 0.1 > "$w/rt2.txt" 2> "$w/rt2.err" &
+rt=$!
+wait_for "$w/rt2.err" "running" 60
+sleep 1
+kill -STOP "$ctl"
+"$bin/cdpr-tracker" "$sc" $common --idle-exit 30 > "$w/t2.txt" 2>&1 &
+t=$!
+wait_for "$w/t2.txt" "waiting for" 60
+sleep 1
+kill -CONT "$ctl"
+rc=0
+wait "$rt" || rc=$?
+trc=0
+wait "$t" || trc=$?
+crc=0
+wait "$ctl" || crc=$?
+cat "$w/rt2.txt" "$w/t2.txt" "$w/ctl2.txt"
+expect_exit 0 "$rc" "cdpr-rt (2)"
+expect_exit 5 "$crc" "controller.py that lost the plant"
+grep -q "not in control" "$w/ctl2.txt" || fail "controller.py did not say it was not in control"
+echo "PASS: the refused Python controller exited 5"
