@@ -14,8 +14,12 @@
 /// Exit codes (the apps' one table, app_status.h): 0 finished (answered the state at the end
 /// of the run), 1 stopped by a signal (SIGINT/SIGTERM/SIGHUP, also while waiting for the first
 /// state: summary.json "interrupted", whole rows) or by silence (no state for --idle-exit
-/// seconds: "failed"), 2 bad command line or scenario, 3 LCM failure or output error (the file
-/// and strerror on stderr; also: the scenario file or the --replay log cannot be read).
+/// seconds: "failed"; 100 states in a row refused or a plant at another rate: "failed"), 2 bad
+/// command line or scenario, 3 LCM failure or output error (the file and strerror on stderr;
+/// also: the scenario file or the --replay log cannot be read), 5 a second plant on the
+/// channels, or not in control (the plant applied another controller's commands in more than
+/// 1 % of the periods after the first command: "failed"). States are checked before use
+/// (tracker_node.h, "Trust"); the refusals are counted and printed on stderr.
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -74,9 +78,11 @@ static void usage(FILE *f)
            "  --quiet          no summary on stdout\n"
            "  --help           this text\n"
            "  --version        version and git description\n\n"
-           "exit codes: 0 finished, 1 stopped (signal or silence) or a replayed state differs,\n"
-           "            2 bad command line or scenario, 3 LCM or output failure, unreadable\n"
-           "            scenario or log\n"
+           "exit codes: 0 finished, 1 stopped (signal, silence, 100 states in a row refused, a\n"
+           "            plant at another rate) or a replayed state differs, 2 bad command line\n"
+           "            or scenario, 3 LCM or output failure, unreadable scenario or log, 5 a\n"
+           "            second plant, or not in control (another controller's commands applied\n"
+           "            in more than 1 %% of the periods)\n"
            "            SIGINT/SIGTERM/SIGHUP: whole rows, summary.json \"interrupted\", exit 1\n");
 }
 
