@@ -21,6 +21,7 @@
 /// 1 % of the periods after the first command: "failed"). States are checked before use
 /// (tracker_node.h, "Trust"); the refusals are counted and printed on stderr.
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <getopt.h>
@@ -28,7 +29,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 
 #include "app_cli.h"
@@ -38,6 +38,7 @@
 #include "cdpr/host/clock.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
+#include "cdpr/rt/lcmlog.h"
 #include "cdpr/rt/tracker_node.h"
 
 typedef struct {
@@ -164,53 +165,96 @@ typedef struct {
 static replay_t g_replay;
 static const volatile int *g_stop; /* set by SIGINT/SIGTERM (cdpr_app_stop_on_signals) */
 
-/* Read the recorded commands and states of a lockstep run. CDPR_OK, CDPR_E_IO (cannot open,
- * out of memory) or CDPR_E_PARSE (no events of ours). */
+typedef struct {
+    const char *ch_state;
+    const char *ch_command;
+} replay_channels_t;
+
+static int replay_want(const char *channel, void *ctx)
+{
+    const replay_channels_t *c = ctx;
+    return (strcmp(channel, c->ch_state) == 0 || strcmp(channel, c->ch_command) == 0) ? 1 : 0;
+}
+
+/* Read the recorded commands and states of a lockstep run, validated first (cdpr/rt/lcmlog.h:
+ * every event checked against the file before it is read; a cut or damaged log is an error
+ * naming the event); every event of our channels must decode; state seqs number the states
+ * 0..n-1, so the arrays are bounded by the log's size. CDPR_OK, CDPR_E_IO (cannot open, out of
+ * memory) or CDPR_E_PARSE (a damaged log, no events of ours, a seq outside the states). */
 static cdpr_status_t replay_load(replay_t *r, const char *path, const char *prefix)
 {
     char ch_state[80];
     snprintf(ch_state, sizeof ch_state, "%sCABIN_STATE", prefix);
     snprintf(r->ch_command, sizeof r->ch_command, "%sWINCH_COMMAND", prefix);
+    replay_channels_t want = {ch_state, r->ch_command};
+    static cdpr_lcmlog_t log; /* 66 kB of buffers */
+    long n_states = 0;
     for (int pass = 0; pass < 2; ++pass) {
-        lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
-        if (log == NULL) {
-            fprintf(stderr, "cdpr-tracker: --replay %s: cannot open: %s\n", path, strerror(errno));
-            return CDPR_E_IO;
+        char msg[1024];
+        const cdpr_status_t os = cdpr_lcmlog_open(&log, path, msg, sizeof msg);
+        if (os != CDPR_OK) {
+            fprintf(stderr, "cdpr-tracker: --replay %s\n", msg);
+            return os;
         }
-        lcm_eventlog_event_t *ev;
-        while ((ev = lcm_eventlog_read_next_event(log)) != NULL) {
-            if (strcmp(ev->channel, r->ch_command) == 0) {
+        int rc;
+        while ((rc = cdpr_lcmlog_next(&log, replay_want, &want, msg, sizeof msg)) == 1) {
+            if (log.data_len < 0) {
+                continue;
+            }
+            long seq;
+            const char *bad = NULL;
+            if (strcmp(log.channel, r->ch_command) == 0) {
                 cdpr_winch_command_t c;
-                if (cdpr_winch_command_t_decode(ev->data, 0, (int)ev->datalen, &c) > 0 &&
-                    c.state_seq >= 0 && c.state_seq < 100000000) {
-                    if (pass == 0) {
-                        r->n = (c.state_seq + 1 > r->n) ? (long)c.state_seq + 1 : r->n;
-                    } else if (r->have_cmd[c.state_seq] == 0) {
-                        r->cmd[c.state_seq] = c;
-                        r->have_cmd[c.state_seq] = 1;
-                        r->last_cmd =
-                            ((long)c.state_seq > r->last_cmd) ? (long)c.state_seq : r->last_cmd;
+                if (cdpr_winch_command_t_decode(log.data, 0, log.data_len, &c) != log.data_len) {
+                    bad = "does not decode as a winch_command_t";
+                } else if (c.state_seq < 0 || c.state_seq >= (int64_t)LONG_MAX) {
+                    bad = "state_seq out of range";
+                } else {
+                    seq = (long)c.state_seq;
+                    if (pass == 1 && seq < r->n && r->have_cmd[seq] == 0) {
+                        r->cmd[seq] = c;
+                        r->have_cmd[seq] = 1;
+                        r->last_cmd = (seq > r->last_cmd) ? seq : r->last_cmd;
                     }
                 }
-            } else if (strcmp(ev->channel, ch_state) == 0) {
+            } else {
                 cdpr_cabin_state_t st;
-                if (cdpr_cabin_state_t_decode(ev->data, 0, (int)ev->datalen, &st) > 0 &&
-                    st.seq >= 0 && st.seq < 100000000) {
-                    if (pass == 0) {
-                        r->n = (st.seq + 1 > r->n) ? (long)st.seq + 1 : r->n;
-                    } else if (st.seq < r->n && r->have_state[st.seq] == 0) {
-                        r->state[st.seq] = st;
-                        r->have_state[st.seq] = 1;
-                    }
+                if (cdpr_cabin_state_t_decode(log.data, 0, log.data_len, &st) != log.data_len) {
+                    bad = "does not decode as a cabin_state_t";
+                } else if (st.seq < 0 || st.seq >= (int64_t)LONG_MAX) {
+                    bad = "seq out of range";
+                } else if (pass == 0) {
+                    n_states++;
+                    r->n = ((long)st.seq + 1 > r->n) ? (long)st.seq + 1 : r->n;
+                } else if (r->have_state[st.seq] == 0) {
+                    r->state[st.seq] = st;
+                    r->have_state[st.seq] = 1;
                 }
             }
-            lcm_eventlog_free_event(ev);
+            if (bad != NULL) {
+                fprintf(stderr, "cdpr-tracker: --replay %s: event %lld on %s: %s\n", path,
+                        log.index, log.channel, bad);
+                cdpr_lcmlog_close(&log);
+                return CDPR_E_PARSE;
+            }
         }
-        lcm_eventlog_destroy(log);
+        cdpr_lcmlog_close(&log);
+        if (rc < 0) {
+            fprintf(stderr, "cdpr-tracker: --replay %s\n", msg);
+            return CDPR_E_PARSE;
+        }
         if (pass == 0) {
             if (r->n == 0) {
                 fprintf(stderr, "cdpr-tracker: --replay %s: no %s / %s events\n", path, ch_state,
                         r->ch_command);
+                return CDPR_E_PARSE;
+            }
+            /* A state k needs its own event: seqs beyond the events are not a recording. */
+            if (r->n > n_states) {
+                fprintf(stderr,
+                        "cdpr-tracker: --replay %s: state seq %ld, but the log holds %ld state "
+                        "events (a recording numbers its states 0, 1, 2, ...)\n",
+                        path, r->n - 1, n_states);
                 return CDPR_E_PARSE;
             }
             r->cmd = calloc((size_t)r->n, sizeof *r->cmd);
@@ -223,6 +267,13 @@ static cdpr_status_t replay_load(replay_t *r, const char *path, const char *pref
                 return CDPR_E_IO;
             }
             r->last_cmd = -1;
+        }
+    }
+    for (long k = 0; k < r->n; ++k) {
+        if (r->have_state[k] == 0) {
+            fprintf(stderr, "cdpr-tracker: --replay %s: state %ld is missing from the log\n", path,
+                    k);
+            return CDPR_E_PARSE;
         }
     }
     r->done_seq = r->n - 1; /* the last recorded state */
