@@ -35,6 +35,7 @@ void cdpr_rt_opts_default(cdpr_rt_opts_t *o)
     o->diag_rate_hz = 1.0;
     o->start_delay_s = 0.0;
     cdpr_lcm_bridge_params_default(&o->lcm);
+    o->lcm.watchdog_timeout_s = 0.0; /* follow the period (cdpr_rt_init) */
 }
 
 /* A bad option: "option --NAME: what", NOT_FINITE or OUT_OF_RANGE. */
@@ -121,16 +122,33 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
         cdpr_scenario_error(sc, "run.period_s", "shorter than the clock's 1 ns", err);
         return CDPR_E_OUT_OF_RANGE;
     }
+    /* The watchdog follows the period: a free-running command older than the watchdog is
+     * never applied, so a watchdog shorter than two periods would hold every period. */
+    const double auto_wd = fmax(CDPR_RT_WATCHDOG_DEFAULT_S, 2.0 * sc->period_s);
+    if (fpclassify(rt->o.lcm.watchdog_timeout_s) == FP_ZERO) {
+        rt->o.lcm.watchdog_timeout_s = auto_wd;
+    } else if (rt->o.lockstep == 0 && rt->o.lcm.watchdog_timeout_s < 2.0 * sc->period_s) {
+        snprintf(err->msg, sizeof err->msg,
+                 "option --watchdog: %g s is shorter than two control periods (2 x %g s): no "
+                 "command could ever be applied; use at least %g s, or leave it out (default: "
+                 "the larger of %g s and two periods)",
+                 rt->o.lcm.watchdog_timeout_s, sc->period_s, 2.0 * sc->period_s,
+                 CDPR_RT_WATCHDOG_DEFAULT_S);
+        return CDPR_E_OUT_OF_RANGE;
+    }
+    rt->tel.watchdog_s = rt->o.lcm.watchdog_timeout_s;
+    rt->give_up_periods = (long)ceil(CDPR_RT_LOCKSTEP_GIVE_UP_S / rt->o.lockstep_timeout_s);
     rt->n_periods = cdpr_scenario_periods(sc);
     rt->shape_every = every(rate_hz, rt->o.shape_rate_hz);
     rt->diag_every = every(rate_hz, rt->o.diag_rate_hz);
     rt->stall_periods = (long)ceil(CDPR_RT_STALL_S / sc->period_s);
-    st = cdpr_host_plant_init(&rt->plant, sc, NULL, err);
+    /* The trajectory check of cdpr-sim (feasible, lengths within the limits) before the
+     * plant's settle, which costs far more. */
+    st = cdpr_sim_check_trajectory(sc, sc->duration_s, &rt->check_model, err);
     if (st != CDPR_OK) {
         return st;
     }
-    /* The trajectory check of cdpr-sim: feasible, lengths within the limits. */
-    st = cdpr_sim_check_trajectory(sc, sc->duration_s, &rt->check_model, err);
+    st = cdpr_host_plant_init(&rt->plant, sc, NULL, err);
     if (st != CDPR_OK) {
         return st;
     }
@@ -359,12 +377,19 @@ static void *periodic(void *arg)
     publish(rt, 0);
     int64_t next = start + T;
     long failed_in_row = 0;
+    long unanswered_in_row = 0;
     while (rt->advanced < rt->n_periods) {
         if (o->stop != NULL && *o->stop != 0) {
             break;
         }
         cdpr_lcm_command_t cmd;
+        const long timeouts_before = t->lockstep_timeouts;
         const int64_t t0 = take_command(rt, next, &cmd);
+        unanswered_in_row = (t->lockstep_timeouts > timeouts_before) ? unanswered_in_row + 1 : 0;
+        if (unanswered_in_row >= rt->give_up_periods) {
+            t->no_controller = 1; /* a lockstep plant without a controller: stop, say so */
+            break;
+        }
         const cdpr_winch_mode_t mode =
             (cmd.mode == CDPR_WINCH_LENGTH) ? CDPR_WINCH_LENGTH : CDPR_WINCH_RATE;
         int pf = 0;
@@ -453,6 +478,14 @@ static cdpr_status_t run_status(const cdpr_rt_t *rt, cdpr_scenario_error_t *err)
                  "the plant could not advance: %ld periods in a row failed at t = %.6g s (%s)",
                  rt->stall_periods, t->final_time_s, cdpr_status_str(rt->stall_status));
         return rt->stall_status;
+    }
+    if (t->no_controller != 0) {
+        snprintf(err->msg, sizeof err->msg,
+                 "lockstep: no controller answered for %ld periods in a row (%g s each, %g s) "
+                 "at t = %.6g s: stopping (start the controller first, or run free-running)",
+                 rt->give_up_periods, rt->o.lockstep_timeout_s,
+                 (double)rt->give_up_periods * rt->o.lockstep_timeout_s, t->final_time_s);
+        return CDPR_E_INTERRUPTED;
     }
     if (rt->advanced < rt->n_periods) {
         snprintf(err->msg, sizeof err->msg, "stopped by a signal at t = %.6g s", t->final_time_s);

@@ -59,6 +59,15 @@
 /// A run stops when its plant could not advance for this much plant time in a row [s].
 #define CDPR_RT_STALL_S 1.0
 
+/// Lockstep: the plant stops when no answer came for this long, in whole lockstep timeouts in
+/// a row (a plant without a controller; 15 periods at the default 2 s timeout) [s], with
+/// CDPR_E_INTERRUPTED and the reason.
+#define CDPR_RT_LOCKSTEP_GIVE_UP_S 30.0
+
+/// The watchdog timeout when none is set (cdpr_rt_opts_t.lcm.watchdog_timeout_s = 0): this,
+/// or two control periods when that is longer [s].
+#define CDPR_RT_WATCHDOG_DEFAULT_S 0.1
+
 /// Fraction of missed deadlines over the first second that reports an overload.
 #define CDPR_RT_OVERLOAD_RATIO 0.1
 
@@ -77,7 +86,11 @@ typedef struct {
     double start_delay_s;         ///< free-running: wait this long before the first period [s],
                                   ///< e.g. for a controller to subscribe; default 0
     cdpr_lcm_bridge_params_t lcm; ///< URL, prefix, watchdog timeout, hooks (n_cables and the
-                                  ///< winch limits are set from the scenario)
+                                  ///< winch limits are set from the scenario). The watchdog
+                                  ///< timeout: default 0 = follow the period (the larger of
+                                  ///< CDPR_RT_WATCHDOG_DEFAULT_S and two periods); a set one
+                                  ///< shorter than two periods is refused when free-running
+                                  ///< (no command could ever be applied)
     const volatile int *stop;     ///< optional: non-zero stops the run early (signal handler)
     /// Optional instrumentation, called on the periodic thread right before its first period
     /// (phase 0) and right after its last (phase 1): tests count allocations/lcm calls there.
@@ -128,6 +141,9 @@ typedef struct {
     long overload_periods; ///< periods of that first second
     long overload_misses;  ///< deadline misses in it
     long stalled;          ///< 1: the run ended because the plant could not advance
+    long no_controller;    ///< lockstep: 1 when the run stopped after
+                           ///< CDPR_RT_LOCKSTEP_GIVE_UP_S without an answer
+    double watchdog_s;     ///< the watchdog timeout in use [s]
     int64_t plant_session; ///< this run's plant session
 } cdpr_rt_telemetry_t;
 
@@ -137,6 +153,7 @@ typedef struct {
     cdpr_lcm_bridge_t bridge;
     cdpr_rt_opts_t o;
     cdpr_rt_telemetry_t tel;
+    long give_up_periods;               ///< lockstep: unanswered periods before it stops
     uint32_t hist[CDPR_RT_HIST_US + 1]; ///< compute-time histogram (RT thread)
     cdpr_cabin_state_t st_msg;
     cdpr_cable_tensions_t ten_msg;
