@@ -8,6 +8,8 @@
 ///    malformed commands in between are counted and ignored, the plant keeps running;
 ///  - a stalled publisher (bridge thread blocked) -> the ring drops and counts, the periodic
 ///    thread keeps stepping (it never waits for the bridge).
+/// The stall is ended by the periodic thread's progress, not by a sleep: what is asserted does
+/// not depend on how many periods the machine's load lets the thread run in a given time.
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -228,9 +230,20 @@ static void test_rt_thread_makes_no_allocation_and_no_lcm_call(void)
 
 /* ------------------------------------------- silence, malformed input, resume; stall */
 
+/* The stall: the bridge thread stays blocked in the state handler until the periodic thread has
+ * stepped this many periods (the ring's 256 slots hold 128 periods of state + tensions) ... */
+#define STALL_PERIODS 300
+/* ... or this long [ns], which only a periodic thread that waits for the bridge needs: the
+ * test then fails (a generous bound: it only has to tell a deadlock from a loaded machine). */
+#define STALL_LIMIT_NS (30LL * 1000000000LL)
+/* The stalled run is stopped (opts.stop) once the bridge publishes states this many periods
+ * after the stall again; its plant time is only a bound. */
+#define STALL_RESUMED_PERIODS 100
+#define STALL_RUN_S           60.0
+
 /* A scripted controller on the bridge thread: answers every state with a fixed rate command,
- * except while silent; sends garbage while `garbage` is set; sleeps once (stalls the bridge
- * thread) when `stall_ms` is set. */
+ * except while silent; sends garbage while `garbage` is set; stalls the bridge thread once, at
+ * the first state from `stall_at` on, when `stall` is set. */
 typedef struct {
     lcm_t *lcm;
     int64_t seq;
@@ -238,17 +251,49 @@ typedef struct {
     long silent_from, silent_to; /* by state seq */
     long garbage_from, garbage_to;
     long stall_at;
-    int stall_ms;
+    int stall;
+    int stall_timed_out;
+    int64_t stall_state_seq;
     int64_t rt_seq_before_stall, rt_seq_after_stall;
+    uint64_t dropped_before_stall, dropped_after_stall;
     long hold_states_in_silence;
     long hold_states_after_resume;
     long resume_seq;
 } script_t;
 static script_t g_script;
+static volatile int g_stop;
 
 static int64_t rt_seq(void)
 {
     return __atomic_load_n(&g_rt.seq, __ATOMIC_RELAXED);
+}
+
+static uint64_t ring_dropped(void)
+{
+    cdpr_lcm_stats_t s;
+    cdpr_lcm_bridge_stats(&g_rt.bridge, &s);
+    return s.ring.dropped;
+}
+
+/* The stall (bridge thread): block until the periodic thread has stepped STALL_PERIODS periods
+ * more (or STALL_LIMIT_NS passed: it did not), polling its seq every millisecond. */
+static void stall_bridge(script_t *s, int64_t state_seq)
+{
+    const struct timespec ms = {0, 1000000L};
+    s->stall = 0;
+    s->stall_state_seq = state_seq;
+    s->dropped_before_stall = ring_dropped();
+    s->rt_seq_before_stall = rt_seq();
+    const int64_t t0 = cdpr_lcm_now_ns();
+    while (rt_seq() - s->rt_seq_before_stall < STALL_PERIODS) {
+        if (cdpr_lcm_now_ns() - t0 > STALL_LIMIT_NS) {
+            s->stall_timed_out = 1;
+            break;
+        }
+        nanosleep(&ms, NULL);
+    }
+    s->rt_seq_after_stall = rt_seq();
+    s->dropped_after_stall = ring_dropped();
 }
 
 static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
@@ -268,12 +313,12 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     if (s->resume_seq > 0 && st.seq > s->resume_seq + 20) {
         s->hold_states_after_resume += hold;
     }
-    if (s->stall_ms > 0 && st.seq == s->stall_at) {
-        s->rt_seq_before_stall = rt_seq();
-        const struct timespec ts = {0, (long)s->stall_ms * 1000000L};
-        nanosleep(&ts, NULL);
-        s->rt_seq_after_stall = rt_seq();
-        s->stall_ms = 0;
+    /* From the stall_at on: a state of seq stall_at itself may have been dropped. */
+    if (s->stall != 0 && st.seq >= s->stall_at) {
+        stall_bridge(s, st.seq);
+    }
+    if (s->stall_state_seq > 0 && st.seq >= s->rt_seq_after_stall + STALL_RESUMED_PERIODS) {
+        g_stop = 1;
     }
     if (st.seq >= s->garbage_from && st.seq < s->garbage_to) {
         /* garbage, a truncated command, a NaN command, a replayed seq */
@@ -325,17 +370,23 @@ static int script_open(lcm_t *lcm, void *ctx)
     return (lcm_subscribe(lcm, "CDPR_CABIN_STATE", on_state, s) != NULL) ? 0 : -1;
 }
 
-static void run_scripted(double duration_s)
+/* The options of a scripted run: free-running at 1 kHz for `duration_s` of plant time. */
+static void scripted_opts(cdpr_rt_opts_t *o, double duration_s)
 {
     load("paper-line");
+    cdpr_rt_opts_default(o);
+    run_settings(1000.0, duration_s, 200.0);
+    o->lcm.url = "memq://";
+    o->lcm.watchdog_timeout_s = 0.1;
+    o->lcm.on_open = script_open;
+    o->lcm.on_open_ctx = &g_script;
+}
+
+static void run_scripted(double duration_s)
+{
     cdpr_scenario_error_t err;
     cdpr_rt_opts_t o;
-    cdpr_rt_opts_default(&o);
-    run_settings(1000.0, duration_s, 200.0);
-    o.lcm.url = "memq://";
-    o.lcm.watchdog_timeout_s = 0.1;
-    o.lcm.on_open = script_open;
-    o.lcm.on_open_ctx = &g_script;
+    scripted_opts(&o, duration_s);
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_run(&g_rt, &err), err.msg);
 }
@@ -378,26 +429,56 @@ static void test_silence_holds_then_resumes_and_bad_commands_are_ignored(void)
 static void test_stalled_publisher_drops_and_rt_thread_keeps_stepping(void)
 {
     memset(&g_script, 0, sizeof g_script);
+    memset(&g_counts, 0, sizeof g_counts);
+    g_stop = 0;
     g_script.silent_from = 1 << 30;
     g_script.silent_to = 1 << 30;
     g_script.garbage_from = 1 << 30;
     g_script.garbage_to = 1 << 30;
     g_script.stall_at = 100;
-    g_script.stall_ms = 300;
-    run_scripted(0.6);
+    g_script.stall = 1;
+    cdpr_scenario_error_t err;
+    cdpr_rt_opts_t o;
+    scripted_opts(&o, STALL_RUN_S);
+    o.diag_rate_hz = 0.0; /* diagnostics only at the end: the count below is exact */
+    o.stop = &g_stop;
+    o.on_rt_thread = count_hook;
+    o.on_rt_thread_ctx = &g_counts;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
+    cdpr_alloc_reset();
+    /* Stopped by the script (g_stop) once the states flowed again after the stall. */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_E_INTERRUPTED, cdpr_rt_run(&g_rt, &err), err.msg);
     const cdpr_rt_telemetry_t *t = &g_rt.tel;
-    TEST_ASSERT_EQUAL_INT(600, t->periods);
-    /* While the bridge thread slept, the periodic thread went on: 300 ms at 1 kHz. With a
-     * thread that waited for the publisher it would be 0 (a loose bound: the machine may be
-     * slow, the point is that it advanced far past the ring's 256 slots / 2 per period). */
-    const int64_t advanced = g_script.rt_seq_after_stall - g_script.rt_seq_before_stall;
-    TEST_ASSERT_TRUE_MESSAGE(advanced > 200, "periodic thread did not advance during the stall");
-    /* The ring filled up and the rest was dropped and counted (drop-newest). */
-    TEST_ASSERT_TRUE(t->lcm.ring.dropped > 0);
-    /* Every message is either queued or counted as dropped: state + tensions per state
-     * (periods + 1 states) and the final diagnostics (1 Hz: none due within 0.6 s). */
+    const script_t *s = &g_script;
+    const int64_t advanced = s->rt_seq_after_stall - s->rt_seq_before_stall;
+    const uint64_t dropped = s->dropped_after_stall - s->dropped_before_stall;
+    printf("stall at state %lld: the periodic thread stepped %lld periods meanwhile, the ring "
+           "dropped %llu messages; %ld periods in all\n",
+           (long long)s->stall_state_seq, (long long)advanced, (unsigned long long)dropped,
+           t->periods);
+    TEST_ASSERT_TRUE_MESSAGE(s->stall_state_seq >= 100, "the stall never happened");
+    /* While the bridge thread was blocked, the periodic thread went on: the stall ended because
+     * it stepped STALL_PERIODS periods. A thread that waited for the bridge (or blocked on the
+     * full ring) would not, and the stall would end by the time limit instead. */
+    TEST_ASSERT_FALSE_MESSAGE(s->stall_timed_out,
+                              "the periodic thread stopped stepping while the bridge was blocked");
+    TEST_ASSERT_TRUE(advanced >= STALL_PERIODS);
+    /* Meanwhile it pushed state + tensions of every period it completed (those of the periods
+     * after the one seen at the start of the stall, up to the one seen at its end); nothing was
+     * published, so all but the ring's free slots were dropped and counted (drop-newest). */
+    TEST_ASSERT_TRUE(dropped >= (uint64_t)(2 * (advanced - 1) - CDPR_LCM_RING_SLOTS));
+    /* Every message of the run is either queued or counted as dropped: state + tensions per
+     * state (periods + 1 states) and the final diagnostics. */
     TEST_ASSERT_EQUAL_UINT64((uint64_t)(2 * (t->periods + 1) + 1),
                              t->lcm.ring.pushed + t->lcm.ring.dropped);
+    TEST_ASSERT_EQUAL_INT(0, t->step_failures);
+    /* A full ring costs the periodic thread no allocation and no lcm_* call either. */
+    TEST_ASSERT_EQUAL_INT(1, g_counts.done);
+    TEST_ASSERT_EQUAL_UINT(0, g_counts.lcm_calls);
+    if (cdpr_alloc_counting_available() == 0) {
+        TEST_IGNORE_MESSAGE(cdpr_alloc_unavailable_reason());
+    }
+    TEST_ASSERT_EQUAL_UINT(0, g_counts.allocs);
 }
 
 int main(void)
