@@ -311,7 +311,11 @@ static void stall_bridge(script_t *s, int64_t state_seq)
     s->dropped_after_stall = ring_dropped();
 }
 
-/* Garbage, a truncated command, a NaN command, a replayed seq: one of each reject kind. */
+/* Garbage, a truncated command, a NaN command (before the answer); the answer again, a
+ * replayed seq (after it): one of each reject kind. The replay comes right after the command
+ * it replays: the validator takes a replay from a session silent for the watchdog timeout as a
+ * new anchor (command.h, "Sessions"), and right after it only a bridge thread kept off the CPU
+ * between two messages for that long makes it one. */
 static void send_garbage(script_t *s, const cdpr_cabin_state_t *st)
 {
     static const unsigned char junk[] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
@@ -328,11 +332,6 @@ static void send_garbage(script_t *s, const cdpr_cabin_state_t *st)
     const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &c);
     (void)lcm_publish(s->lcm, "CDPR_WINCH_COMMAND", buf, (unsigned)len - 3u);
     (void)lcm_publish(s->lcm, "CDPR_WINCH_COMMAND", buf, (unsigned)len);
-    c.value[2] = 0.0;
-    c.seq = s->seq; /* replayed */
-    (void)cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &c);
-    (void)lcm_publish(s->lcm, "CDPR_WINCH_COMMAND", buf, (unsigned)len);
-    s->garbage_sent++;
 }
 
 /* The silence (states seen in it). It begins at a state stepped with the last command sent,
@@ -384,12 +383,11 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     if (s->stall_state_seq > 0 && st.seq >= s->rt_seq_after_stall + SCRIPT_TAIL_PERIODS) {
         g_stop = 1;
     }
-    /* Garbage only once a command was sent (and accepted: the bridge handles in order) for
-     * the replay to replay. */
-    if (s->garbage_sent < s->garbage && st.seq >= s->garbage_at && s->seq > 0) {
+    const int garbage = (s->garbage_sent < s->garbage && st.seq >= s->garbage_at) ? 1 : 0;
+    if (garbage != 0) {
         send_garbage(s, &st);
     }
-    if (silence(s, &st, hold) != 0) {
+    if (garbage == 0 && silence(s, &st, hold) != 0) {
         return;
     }
     if (s->silent == 2) {
@@ -418,6 +416,10 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &c);
     s->seq_ns = cdpr_lcm_now_ns();
     (void)lcm_publish(s->lcm, "CDPR_WINCH_COMMAND", buf, (unsigned)len);
+    if (garbage != 0) {
+        (void)lcm_publish(s->lcm, "CDPR_WINCH_COMMAND", buf, (unsigned)len); /* replayed */
+        s->garbage_sent++;
+    }
 }
 
 static int script_open(lcm_t *lcm, void *ctx)
