@@ -62,6 +62,17 @@ static void run_settings(double rate_hz, double duration_s, double max_trials)
 
 /* ------------------------------------------------------------ lockstep == in-process */
 
+/* Lockstep, with the wall clock out of it: the timeout only tells a deadlock from a loaded
+ * machine, and the watchdog is as long as it may be, since the mailbox applies it in lockstep
+ * too (an answer read more than the watchdog timeout after it arrived would be taken as stale:
+ * that period would wait for the lockstep timeout and hold). */
+static void lockstep_opts(cdpr_rt_opts_t *o)
+{
+    o->lockstep = 1;
+    o->lockstep_timeout_s = 30.0;
+    o->lcm.watchdog_timeout_s = 3600.0;
+}
+
 #define MAX_REC 512
 typedef struct {
     long n;
@@ -106,7 +117,7 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     cdpr_rt_opts_t o;
     cdpr_rt_opts_default(&o);
     run_settings(rate, (double)periods / rate, (double)NAN);
-    o.lockstep = 1;
+    lockstep_opts(&o);
     o.lcm.url = "memq://";
     o.lcm.on_open = tracker_open;
     o.lcm.on_open_ctx = &g_tracker;
@@ -201,7 +212,7 @@ static void test_rt_thread_makes_no_allocation_and_no_lcm_call(void)
     cdpr_rt_opts_t o;
     cdpr_rt_opts_default(&o);
     run_settings(1000.0, 0.3, 200.0);
-    o.lockstep = 1;
+    lockstep_opts(&o);
     o.shape_rate_hz = 100.0; /* shapes and diagnostics are on the RT path too */
     o.diag_rate_hz = 50.0;
     o.lcm.url = "memq://";
