@@ -28,6 +28,11 @@
 
 #define MS 1000000LL
 
+// How long a wait for the other thread may take before the test fails: generous, since only a
+// deadlock or a lost message (a bug) has to be told from a loaded machine. No assertion depends
+// on how fast the threads run.
+#define LIMIT_NS (30000 * MS)
+
 /* ---------------------------------------------------------------- example controller */
 
 // Runs on the bridge thread (its handlers are called inside lcm_handle there). The flags are
@@ -36,8 +41,11 @@ typedef struct {
     lcm_t *lcm;
     char command_channel[CDPR_LCM_CHANNEL_MAX];
     int silent;            // 1: do not answer
-    int stall_ms;          // >0: sleep that long in the next state handler, then reset to 0
-    int stalling;          // 1 while sleeping
+    int64_t silent_below;  // > 0: do not answer states of a lower seq (by seq, not by the time
+                           // a state is handled: states still queued when it changes keep it)
+    int stall;             // 1: block in the next state handler until `release`, then reset to 0
+    int release;           // 1: end the stall
+    int stalling;          // 1 while blocked
     int bad_batch;         // 1: publish every kind of bad command before the answer; 2: no answer
     int64_t next_seq;      // command seq (bridge thread only)
     int64_t plant_session; // of the last state seen (bridge thread only)
@@ -140,13 +148,20 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     }
     __atomic_fetch_add(&c->states_seen, 1u, __ATOMIC_RELAXED);
     c->plant_session = st.plant_session;
-    stall = __atomic_exchange_n(&c->stall_ms, 0, __ATOMIC_ACQ_REL);
-    if (stall > 0) {
+    stall = __atomic_exchange_n(&c->stall, 0, __ATOMIC_ACQ_REL);
+    if (stall != 0) {
+        // The bridge thread is stuck here until the test releases it (or LIMIT_NS: the test
+        // then fails on `stalling`): nothing is published meanwhile.
+        const int64_t t0 = cdpr_lcm_now_ns();
         __atomic_store_n(&c->stalling, 1, __ATOMIC_RELEASE);
-        sleep_ms(stall); // the bridge thread is stuck here: nothing is published meanwhile
+        while (!__atomic_load_n(&c->release, __ATOMIC_ACQUIRE) &&
+               cdpr_lcm_now_ns() - t0 < LIMIT_NS) {
+            sleep_ms(1);
+        }
         __atomic_store_n(&c->stalling, 0, __ATOMIC_RELEASE);
     }
-    if (__atomic_load_n(&c->silent, __ATOMIC_ACQUIRE)) {
+    if (__atomic_load_n(&c->silent, __ATOMIC_ACQUIRE) ||
+        st.seq < __atomic_load_n(&c->silent_below, __ATOMIC_ACQUIRE)) {
         return;
     }
     bad = __atomic_exchange_n(&c->bad_batch, 0, __ATOMIC_ACQ_REL);
@@ -239,17 +254,21 @@ static cdpr_status_t push_tensions(int64_t k)
     return cdpr_lcm_bridge_push_tensions(&bridge, &t);
 }
 
-// Spin (yielding) until the mailbox holds the command answering state k, at most `limit_ns`.
-// Returns the read flags of the read that saw it, or -1 on timeout.
-static int wait_for_answer(int64_t k, int64_t limit_ns, cdpr_lcm_command_t *out)
+// Spin (yielding) until the mailbox holds the command answering state k, at most LIMIT_NS.
+// Every read is made at `now_ns`, the plant's clock for this wait (e.g. the start of the
+// period that pushed state k), not at the time of the read: a command received after now_ns
+// is never older than the watchdog timeout there, so how late this thread gets to read (the
+// machine's load) cannot put the mailbox on hold. Returns the read flags of the read that saw
+// it, or -1 on timeout.
+static int wait_for_answer(int64_t k, int64_t now_ns, cdpr_lcm_command_t *out)
 {
     const int64_t t0 = cdpr_lcm_now_ns();
     for (;;) {
-        const int flags = cdpr_lcm_bridge_read_command(&bridge, cdpr_lcm_now_ns(), out);
+        const int flags = cdpr_lcm_bridge_read_command(&bridge, now_ns, out);
         if ((flags & CDPR_LCM_READ_HOLD) == 0 && out->state_seq == k) {
             return flags;
         }
-        if (cdpr_lcm_now_ns() - t0 > limit_ns) {
+        if (cdpr_lcm_now_ns() - t0 > LIMIT_NS) {
             return -1;
         }
         (void)sched_yield();
@@ -375,9 +394,9 @@ static void run_lockstep(int explicit_wake)
             cdpr_lcm_bridge_wake(&bridge); // once per period
         }
         push_ns += cdpr_lcm_now_ns() - t0;
-        flags = wait_for_answer(k, 2000 * MS, &cmd);
+        flags = wait_for_answer(k, t0, &cmd);
         rtt[k] = cdpr_lcm_now_ns() - t0;
-        TEST_ASSERT_TRUE_MESSAGE(flags >= 0, "no answer within 2 s");
+        TEST_ASSERT_TRUE_MESSAGE(flags >= 0, "no answer within 30 s");
         TEST_ASSERT_EQUAL_INT(CDPR_LCM_READ_NEW, flags);
         TEST_ASSERT_EQUAL_INT64(k + 1, cmd.seq);
         TEST_ASSERT_EQUAL_DOUBLE(1e-3 * (double)(k % 1000), cmd.value[0]);
@@ -439,15 +458,18 @@ static void test_malformed_commands_over_lcm_are_counted_and_ignored(void)
     cdpr_lcm_command_t cmd;
     cdpr_lcm_stats_t s;
     int64_t t0;
+    int64_t rx;
 
     start_bridge(5.0);
+    t0 = cdpr_lcm_now_ns();
     TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(0, 0));
-    TEST_ASSERT_TRUE(wait_for_answer(0, 2000 * MS, &cmd) >= 0);
+    TEST_ASSERT_TRUE(wait_for_answer(0, t0, &cmd) >= 0);
     TEST_ASSERT_EQUAL_INT64(1, cmd.seq);
 
     __atomic_store_n(&ctl.bad_batch, 1, __ATOMIC_RELEASE); // bad batch, then a good answer
+    t0 = cdpr_lcm_now_ns();
     TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(1, 0));
-    TEST_ASSERT_TRUE(wait_for_answer(1, 2000 * MS, &cmd) >= 0);
+    TEST_ASSERT_TRUE(wait_for_answer(1, t0, &cmd) >= 0);
     TEST_ASSERT_EQUAL_INT64(2, cmd.seq);
 
     cdpr_lcm_bridge_stats(&bridge, &s);
@@ -467,14 +489,17 @@ static void test_malformed_commands_over_lcm_are_counted_and_ignored(void)
 
     // Only bad commands for state 2: the plant keeps running on command 2 (not on hold).
     __atomic_store_n(&ctl.bad_batch, 2, __ATOMIC_RELEASE);
+    rx = cmd.rx_time_ns; // of command 2
     TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(2, 0));
     t0 = cdpr_lcm_now_ns();
     do {
         cdpr_lcm_bridge_stats(&bridge, &s);
-        TEST_ASSERT_TRUE_MESSAGE(cdpr_lcm_now_ns() - t0 < 2000 * MS, "bad batch not received");
+        TEST_ASSERT_TRUE_MESSAGE(cdpr_lcm_now_ns() - t0 < LIMIT_NS, "bad batch not received");
         (void)sched_yield();
     } while (s.commands_received < 22u);
-    TEST_ASSERT_EQUAL_INT(0, cdpr_lcm_bridge_read_command(&bridge, cdpr_lcm_now_ns(), &cmd));
+    // Read at command 2's arrival: the watchdog is not what this case is about (the silence
+    // case is), and a slow test thread must not make command 2 look stale.
+    TEST_ASSERT_EQUAL_INT(0, cdpr_lcm_bridge_read_command(&bridge, rx, &cmd));
     TEST_ASSERT_EQUAL_INT64(2, cmd.seq);
     TEST_ASSERT_EQUAL_INT64(1, cmd.state_seq);
     TEST_ASSERT_EQUAL_UINT64(2u, s.commands_accepted);
@@ -483,13 +508,17 @@ static void test_malformed_commands_over_lcm_are_counted_and_ignored(void)
 }
 
 // Controller silence -> hold after the watchdog timeout (rate 0, flag, counters); commands
-// resume -> control resumes.
+// resume -> control resumes. The watchdog is the only thing that runs on the wall clock here:
+// before the silence and at the resume the mailbox is read at the time the state was pushed
+// (wait_for_answer), so a slow test thread cannot make a hold of its own; the silence is by
+// state seq, so states still queued when the controller resumes are not answered late.
 static void test_controller_silence_holds_then_resumes(void)
 {
     const double timeout_s = 0.05;
     cdpr_lcm_command_t cmd;
     cdpr_lcm_stats_t s;
     int64_t k = 0;
+    int64_t t0;
     int64_t last_rx;
     int64_t hold_at = 0;
     int flags = 0;
@@ -498,14 +527,19 @@ static void test_controller_silence_holds_then_resumes(void)
     // Start-up: on hold until the first command.
     flags = cdpr_lcm_bridge_read_command(&bridge, cdpr_lcm_now_ns(), &cmd);
     TEST_ASSERT_EQUAL_INT(CDPR_LCM_READ_HOLD | CDPR_LCM_READ_NEVER, flags);
+    t0 = cdpr_lcm_now_ns();
     for (k = 0; k < 10; k++) {
         TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(k, 0));
-        TEST_ASSERT_TRUE(wait_for_answer(k, 2000 * MS, &cmd) >= 0);
+        TEST_ASSERT_TRUE(wait_for_answer(k, t0, &cmd) >= 0);
     }
     last_rx = cmd.rx_time_ns;
+    cdpr_lcm_bridge_stats(&bridge, &s);
+    TEST_ASSERT_EQUAL_INT(0, s.holding);
+    TEST_ASSERT_EQUAL_UINT64(1u, s.hold_entries); // start-up
 
-    __atomic_store_n(&ctl.silent, 1, __ATOMIC_RELEASE);
-    for (; k < 10000; k++) { // 1 ms periods; at most 10 s
+    // Silent from state 10 on (state 9 is answered: its command is in the mailbox).
+    __atomic_store_n(&ctl.silent_below, INT64_MAX, __ATOMIC_RELEASE);
+    for (; k < 10000; k++) { // at least 1 ms per state: at least 10 s
         TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(k, 0));
         sleep_ms(1);
         flags = cdpr_lcm_bridge_read_command(&bridge, cdpr_lcm_now_ns(), &cmd);
@@ -519,7 +553,7 @@ static void test_controller_silence_holds_then_resumes(void)
     TEST_ASSERT_EQUAL_INT(0, flags & CDPR_LCM_READ_NEVER);
     TEST_ASSERT_EQUAL_INT64(-1, cmd.seq);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, cmd.value[0]);
-    // Not before the timeout; within the timeout + a few periods (the loop sleeps 1 ms).
+    // Not before the timeout (how long after it depends on the machine: printed only).
     TEST_ASSERT_TRUE(hold_at - last_rx > (int64_t)(timeout_s * 1e9));
     printf("watchdog: hold %.1f ms after the last command (timeout %.0f ms)\n",
            (double)(hold_at - last_rx) / 1e6, timeout_s * 1e3);
@@ -527,9 +561,12 @@ static void test_controller_silence_holds_then_resumes(void)
     TEST_ASSERT_EQUAL_INT(1, s.holding);
     TEST_ASSERT_EQUAL_UINT64(2u, s.hold_entries); // start-up + silence
 
-    __atomic_store_n(&ctl.silent, 0, __ATOMIC_RELEASE);
+    // Resume from state k + 1 on; the states of the silence still queued stay unanswered. Read
+    // at t0 (after hold_at): command 10 is stale there, a command received after it is not.
+    t0 = cdpr_lcm_now_ns();
+    __atomic_store_n(&ctl.silent_below, k + 1, __ATOMIC_RELEASE);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(k + 1, 0));
-    flags = wait_for_answer(k + 1, 2000 * MS, &cmd);
+    flags = wait_for_answer(k + 1, t0, &cmd);
     TEST_ASSERT_EQUAL_INT(CDPR_LCM_READ_NEW, flags);
     TEST_ASSERT_EQUAL_INT64(11, cmd.seq);
     cdpr_lcm_bridge_stats(&bridge, &s);
@@ -537,9 +574,9 @@ static void test_controller_silence_holds_then_resumes(void)
     TEST_ASSERT_EQUAL_UINT64(2u, s.hold_entries);
 }
 
-// Publisher stalled (the bridge thread is stuck in a handler for 300 ms): pushes keep
-// returning at once, the ring fills, every further message is dropped and counted; after the
-// stall everything queued is published.
+// Publisher stalled (the bridge thread is stuck in a handler until the test releases it):
+// pushes keep returning at once, the ring fills, every further message is dropped and counted;
+// after the stall everything queued is published.
 static void test_stalled_publisher_drops_and_pushes_never_block(void)
 {
     enum { N = 3000 };
@@ -551,11 +588,11 @@ static void test_stalled_publisher_drops_and_pushes_never_block(void)
     int k;
 
     start_bridge(5.0);
-    __atomic_store_n(&ctl.stall_ms, 300, __ATOMIC_RELEASE);
+    __atomic_store_n(&ctl.stall, 1, __ATOMIC_RELEASE);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(0, 0));
     t0 = cdpr_lcm_now_ns();
     while (!__atomic_load_n(&ctl.stalling, __ATOMIC_ACQUIRE)) {
-        TEST_ASSERT_TRUE_MESSAGE(cdpr_lcm_now_ns() - t0 < 2000 * MS, "stall never began");
+        TEST_ASSERT_TRUE_MESSAGE(cdpr_lcm_now_ns() - t0 < LIMIT_NS, "stall never began");
         (void)sched_yield();
     }
     for (k = 1; k <= N; k++) {
@@ -571,7 +608,7 @@ static void test_stalled_publisher_drops_and_pushes_never_block(void)
         }
     }
     TEST_ASSERT_TRUE_MESSAGE(__atomic_load_n(&ctl.stalling, __ATOMIC_ACQUIRE),
-                             "the stall ended before the pushes did (machine too slow)");
+                             "the stall ended before the pushes did (30 s)");
     cdpr_lcm_bridge_stats(&bridge, &s);
     printf("stalled publisher: %u queued, %u dropped, slowest push %.1f us\n", ok, full,
            (double)max_push / 1e3);
@@ -579,14 +616,16 @@ static void test_stalled_publisher_drops_and_pushes_never_block(void)
     TEST_ASSERT_EQUAL_UINT64((uint64_t)full, s.ring.dropped);
     TEST_ASSERT_EQUAL_UINT32(CDPR_LCM_RING_SLOTS, s.ring.queued);
 
-    // After the stall: all queued states are published (and answered).
+    // After the stall: all queued states are published (and answered). (`published` counts a
+    // message before its slot is released: wait for both.)
+    __atomic_store_n(&ctl.release, 1, __ATOMIC_RELEASE);
     t0 = cdpr_lcm_now_ns();
     do {
         cdpr_lcm_bridge_stats(&bridge, &s);
-        TEST_ASSERT_TRUE_MESSAGE(cdpr_lcm_now_ns() - t0 < 5000 * MS, "queue not drained");
+        TEST_ASSERT_TRUE_MESSAGE(cdpr_lcm_now_ns() - t0 < LIMIT_NS, "queue not drained");
         sleep_ms(1);
-    } while (s.published < 1u + CDPR_LCM_RING_SLOTS);
-    TEST_ASSERT_EQUAL_UINT32(0u, s.ring.queued);
+    } while (s.published < 1u + CDPR_LCM_RING_SLOTS || s.ring.queued != 0u);
+    TEST_ASSERT_EQUAL_UINT64(1u + CDPR_LCM_RING_SLOTS, s.published);
     TEST_ASSERT_EQUAL_UINT32(CDPR_LCM_RING_SLOTS, s.ring.high_water);
 }
 
@@ -599,7 +638,7 @@ static void test_stop_publishes_what_is_queued(void)
 
     start_bridge(5.0);
     __atomic_store_n(&ctl.silent, 1, __ATOMIC_RELEASE);
-    __atomic_store_n(&ctl.stall_ms, 100, __ATOMIC_RELEASE);
+    __atomic_store_n(&ctl.stall, 1, __ATOMIC_RELEASE);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(0, 0)); // the bridge stalls on this one
     while (!__atomic_load_n(&ctl.stalling, __ATOMIC_ACQUIRE)) {
         (void)sched_yield();
@@ -612,6 +651,8 @@ static void test_stop_publishes_what_is_queued(void)
     cdpr_lcm_pack_diagnostics(&dg, &s);
     dg.seq = 20;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_bridge_push_diagnostics(&bridge, &dg));
+    TEST_ASSERT_EQUAL_UINT64(1u, s.published); // state 0 only: the rest is still queued
+    __atomic_store_n(&ctl.release, 1, __ATOMIC_RELEASE);
     cdpr_lcm_bridge_stop(&bridge);
     cdpr_lcm_bridge_stats(&bridge, &s);
     TEST_ASSERT_EQUAL_UINT64(22u, s.published);
