@@ -301,7 +301,10 @@ static int wait_answer(cdpr_rt_t *rt, cdpr_lcm_command_t *cmd, int *read_flags)
     int64_t resend = t0 + LOCKSTEP_RESEND_NS;
     for (;;) {
         const int64_t now = cdpr_lcm_now_ns();
-        *read_flags = cdpr_lcm_bridge_read_command(&rt->bridge, now, cmd);
+        /* Read as of the wait's start: the answer to this state arrived after it, so the
+         * watchdog never makes it stale, however late this thread reads it (a loaded machine
+         * changes no lockstep result). */
+        *read_flags = cdpr_lcm_bridge_read_command(&rt->bridge, t0, cmd);
         if ((*read_flags & CDPR_LCM_READ_HOLD) == 0 && cmd->state_seq == rt->seq) {
             return 1;
         }
