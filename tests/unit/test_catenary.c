@@ -407,10 +407,63 @@ static void test_settled_cable_matches_catenary_with_second_order_convergence(vo
     }
 }
 
+/* The public Jacobian (cdpr_catenary_spans_jac): every one of its six partial derivatives
+ * against central differences of the independent quadrature (ref_point) in H, V_A and L0,
+ * and the spans it returns against the quadrature, on a taut, a sagging and a rising cable
+ * (issue 26: a wrong entry passed every test, the Newton solvers still converging on it). */
+static void test_span_jacobian_matches_differences_of_the_quadrature(void)
+{
+    const double w = 0.14 * G;
+    const double ea = 2.0e6;
+    const double cases[3][3] = {
+        /* H [N], V_A [N], L0 [m] */
+        {800.0, -200.0, 35.0}, /* taut, leaving A downward */
+        {20.0, -15.0, 40.0},   /* sagging: H of the order of the cable's weight */
+        {300.0, 150.0, 25.0},  /* rising from A */
+    };
+    for (int i = 0; i < 3; ++i) {
+        const double H = cases[i][0];
+        const double va = cases[i][1];
+        const double len0 = cases[i][2];
+        const cdpr_catenary_cable_t c = {(cdpr_real_t)w, (cdpr_real_t)ea};
+        cdpr_real_t span[2];
+        cdpr_real_t dH[2];
+        cdpr_real_t dV[2];
+        cdpr_real_t dL[2];
+        cdpr_catenary_spans_jac(&c, (cdpr_real_t)H, (cdpr_real_t)va, (cdpr_real_t)len0, span, dH,
+                                dV, dL);
+        double x;
+        double z;
+        ref_point(w, ea, H, va, len0, &x, &z);
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-8, 1e-3), x, (double)span[0]);
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-8, 1e-3), z, (double)span[1]);
+        const double steps[3] = {1e-4 * H, 1e-4 * (fabs(va) + H), 1e-4 * len0};
+        const cdpr_real_t *got[3] = {dH, dV, dL};
+        for (int k = 0; k < 3; ++k) {
+            double p[3] = {H, va, len0};
+            double xp;
+            double zp;
+            double xm;
+            double zm;
+            p[k] += steps[k];
+            ref_point(w, ea, p[0], p[1], p[2], &xp, &zp);
+            p[k] -= 2.0 * steps[k];
+            ref_point(w, ea, p[0], p[1], p[2], &xm, &zm);
+            const double fd[2] = {(xp - xm) / (2.0 * steps[k]), (zp - zm) / (2.0 * steps[k])};
+            for (int r = 0; r < 2; ++r) {
+                /* Central differences: O(step^2) ~ 1e-8 relative, far below any wrong entry. */
+                const double scale = fabs(fd[0]) + fabs(fd[1]);
+                TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-6, 2e-3) * scale, fd[r], (double)got[k][r]);
+            }
+        }
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_closed_form_matches_quadrature);
+    RUN_TEST(test_span_jacobian_matches_differences_of_the_quadrature);
     RUN_TEST(test_taut_limit_is_hooke);
     RUN_TEST(test_small_sag_is_parabola);
     RUN_TEST(test_inverse_of_forward_is_identity);
