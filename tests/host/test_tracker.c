@@ -148,6 +148,29 @@ static void test_command_law(void)
         TEST_ASSERT_DOUBLE_WITHIN(5e-6, 5.0 * dl, cmd.rate_m_per_s[j]);
     }
     TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.002, -cmd.err_pos_m[0]);
+    /* Derivative feedback, no filter: the cabin at the desired pose but moving (v, ω). It must
+     * oppose the motion: δL_j = -kd dL_j/dt, the chord rate of the measured motion, computed
+     * here by central differences of the chords (issue 26: a flipped kd sign was caught only by
+     * the debug-only design tests). */
+    g.kp = 0.0;
+    g.kd_s = 0.5;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
+    const cdpr_vec3_t v = cdpr_v3(0.01, -0.004, 0.002);
+    const double wz = 0.002;
+    meas.cabin = m0;
+    meas.cabin.v_m_per_s = v;
+    meas.cabin.w_rad_per_s = cdpr_v3(0.0, 0.0, wz); /* body axes = world axes at this pose */
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &meas, &cmd));
+    const double eps = 1e-3;
+    const double ahead[6] = {v.x * eps, v.y * eps, 9.135 + v.z * eps, 0.0, 0.0, wz * eps};
+    const double behind[6] = {-v.x * eps, -v.y * eps, 9.135 - v.z * eps, 0.0, 0.0, -wz * eps};
+    const cdpr_cabin_motion_t ma = cdpr_cabin_motion_at_pose(ahead);
+    const cdpr_cabin_motion_t mb = cdpr_cabin_motion_at_pose(behind);
+    for (int j = 0; j < 6; ++j) {
+        const double rate = (chord(j, &ma) - chord(j, &mb)) / (2.0 * eps);
+        TEST_ASSERT_TRUE(fabs(rate) > 1e-4); /* every cable moves: the sign is tested */
+        TEST_ASSERT_DOUBLE_WITHIN(1e-9, -g.kd_s * rate, cmd.dl_m[j]);
+    }
     /* Bad measurements are refused without touching the state. */
     meas.length_m[0] = NAN_D;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_tracker_step(&tracker, &meas, &cmd));

@@ -333,6 +333,25 @@ static void test_plant_at_another_rate(void)
     TEST_ASSERT_TRUE(g_node.refused_in_row >= 18);
 }
 
+/* Two plants on one channel prefix, interleaved: the node keeps the plant it follows (its
+ * states come every period, far inside CDPR_RT_PLANT_SILENCE_S) and counts the other's
+ * (issue 26: the silence timeout x 1e-6 made every other-plant state a "restart"). */
+static void test_second_plant_is_ignored_not_followed(void)
+{
+    for (int64_t k = 0; k < 20; ++k) {
+        send_real(k);
+        cdpr_cabin_state_t st;
+        cdpr_cable_tensions_t ten;
+        make_pair(k, &st, &ten);
+        st.plant_session = ten.plant_session = 88;
+        send(&st, &ten);
+    }
+    TEST_ASSERT_EQUAL_UINT64(0, g_node.stats.plant_restarts);
+    TEST_ASSERT_EQUAL_UINT64(40, g_node.stats.other_plant_states); /* states and tensions */
+    TEST_ASSERT_EQUAL_INT64(77, g_node.plant_session);
+    TEST_ASSERT_EQUAL_INT(20, g_commands);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -344,5 +363,6 @@ int main(void)
     RUN_TEST(test_forged_anchor_resyncs_after_two_pairs);
     RUN_TEST(test_another_controller_in_control);
     RUN_TEST(test_plant_at_another_rate);
+    RUN_TEST(test_second_plant_is_ignored_not_followed);
     return UNITY_END() ? 1 : 0;
 }
