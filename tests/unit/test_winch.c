@@ -310,10 +310,87 @@ static void test_winch_length_mode_and_minimum_length(void)
     TEST_ASSERT_EQUAL_STRING("a_max_m_per_s2", d.field);
 }
 
+/* One event on a known state, against the rules of winch.h written out here (issue 26: a
+ * wrong velocity of the inserted node, or a removal that did not merge the momenta, passed
+ * the loose per-event momentum bound above):
+ *  - insertion: the new node at the unstretched fraction f = Delta / lu_last of the straight
+ *    last segment from the last free node to the pulley, with velocity (1 - f) v_last (the
+ *    pulley at rest); every other node unchanged;
+ *  - removal: the surviving neighbour takes (m_keep v_keep + m_gone v_gone) / (m_keep +
+ *    m_gone), m = half the unstretched lengths on either side times rho; the rest unchanged. */
+static void test_event_states_follow_the_rules(void)
+{
+    build_with(N0, L0, 0.0);
+    const cdpr_cable_t *c = &robot.cable[0];
+    const int o = robot.offset[0];
+    const double delta = (double)c->delta_m;
+    const cdpr_vec3_t A = robot.p.cables[0].exit_point_m;
+    /* Known velocities: node i moves at (0.1 i, -0.05 i, 0.02 i) m/s. */
+    int nf = c->n - 1;
+    for (int i = 0; i < nf; ++i) {
+        cdpr_real_t *v = y + o + 1 + 3 * nf + 3 * i;
+        v[0] = (cdpr_real_t)(0.1 * (i + 1));
+        v[1] = (cdpr_real_t)(-0.05 * (i + 1));
+        v[2] = (cdpr_real_t)(0.02 * (i + 1));
+    }
+    /* Insertion: the last segment 2 Delta + 0.4 m long. */
+    const double lu_last = 2.0 * delta + 0.4;
+    y[o] = (cdpr_real_t)lu_last;
+    double pa[3];
+    double va[3];
+    for (int k = 0; k < 3; ++k) {
+        pa[k] = (double)y[o + 1 + 3 * (nf - 1) + k];
+        va[k] = (double)y[o + 1 + 3 * nf + 3 * (nf - 1) + k];
+    }
+    const double pb[3] = {(double)A.x, (double)A.y, (double)A.z};
+    cdpr_node_stats_t ns;
+    memset(&ns, 0, sizeof ns);
+    int changed = 0;
+    cdpr_real_t t = 0.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_winch_node_events(&robot, t, y, &ns, &changed));
+    TEST_ASSERT_EQUAL_INT(1, changed);
+    TEST_ASSERT_EQUAL_INT(nf + 1, c->n - 1);
+    const double f = delta / lu_last;
+    for (int k = 0; k < 3; ++k) {
+        const double p_new = (double)y[o + 1 + 3 * nf + k];
+        const double v_new = (double)y[o + 1 + 3 * (nf + 1) + 3 * nf + k];
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 1e-5), pa[k] + f * (pb[k] - pa[k]), p_new);
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 1e-6), (1.0 - f) * va[k], v_new);
+        /* The node before it is unchanged. */
+        TEST_ASSERT_DOUBLE_WITHIN(0.0, va[k], (double)y[o + 1 + 3 * (nf + 1) + 3 * (nf - 1) + k]);
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 1e-5), lu_last - delta, (double)y[o]);
+
+    /* Removal: the last segment shorter than Delta / 2. */
+    nf = c->n - 1;
+    y[o] = (cdpr_real_t)(0.3 * delta);
+    const double rho = (double)c->p.rho_kg_per_m;
+    const double lu_pp = (double)c->lu_m[nf - 2];
+    const double lu_prev = (double)c->lu_m[nf - 1];
+    const double m_keep = 0.5 * rho * (lu_pp + lu_prev);
+    const double m_gone = 0.5 * rho * (lu_prev + 0.3 * delta);
+    double v_keep[3];
+    double v_gone[3];
+    for (int k = 0; k < 3; ++k) {
+        v_keep[k] = (double)y[o + 1 + 3 * nf + 3 * (nf - 2) + k];
+        v_gone[k] = (double)y[o + 1 + 3 * nf + 3 * (nf - 1) + k];
+    }
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_winch_node_events(&robot, t, y, &ns, &changed));
+    TEST_ASSERT_EQUAL_INT(1, changed);
+    TEST_ASSERT_EQUAL_INT(nf - 1, c->n - 1);
+    for (int k = 0; k < 3; ++k) {
+        const double want = (m_keep * v_keep[k] + m_gone * v_gone[k]) / (m_keep + m_gone);
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 1e-6), want,
+                                  (double)y[o + 1 + 3 * (nf - 1) + 3 * (nf - 2) + k]);
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 1e-5), lu_prev + 0.3 * delta, (double)y[o]);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_payout_and_haul_in_round_trip);
+    RUN_TEST(test_event_states_follow_the_rules);
     RUN_TEST(test_capacity_reached_keeps_running_with_warning);
     RUN_TEST(test_single_segment_cable_grows_from_the_cabin_node);
     RUN_TEST(test_winch_rate_and_acceleration_limits);
