@@ -216,6 +216,47 @@ static void test_oscillator_error_shrinks_with_tolerance(void)
  * and fewer rejections than the elementary controller where the step size oscillates (a fast
  * decay y' = -50 y followed over 2 s near its stability limit). pi_beta outside [0, 0.2] is
  * refused. pi_beta = 0 is every other test of this file (and the scenario bit checks). */
+/* The step-size law itself, step by step: after an accepted step of size h with error norm
+ * err (no rejection in it), the next step is h clamp(safety err^-1/5, shrink_min, grow_max)
+ * (elementary), or h clamp(safety e^-(1/5 - 0.75 beta) err_prev^beta, ...) with e =
+ * max(err, 1e-4) (PI), computed here from the formula (issue 26: a changed exponent of the PI
+ * controller passed every test, the solutions staying within tolerance). */
+static void test_step_size_law_step_by_step(void)
+{
+    for (int k = 0; k < 2; ++k) {
+        osc_t ctx = {2.0 * PI_D};
+        cdpr_rkf45_params_t p = params_tol(TOL(1e-8, 1e-4));
+        p.pi_beta = (k == 0) ? 0.0 : 0.04;
+        init_solver(&p, 2);
+        cdpr_real_t t = 0.0;
+        cdpr_real_t y[2] = {1.0, 0.0};
+        int checked = 0;
+        for (int n = 0; n < 200 && checked < 20; ++n) {
+            const double t0 = (double)t;
+            const double err_prev = (double)solver.err_prev;
+            const unsigned long rejected = solver.stats.steps_rejected;
+            TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_step(&solver, rhs_osc, &ctx, &t, y, 100.0));
+            if (solver.stats.steps_rejected != rejected) {
+                continue; /* the law after a rejection is another one */
+            }
+            const double h = (double)t - t0;
+            const double err = (double)solver.last_err;
+            double fac;
+            if (k == 0) {
+                fac = (err > 0.0) ? 0.9 * pow(err, -0.2) : 5.0;
+            } else {
+                const double e = fmax(err, 1e-4);
+                fac = 0.9 * pow(e, -(0.2 - 0.75 * 0.04)) * pow(err_prev, 0.04);
+            }
+            fac = fmin(fmax(fac, 0.2), 5.0);
+            const double want = fmin(fmax(h * fac, (double)p.h_min_s), (double)p.h_max_s);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 2e-5) * want, want, (double)solver.h_s);
+            checked++;
+        }
+        TEST_ASSERT_EQUAL_INT(20, checked);
+    }
+}
+
 static void test_pi_controller(void)
 {
     for (int i = 0; i < N_TOLS; ++i) {
@@ -1109,6 +1150,7 @@ int main(void)
     RUN_TEST(test_decay_error_shrinks_with_tolerance);
     RUN_TEST(test_oscillator_error_shrinks_with_tolerance);
     RUN_TEST(test_pi_controller);
+    RUN_TEST(test_step_size_law_step_by_step);
     RUN_TEST(test_huge_first_step_is_rejected_and_result_accurate);
     RUN_TEST(test_trial_exact_for_quartic_quadrature);
     RUN_TEST(test_advance_substep_limit);
