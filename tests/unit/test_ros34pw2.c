@@ -557,6 +557,32 @@ static void test_factorisation_reuse(void)
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_ros_params_validate(&p, 2, NULL));
 }
 
+/* The reuse window of gamma h (relative 1e-3, ros34pw2.h): steps that alternate 5e-4 apart
+ * share a factorisation, steps 1 % apart never do (issue 26: the window x 100 passed every
+ * test, a W for another h still being a W-method matrix). */
+static void test_factorisation_reuse_window(void)
+{
+    const double L = 1.0e4;
+    const double apart[2] = {5e-4, 1e-2};
+    const unsigned long want[2] = {4u, 20u};
+    for (int c = 0; c < 2; ++c) {
+        dense_t d = dense(2, jac_pr, 1.0, &L);
+        const cdpr_ros_problem_t pb = problem(rhs_pr, (void *)&L, &d);
+        cdpr_ros_params_t p = params_tol(TOL(1e-6, 1e-4));
+        p.jac_reuse_max = 4;
+        p.h_init_s = 0.01;
+        init_solver(&p, 2);
+        cdpr_real_t t = 0.0;
+        cdpr_real_t y[2] = {1.0, 1.0};
+        for (int k = 0; k < 20; ++k) {
+            const double dt = 0.01 * ((k % 2 == 0) ? 1.0 : 1.0 + apart[c]);
+            TEST_ASSERT_TRUE(cdpr_ros_advance(&solver, &pb, &t, y, (cdpr_real_t)dt, 1) >= 0);
+        }
+        TEST_ASSERT_EQUAL_UINT(20u, solver.stats.steps_accepted + solver.stats.steps_rejected);
+        TEST_ASSERT_EQUAL_UINT(want[c], solver.stats.factorisations);
+    }
+}
+
 /* ---------------------------------------------------------------- failure paths */
 
 /* A factorisation or a solve that refuses (singular W) ends step and advance with
@@ -764,6 +790,7 @@ int main(void)
     RUN_TEST(test_advance_exact_interval_and_work_bound);
     RUN_TEST(test_advance_refuses_above_force_err_max);
     RUN_TEST(test_factorisation_reuse);
+    RUN_TEST(test_factorisation_reuse_window);
     RUN_TEST(test_singular_w_leaves_state_bit_identical);
     RUN_TEST(test_nan_and_refusing_rhs);
     RUN_TEST(test_invalid_arguments_and_parameters);
