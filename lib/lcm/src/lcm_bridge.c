@@ -24,6 +24,7 @@
 #include <sched.h>
 #include <string.h>
 #include <sys/eventfd.h>
+#include <sys/mman.h>
 #include <sys/random.h>
 #include <time.h>
 #include <unistd.h>
@@ -348,10 +349,35 @@ static void close_lcm(cdpr_lcm_bridge_t *b)
     b->opened = 0;
 }
 
+/* liblcm's udpm provider does not check every allocation of its start-up (lcm_subscribe
+ * starts a receive thread; under `ulimit -v` 30-34 MB cdpr-rt crashed inside it): before it
+ * runs, the address space it needs must be there. 1 when CDPR_LCM_UDPM_HEADROOM_BYTES of
+ * address space can be reserved (and released again) now, or the provider is not udpm. */
+static int udpm_headroom(const char *url)
+{
+    const int udpm = (url[0] == '\0' || strncmp(url, "udpm://", 7) == 0) ? 1 : 0;
+    if (udpm == 0) {
+        return 1;
+    }
+    void *p = mmap(NULL, CDPR_LCM_UDPM_HEADROOM_BYTES, PROT_NONE,
+                   MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (p == MAP_FAILED) {
+        return 0;
+    }
+    (void)munmap(p, CDPR_LCM_UDPM_HEADROOM_BYTES);
+    return 1;
+}
+
 cdpr_status_t cdpr_lcm_bridge_open(cdpr_lcm_bridge_t *b, cdpr_diag_t *diag)
 {
     if (b->opened) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "already open", -1);
+    }
+    if (udpm_headroom(b->url) == 0) {
+        return cdpr_diag_set(diag, CDPR_E_IO,
+                             "udpm needs 24 MiB more address space for liblcm's receive thread "
+                             "(ulimit -v?)",
+                             -1);
     }
     b->lcm = lcm_create(b->url[0] != '\0' ? b->url : NULL);
     if (b->lcm == NULL) {
@@ -460,6 +486,7 @@ static void *bridge_main(void *arg)
 
     if (cdpr_lcm_bridge_open(b, &d) != CDPR_OK) {
         b->start_error = d.field; // read by start() after the state change (mutex)
+        b->start_status = d.status;
         set_start_state(b, -1);
         return NULL;
     }
@@ -524,8 +551,9 @@ cdpr_status_t cdpr_lcm_bridge_start(cdpr_lcm_bridge_t *b, cdpr_diag_t *diag)
     (void)pthread_mutex_unlock(&b->start_lock);
     if (state < 0) {
         const char *why = b->start_error;
+        const cdpr_status_t st = b->start_status;
         cdpr_lcm_bridge_stop(b);
-        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, why, -1);
+        return cdpr_diag_set(diag, (st != CDPR_OK) ? st : CDPR_E_INVALID_ARG, why, -1);
     }
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }

@@ -73,6 +73,11 @@
 #define CDPR_LCM_CHANNEL_MAX 64
 #define CDPR_LCM_URL_MAX     256
 
+/// Address space a udpm provider's start-up needs beyond what the process uses [bytes]:
+/// liblcm's receive thread (an 8 MiB stack) and its buffers, with a margin. Checked by
+/// cdpr_lcm_bridge_open before liblcm runs (liblcm does not check all its allocations).
+#define CDPR_LCM_UDPM_HEADROOM_BYTES ((size_t)24 * 1024u * 1024u)
+
 /// Channels (indices of cdpr_lcm_bridge_t.channel).
 typedef enum {
     CDPR_LCM_CH_CABIN_STATE = 0,
@@ -170,11 +175,12 @@ typedef struct {
     pthread_t thread;
     pthread_mutex_t start_lock;
     pthread_cond_t start_cond;
-    int start_state;         ///< 0 starting, 1 running, -1 failed (under start_lock)
-    const char *start_error; ///< what failed when start_state is -1
-    int running;             ///< thread created and not joined
-    int stop;                ///< stop request (atomic)
-    int opened;              ///< lcm_t exists
+    int start_state;            ///< 0 starting, 1 running, -1 failed (under start_lock)
+    const char *start_error;    ///< what failed when start_state is -1
+    cdpr_status_t start_status; ///< the status of a failed start (with start_error)
+    int running;                ///< thread created and not joined
+    int stop;                   ///< stop request (atomic)
+    int opened;                 ///< lcm_t exists
     uint64_t ring_storage[CDPR_LCM_RING_STORAGE_BYTES(CDPR_LCM_RING_SLOTS, CDPR_LCM_SLOT_BYTES) /
                           sizeof(uint64_t)];
     uint64_t
@@ -202,8 +208,9 @@ cdpr_status_t cdpr_lcm_bridge_init(cdpr_lcm_bridge_t *b, const cdpr_lcm_bridge_p
 
 /// Start the bridge thread (SCHED_OTHER) and wait until it has created the lcm_t and
 /// subscribed, or failed. CDPR_E_INVALID_ARG when lcm_create, the subscription, the hook or
-/// the thread failed (`diag` says which); the bridge is then stopped. Not RT-safe (blocks;
-/// may take seconds for udpm, whose self-test runs here).
+/// the thread failed (`diag` says which); CDPR_E_IO when a udpm URL lacks the address space
+/// of CDPR_LCM_UDPM_HEADROOM_BYTES (checked before liblcm runs); the bridge is then stopped. Not
+/// RT-safe (blocks; may take seconds for udpm, whose self-test runs here).
 cdpr_status_t cdpr_lcm_bridge_start(cdpr_lcm_bridge_t *b, cdpr_diag_t *diag);
 
 /// Ask the thread to stop, let it publish what is still queued, join it, destroy the lcm_t.
