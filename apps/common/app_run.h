@@ -50,6 +50,11 @@ cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
 /// why. Feed-forward only: CDPR_OK at once, nothing computed or printed.
 cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc);
 
+/// The design check's cost at 703 states (the paper's robot at 20 segments) with Debian's
+/// reference LAPACK on the project's 2-core machine [s]; cdpr_app_design_check announces
+/// this scaled by the cube of the state count before it runs, and the time taken after.
+#define CDPR_APP_DESIGN_S_AT_703 6.0
+
 /// Install SIGINT, SIGTERM and SIGHUP handlers (alike, without SA_RESTART) that set the
 /// returned flag (0 until a signal came; the apps' loops, cdpr_sim_run and the plant node's
 /// periodic thread check it). Same flag on every call. The apps then end as for a stop: whole

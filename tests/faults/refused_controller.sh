@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # Fault H5: a controller that is not in control must say so (issue 26). The plant follows one
 # controller session at a time and takes over a new one only after the active one fell silent
-# (docs/realtime.md, "Sessions"). Free-running, 100 Hz, 6 s, 0.1 s watchdog:
+# (docs/realtime.md, "Sessions"). Free-running, 100 Hz, 15 s (room for a loaded machine to
+# start every process before the run ends), 0.1 s watchdog:
 #  1. cdpr-tracker controls; it is stopped (SIGSTOP), examples/python/controller.py starts
 #     and takes the plant over, the tracker resumes 1 s (10 watchdog periods) after the Python
 #     controller listens and is refused (session busy) for the rest of the run. The tracker
@@ -18,7 +19,7 @@ set -eu
 . "$(dirname "$0")/lib.sh" "$@"
 python_or_skip
 sc=$src/scenarios/paper-line.yaml
-common="--rate 100 --duration 6 --lcm-url $url"
+common="--rate 100 --duration 15 --lcm-url $url"
 
 # 1. The tracker loses the plant.
 "$bin/cdpr-tracker" "$sc" $common --out "$w/t" --no-plot --quiet --idle-exit 30 > "$w/t.txt" 2>&1 &
@@ -50,13 +51,15 @@ grep -qF '"status": "failed",' "$w/t/summary.json" || fail "the tracker's summar
 grep -qF 'not in control' "$w/t/summary.json" || fail "the tracker's summary does not say why"
 echo "PASS: the refused tracker warned, exited 5 and marked its summary"
 
-# 2. The Python controller loses the plant.
-"$py" "$src/examples/python/controller.py" --lcm-url "$url" --timeout 5 > "$w/ctl2.txt" 2>&1 &
-ctl=$!
-sleep 1
+# 2. The Python controller loses the plant. The plant first (it holds until a controller
+# answers), so the controller's --timeout (no message for 5 s) cannot run out while a loaded
+# machine starts the plant.
 "$bin/cdpr-rt" "$sc" $common --watchdog 0.1 > "$w/rt2.txt" 2> "$w/rt2.err" &
 rt=$!
 wait_for "$w/rt2.err" "running" 60
+"$py" "$src/examples/python/controller.py" --lcm-url "$url" --timeout 5 > "$w/ctl2.txt" 2>&1 &
+ctl=$!
+wait_for "$w/ctl2.txt" "waiting for" 60
 sleep 1
 kill -STOP "$ctl"
 "$bin/cdpr-tracker" "$sc" $common --idle-exit 30 > "$w/t2.txt" 2>&1 &
