@@ -307,7 +307,7 @@ int main(int argc, char **argv)
     }
     /* The scenario's controller runs only in the in-process tracker. */
     if (o.with_tracker != 0 &&
-        (st = cdpr_app_design_check("cdpr-rt", o.scenario, &sc)) != CDPR_OK) {
+        (st = cdpr_app_design_check("cdpr-rt", o.scenario, &sc, o.quiet)) != CDPR_OK) {
         return cdpr_app_exit_code(st);
     }
     o.rt.stop = cdpr_app_stop_on_signals();

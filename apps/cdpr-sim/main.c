@@ -151,7 +151,7 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(ls);
     }
     if (o.unchecked == 0) {
-        const cdpr_status_t ds = cdpr_app_design_check("cdpr-sim", o.scenario, &sc);
+        const cdpr_status_t ds = cdpr_app_design_check("cdpr-sim", o.scenario, &sc, o.quiet);
         if (ds != CDPR_OK) {
             return cdpr_app_exit_code(ds);
         }

@@ -453,7 +453,7 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     if (st != CDPR_OK) {
         return st;
     }
-    st = cdpr_app_design_check("cdpr-tracker", o->scenario, sc);
+    st = cdpr_app_design_check("cdpr-tracker", o->scenario, sc, o->quiet);
     if (st != CDPR_OK) {
         return st;
     }

@@ -140,7 +140,8 @@ static long design_states(const cdpr_scenario_t *sc)
     return n;
 }
 
-cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc)
+cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc,
+                                    int quiet)
 {
     int checked = 0; /* 0: feed-forward only, nothing computed */
     int warn = 0;
@@ -149,15 +150,16 @@ cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cd
      * 6 s at 703 states, 81 s at 1417, with Debian's reference LAPACK; docs/performance.md). */
     const long n = design_states(sc);
     const double t0 = cdpr_clock_now_s();
-    if (cdpr_design_has_feedback(&sc->gains) != 0 && n > 0) {
+    if (quiet == 0 && cdpr_design_has_feedback(&sc->gains) != 0 && n > 0) {
         const double expect_s = CDPR_APP_DESIGN_S_AT_703 * pow((double)n / 703.0, 3.0);
         fprintf(stderr,
                 "%s: checking the controller's design on its linearised loop (%ld states of the "
-                "robot; about %.0f s with reference LAPACK)...\n",
+                "robot; about %.0f s on an idle 2-core machine with reference LAPACK, growing as "
+                "the cube of the states)...\n",
                 prog, n, expect_s);
     }
     const cdpr_status_t st = cdpr_design_check_scenario(sc, path, &checked, &warn, NULL, &err);
-    if (checked != 0) {
+    if (quiet == 0 && checked != 0) {
         fprintf(stderr, "%s: design check done in %.1f s\n", prog, cdpr_clock_now_s() - t0);
     }
     if (st == CDPR_E_OUT_OF_RANGE) {

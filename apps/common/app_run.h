@@ -47,8 +47,11 @@ cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
 /// at a lap harmonic): prints "PROG: PATH: controller (...): ..." and returns
 /// CDPR_E_OUT_OF_RANGE (exit status 2). Stable below the goal margins (6 dB / 30°): one
 /// "PROG: warning: ..." line, CDPR_OK. The check itself failing: its status after printing
-/// why. Feed-forward only: CDPR_OK at once, nothing computed or printed.
-cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc);
+/// why. Feed-forward only: CDPR_OK at once, nothing computed or printed. Unless `quiet`, the
+/// check is announced on stderr with the robot's state count and its expected cost
+/// (CDPR_APP_DESIGN_S_AT_703 scaled by the cube of the states) and its time printed after.
+cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc,
+                                    int quiet);
 
 /// The design check's cost at 703 states (the paper's robot at 20 segments) with Debian's
 /// reference LAPACK on the project's 2-core machine [s]; cdpr_app_design_check announces
