@@ -9,6 +9,9 @@ w=$3
 url='udpm://239.255.76.67:7667?ttl=0'
 rm -rf "$w"
 mkdir -p "$w"
+# A script that stops early (a failed check, set -e) leaves no process behind: its
+# background apps are killed on exit (a tracker that never saw a state would wait forever).
+trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 fail() {
     echo "FAIL: $*"
     exit 1
