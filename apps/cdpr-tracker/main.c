@@ -201,7 +201,6 @@ static cdpr_status_t replay_load(replay_t *r, const char *path, const char *pref
             if (log.data_len < 0) {
                 continue;
             }
-            long seq;
             const char *bad = NULL;
             if (strcmp(log.channel, r->ch_command) == 0) {
                 cdpr_winch_command_t c;
@@ -210,7 +209,7 @@ static cdpr_status_t replay_load(replay_t *r, const char *path, const char *pref
                 } else if (c.state_seq < 0 || c.state_seq >= (int64_t)LONG_MAX) {
                     bad = "state_seq out of range";
                 } else {
-                    seq = (long)c.state_seq;
+                    const long seq = (long)c.state_seq;
                     if (pass == 1 && seq < r->n && r->have_cmd[seq] == 0) {
                         r->cmd[seq] = c;
                         r->have_cmd[seq] = 1;
@@ -581,15 +580,15 @@ static void finish_status(cdpr_status_t rc, int csv_failed)
         g_sum.status = CDPR_SIM_FAILED;
         why = (g_silence != 0) ? "stopped: no state came; " : "";
     }
+    const uint64_t refused =
+        s->refused_seq + s->refused_time + s->refused_implausible + s->bad_measurement;
     snprintf(g_sum.message, sizeof g_sum.message,
              "%sover LCM: %llu states, %llu commands, %llu superseded, %llu clamped, %llu "
              "refused; applied ours %llu, none %llu, another controller's %llu",
              why, (unsigned long long)s->states, (unsigned long long)s->answered,
              (unsigned long long)s->superseded, (unsigned long long)g_tracker.clamped,
-             (unsigned long long)(s->refused_seq + s->refused_time + s->refused_implausible +
-                                  s->bad_measurement),
-             (unsigned long long)s->applied_ours, (unsigned long long)s->applied_none,
-             (unsigned long long)s->applied_other);
+             (unsigned long long)refused, (unsigned long long)s->applied_ours,
+             (unsigned long long)s->applied_none, (unsigned long long)s->applied_other);
 }
 
 /* The summary of what the controller saw (status `rc` of the run), its files (the CSV's whole
@@ -633,10 +632,10 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     }
     if (o->quiet == 0) {
         cdpr_sim_print_summary(stdout, "cdpr-tracker", &g_sum);
+        const uint64_t refused =
+            s->bad_measurement + s->refused_seq + s->refused_time + s->refused_implausible;
         printf("  LCM             decode errors %llu, refused pairs %llu\n",
-               (unsigned long long)s->decode_errors,
-               (unsigned long long)(s->bad_measurement + s->refused_seq + s->refused_time +
-                                    s->refused_implausible));
+               (unsigned long long)s->decode_errors, (unsigned long long)refused);
         cdpr_rt_tracker_print_cost(stdout, &g_tracker);
         if (o->out_dir != NULL) {
             printf("  outputs         %s/timeseries.csv, %s/summary.json, figures\n", o->out_dir,

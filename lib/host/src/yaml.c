@@ -288,9 +288,9 @@ static cdpr_status_t check_text(const char *path, const unsigned char *text, siz
                 cdpr_status_t why_st;
                 const char *why = number_problem(v, &ev, &why_st);
                 if (why != NULL) {
-                    char echo[CDPR_YAML_ECHO_MAX + 8];
                     char what[CDPR_YAML_ECHO_MAX + 256];
                     if (ev.type == YAML_SCALAR_EVENT) {
+                        char echo[CDPR_YAML_ECHO_MAX + 8];
                         cdpr_yaml_echo(echo, sizeof echo, (const char *)ev.data.scalar.value);
                         snprintf(what, sizeof what,
                                  "'%s' is %s: a decimal number, the whole value (such as 40.0 "

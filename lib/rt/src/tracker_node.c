@@ -390,9 +390,10 @@ cdpr_status_t cdpr_rt_tracker_check_pair(const cdpr_rt_tracker_t *t, const cdpr_
     if (t->have_accepted != 0) {
         const int64_t dseq = st->seq - t->acc_seq;
         if (dseq <= 0 || dseq > CDPR_RT_STATE_SEQ_WINDOW) {
+            const int64_t hi = t->acc_seq + CDPR_RT_STATE_SEQ_WINDOW;
             snprintf(why, cap, "seq %lld outside (%lld, %lld] (the last accepted + %d)",
-                     (long long)st->seq, (long long)t->acc_seq,
-                     (long long)(t->acc_seq + CDPR_RT_STATE_SEQ_WINDOW), CDPR_RT_STATE_SEQ_WINDOW);
+                     (long long)st->seq, (long long)t->acc_seq, (long long)hi,
+                     CDPR_RT_STATE_SEQ_WINDOW);
             return CDPR_E_MISMATCH;
         }
         const int64_t dt = st->utime_us - t->acc_utime_us;
