@@ -48,9 +48,10 @@ static long file_bytes(const char *path, char **buf)
     const long n = ftell(f);
     TEST_ASSERT_TRUE(n > 0);
     rewind(f);
-    *buf = malloc((size_t)n);
+    *buf = malloc((size_t)n + 1U); /* NUL-terminated: the text is searched with strstr */
     TEST_ASSERT_NOT_NULL(*buf);
     TEST_ASSERT_EQUAL_UINT32((unsigned)n, (unsigned)fread(*buf, 1, (size_t)n, f));
+    (*buf)[n] = '\0';
     fclose(f);
     return n;
 }
