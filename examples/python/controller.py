@@ -9,6 +9,7 @@ first state plus `--lift` metres spread over `--ramp` seconds (a positive lift s
 cable, raising the cabin), u_j = k (L_ref_j - L_j) + dL_ref_j/dt, limited to --u-max.
 
   examples/python/controller.py [--lcm-url URL] [--prefix CDPR_] [--count N] [--timeout S]
+                                [--first-timeout S]
                                 [--gain K] [--lift M] [--ramp S] [--u-max U]
 
 Sessions (docs/realtime.md, "Sessions"): the controller draws a random controller_session
@@ -50,7 +51,11 @@ def main():
     ap.add_argument("--prefix", default="CDPR_", help="channel prefix (default CDPR_)")
     ap.add_argument("--count", type=int, default=0, help="stop after answering N states")
     ap.add_argument("--timeout", type=float, default=0.0,
-                    help="stop after S seconds without a message (0: never)")
+                    help="stop after S seconds without a message once the first came (0: "
+                         "never)")
+    ap.add_argument("--first-timeout", type=float, default=60.0,
+                    help="stop when no message came within S seconds of the start (default "
+                         "60: a plant may take seconds to settle before it publishes)")
     ap.add_argument("--gain", type=float, default=2.0, help="length-loop gain k [1/s]")
     ap.add_argument("--lift", type=float, default=0.05, help="length change [m] (+: shorter)")
     ap.add_argument("--ramp", type=float, default=1.0, help="duration of the change [s]")
@@ -237,9 +242,23 @@ def main():
     timeout_ms = int(a.timeout * 1000) if a.timeout > 0 else 1000
     print("controller: session %d, waiting for %sCABIN_STATE" % (ctl["session"], a.prefix),
           file=sys.stderr, flush=True)
+    heard = {"any": False}
+
+    def note(channel, data):
+        heard["any"] = True
+
+    lc.subscribe(a.prefix + "CABIN_STATE", note)
+    t_start = time.monotonic()
     try:
         while a.count <= 0 or ctl["answered"] < a.count:
-            if lc.handle_timeout(timeout_ms) == 0 and a.timeout > 0:
+            got = lc.handle_timeout(timeout_ms)
+            if not heard["any"]:
+                if time.monotonic() - t_start > a.first_timeout:
+                    print("controller: no state within %g s: stopping" % a.first_timeout,
+                          file=sys.stderr)
+                    break
+                continue
+            if got == 0 and a.timeout > 0:
                 break
             if ctl["in_row"] >= 100:
                 print("controller: 100 states in a row refused: stopping", file=sys.stderr)
