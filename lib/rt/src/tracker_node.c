@@ -68,7 +68,7 @@ static void set_bounds(cdpr_rt_meas_bounds_t *b, const cdpr_robot_params_t *mode
     double spread = 0.0;
     double longest = 0.0;
     double u_max = 0.0;
-    double r_min = INFINITY;
+    double r_min = HUGE_VAL;
     for (int j = 0; j < model->n_cables; ++j) {
         const cdpr_robot_cable_params_t *c = &model->cables[j];
         const double ea = (double)c->cable.ea_N;
