@@ -29,7 +29,9 @@ while [ "$kb" -le 60000 ]; do
     0) worked=$((worked + 1)) ;;
     3)
         refused=$((refused + 1))
-        grep -q "cannot start the bridge" "$w/run-$kb.txt" || bad "$kb kB: exit 3 without the reason"
+        # The bridge refusing liblcm's start-up, or (just above that) the periodic thread's
+        # stack not fitting: either way a line saying what could not be done.
+        grep -q "^cdpr-rt: .*cannot" "$w/run-$kb.txt" || bad "$kb kB: exit 3 without the reason"
         ;;
     *)
         cat "$w/run-$kb.txt"
