@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "cdpr/host/plant.h"
 #include "cdpr/host/rig.h"
@@ -428,6 +429,52 @@ static void test_scenario_robot_errors(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "robot: needs preset:"), err.msg);
 }
 
+/* A robot file is the .yaml/.yml file its path resolves to (links and ".." followed): the
+ * summary names that file, and no scenario can make the loader read (and echo in an error)
+ * anything else. */
+static void test_robot_file_resolved_and_contained(void)
+{
+    make_tmp();
+    char path[1024];
+    static cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    snprintf(path, sizeof path, "%s/scenarios/example-rig-circle.yaml", CDPR_SOURCE_DIR);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
+    char want[1024];
+    snprintf(want, sizeof want, "%s/robots/example-rig.yaml", CDPR_SOURCE_DIR);
+    char *real = realpath(want, NULL);
+    TEST_ASSERT_NOT_NULL(real);
+    TEST_ASSERT_EQUAL_STRING(real, cdpr_scenario_robot_name(&sc));
+    free(real);
+
+    char other[1024];
+    snprintf(other, sizeof other, "%s/secret.txt", tmp_dir);
+    write_text(other, "TOPSECRET: 1\n");
+    char link[1024];
+    snprintf(link, sizeof link, "%s/sneaky.yaml", tmp_dir);
+    (void)unlink(link);
+    TEST_ASSERT_EQUAL_INT(0, symlink("secret.txt", link));
+    char dotdot[600];
+    snprintf(dotdot, sizeof dotdot, "../%s/secret.txt", strrchr(tmp_dir, '/') + 1);
+    const char *const files[] = {"secret.txt", "sneaky.yaml", dotdot};
+    snprintf(path, sizeof path, "%s/scn-contained.yaml", tmp_dir);
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; ++i) {
+        static char text[1024];
+        snprintf(text, sizeof text,
+                 "robot:\n  file: %s\ntrajectory:\n  type: hold\n  hold:\n"
+                 "    pose: [0, 0, 9, 0, 0, 0]\ncontroller:\n  kp: 0.0\n  k_length_per_s: 5.0\n"
+                 "run:\n  duration_s: 0.1\n  period_s: 0.01\n",
+                 files[i]);
+        write_text(path, text);
+        const cdpr_status_t st = cdpr_scenario_load(path, &sc, &err);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_E_IO, st, err.msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "robot.file: "), err.msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "not a robot file"), err.msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "secret.txt)"), err.msg);
+        TEST_ASSERT_NULL_MESSAGE(strstr(err.msg, "TOPSECRET"), err.msg);
+    }
+}
+
 static void test_principal_moments(void)
 {
     /* diag(1, 2, 3) rotated by 90 deg about z: the moments are unchanged. */
@@ -453,6 +500,7 @@ int main(void)
     RUN_TEST(test_embedded_robot);
     RUN_TEST(test_other_cable_counts);
     RUN_TEST(test_bad_robot_files_name_file_key_and_line);
+    RUN_TEST(test_robot_file_resolved_and_contained);
     RUN_TEST(test_scenario_robot_errors);
     RUN_TEST(test_principal_moments);
     return UNITY_END();

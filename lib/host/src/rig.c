@@ -4,6 +4,7 @@
 /// and the checks (docs/robots.md "Robot files").
 #include "cdpr/host/rig.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -685,9 +686,32 @@ cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t 
                  path, strlen(path), sizeof rig->name - 1U);
         return CDPR_E_INVALID_ARG;
     }
+    /* The file the path names, links and ".." resolved: only a .yaml/.yml file is read (a
+     * scenario's robot.file cannot make the loader read, or echo, any other file), and the
+     * resolved path is the rig's name, so the summary says which file ran. */
+    char *real = realpath(path, NULL);
+    if (real == NULL) {
+        snprintf(err->msg, sizeof err->msg, "%s: cannot open robot file: %s", path,
+                 strerror(errno));
+        return CDPR_E_IO;
+    }
+    const size_t len = strlen(real);
+    const int yaml_ext = ((len > 5U && strcmp(real + len - 5U, ".yaml") == 0) ||
+                          (len > 4U && strcmp(real + len - 4U, ".yml") == 0))
+                             ? 1
+                             : 0;
+    if (yaml_ext == 0 || len >= sizeof rig->name) {
+        snprintf(err->msg, sizeof err->msg,
+                 "%s: cannot open robot file: %s (the path resolves to %.200s%s)", path,
+                 (yaml_ext == 0) ? "not a robot file, whose name ends in .yaml or .yml"
+                                 : "path too long once resolved",
+                 real, (len > 200U) ? "..." : "");
+        free(real);
+        return CDPR_E_IO;
+    }
     cdpr_yaml_log_t lg;
     void *data = NULL;
-    cdpr_status_t st = cdpr_yaml_load(path, &file_schema, CYAML_CFG_DEFAULT, &data, &lg);
+    cdpr_status_t st = cdpr_yaml_load(real, &file_schema, CYAML_CFG_DEFAULT, &data, &lg);
     if (st == CDPR_E_IO) {
         snprintf(err->msg, sizeof err->msg, "%s: cannot open robot file: %.512s", path, lg.text);
         return st;
@@ -704,6 +728,10 @@ cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t 
     if (st == CDPR_OK) {
         st = cdpr_rig_check(rig, path, "", err);
     }
+    if (st == CDPR_OK) {
+        (void)snprintf(rig->name, sizeof rig->name, "%s", real);
+    }
     cdpr_yaml_free(&file_schema, data);
+    free(real);
     return st;
 }
