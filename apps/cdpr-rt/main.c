@@ -59,7 +59,7 @@ static void usage(FILE *f)
            "  --max-attempts N       attempts per period; the work bound of a period is\n"
            "                         max-attempts x max-trials (default: the scenario's\n"
            "                         integrator.max_attempts)\n"
-           "  --integrator NAME      rkf45 or ros34pw2 (default: the scenario's\n"
+           "  --integrator NAME      rkf45, ros34pw2 or ros34pw2-fixed (default: the scenario's\n"
            "                         integrator.method)\n"
            "  --watchdog S           no valid command for S -> winches hold (default: 0.1 s\n"
            "                         or two periods, the longer; free-running: >= 2 periods)\n"

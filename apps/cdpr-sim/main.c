@@ -48,7 +48,7 @@ static void usage(FILE *f)
             "  --out DIR           output directory (created if missing; required)\n"
             "  --duration S        simulate S seconds instead of run.duration_s (tests and\n"
             "                      quick looks; S must be a whole number of run.period_s)\n"
-            "  --integrator NAME   rkf45 or ros34pw2 instead of integrator.method\n"
+            "  --integrator NAME   rkf45, ros34pw2 or ros34pw2-fixed instead of integrator.method\n"
             "  --no-plot           do not run gnuplot\n"
             "  --plot-script FILE  gnuplot script; default: share/cdpr/scripts/plot_sim.gp of\n"
             "                      the installation (the source tree's from a build tree):\n"

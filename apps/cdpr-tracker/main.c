@@ -619,6 +619,9 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     g_sum.steps_accepted = CDPR_SIM_UNKNOWN;
     g_sum.steps_rejected = CDPR_SIM_UNKNOWN;
     g_sum.rhs_evals = CDPR_SIM_UNKNOWN;
+    g_sum.max_rhs_per_period = CDPR_SIM_UNKNOWN;
+    g_sum.max_err_norm = (double)NAN;
+    g_sum.err_above_one_periods = CDPR_SIM_UNKNOWN;
     g_sum.settle_steps = -1;
     g_sum.settle_wall_time_s = (double)NAN;
     finish_status(rc, csv_failed);

@@ -25,8 +25,12 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
             ov->method = (int)CDPR_PLANT_RKF45;
         } else if (strcmp(arg, "ros34pw2") == 0) {
             ov->method = (int)CDPR_PLANT_ROS34PW2;
+        } else if (strcmp(arg, "ros34pw2-fixed") == 0) {
+            ov->method = (int)CDPR_PLANT_ROS34PW2_FIXED;
         } else {
-            fprintf(stderr, "%s: option --integrator: '%s': not rkf45 or ros34pw2\n", prog, arg);
+            fprintf(stderr,
+                    "%s: option --integrator: '%s': not rkf45, ros34pw2 or ros34pw2-fixed\n", prog,
+                    arg);
             return -1;
         }
         return 1;

@@ -60,4 +60,27 @@ static inline void test_paper_plant_params(cdpr_plant_params_t *pp, int segments
     pp->max_trials = 400;
 }
 
+/* Payout rates of period k at 1 kHz (the implicit plant tests): every cable pays out / hauls in
+ * with its own phase, so the cabin translates and turns and the tensions swing (peak rates 0.4
+ * m/s). */
+static inline void test_paper_rates_at(int k, cdpr_real_t *u)
+{
+    const double t = 0.001 * k;
+    for (int j = 0; j < 6; ++j) {
+        u[j] = (cdpr_real_t)(0.4 * sin(2.0 * CDPR_PI * (0.7 + 0.1 * j) * t + 1.1 * j) *
+                             (1.0 - exp(-4.0 * t)));
+    }
+}
+
+static inline double test_cabin_angle(const cdpr_cabin_motion_t *a, const cdpr_cabin_motion_t *b)
+{
+    /* rotation angle [rad] of a^-1 b: 2 asin |vec(conj(a) b)| */
+    const double w = (double)a->q.w, x = -(double)a->q.x, y = -(double)a->q.y, z = -(double)a->q.z;
+    const double bw = (double)b->q.w, bx = (double)b->q.x, by = (double)b->q.y, bz = (double)b->q.z;
+    const double vx = w * bx + x * bw + y * bz - z * by;
+    const double vy = w * by - x * bz + y * bw + z * bx;
+    const double vz = w * bz + x * by - y * bx + z * bw;
+    return 2.0 * asin(fmin(1.0, sqrt(vx * vx + vy * vy + vz * vz)));
+}
+
 #endif /* CDPR_TEST_PAPER_PLANT_H */

@@ -84,28 +84,6 @@ static void ref_params(cdpr_plant_params_t *pp)
     pp->max_trials = 100000;
 }
 
-/* Payout rates of period k: every cable pays out / hauls in with its own phase, so the cabin
- * translates and turns and the tensions swing (peak rates 0.4 m/s). */
-static void rates_at(int k, cdpr_real_t *u)
-{
-    const double t = 0.001 * k;
-    for (int j = 0; j < 6; ++j) {
-        u[j] = (cdpr_real_t)(0.4 * sin(2.0 * CDPR_PI * (0.7 + 0.1 * j) * t + 1.1 * j) *
-                             (1.0 - exp(-4.0 * t)));
-    }
-}
-
-static double angle_diff(const cdpr_cabin_motion_t *a, const cdpr_cabin_motion_t *b)
-{
-    /* rotation angle of a^-1 b: 2 asin |vec(conj(a) b)| */
-    const double w = (double)a->q.w, x = -(double)a->q.x, y = -(double)a->q.y, z = -(double)a->q.z;
-    const double bw = (double)b->q.w, bx = (double)b->q.x, by = (double)b->q.y, bz = (double)b->q.z;
-    const double vx = w * bx + x * bw + y * bz - z * by;
-    const double vy = w * by - x * bz + y * bw + z * bx;
-    const double vz = w * bz + x * by - y * bx + z * bw;
-    return 2.0 * asin(fmin(1.0, sqrt(vx * vx + vy * vy + vz * vz)));
-}
-
 /* 1.5 s of payout profiles at 1 kHz: implicit vs the tight RKF45 reference, every period;
  * the raw winch-end tension within `raw_pct` of the peak. */
 static void follow_tight_reference(double raw_pct)
@@ -125,7 +103,7 @@ static void follow_tight_reference(double raw_pct)
     unsigned long max_fac = 0, max_sol = 0, max_rhs = 0;
     for (int k = 0; k < 1500; ++k) {
         cdpr_real_t u[6];
-        rates_at(k, u);
+        test_paper_rates_at(k, u);
         int f1 = 0, f2 = 0;
         TEST_ASSERT_TRUE(cdpr_plant_step(&ref, CDPR_WINCH_RATE, u, &f1) >= 0);
         TEST_ASSERT_TRUE(cdpr_plant_step(&plant, CDPR_WINCH_RATE, u, &f2) >= 0);
@@ -133,7 +111,7 @@ static void follow_tight_reference(double raw_pct)
         cdpr_plant_measure(&ref, &a);
         cdpr_plant_measure(&plant, &b);
         dpos = fmax(dpos, (double)cdpr_v3_norm(cdpr_v3_sub(a.cabin.p_m, b.cabin.p_m)));
-        datt = fmax(datt, angle_diff(&a.cabin, &b.cabin));
+        datt = fmax(datt, test_cabin_angle(&a.cabin, &b.cabin));
         cdpr_robot_out_t oa, ob;
         cdpr_plant_outputs(&ref, &oa);
         cdpr_plant_outputs(&plant, &ob);
@@ -262,7 +240,7 @@ static void test_reruns_bit_identical_no_allocation(void)
         cdpr_alloc_reset();
         for (int k = 0; k < 200; ++k) {
             cdpr_real_t u[6];
-            rates_at(k, u);
+            test_paper_rates_at(k, u);
             int flags = 0;
             TEST_ASSERT_TRUE(cdpr_plant_step(&plant, CDPR_WINCH_RATE, u, &flags) >= 0);
         }

@@ -768,6 +768,78 @@ static void test_no_heap_allocation(void)
     TEST_ASSERT_EQUAL_UINT(0u, cdpr_alloc_count());
 }
 
+/* cdpr_ros_fixed: n equal steps, each what cdpr_ros_trial gives (bit for bit), exactly n
+ * factorisations whatever jac_reuse_max says, the largest error norm reported; on the stiff
+ * Prothero-Robinson problem with h L = 1e3 (far beyond any explicit limit) it follows the
+ * closed form; a non-finite step is refused with the state bit-identical. */
+static void test_fixed_equal_steps_exact_work(void)
+{
+    const double L = 1.0e6;
+    dense_t d = dense(2, jac_pr, 1.0, &L);
+    const cdpr_ros_problem_t pb = problem(rhs_pr, (void *)&L, &d);
+    cdpr_ros_params_t p = params_tol(1e-6);
+    p.jac_reuse_max = 4; /* the fixed call renews W anyway */
+    init_solver(&p, 2);
+    cdpr_real_t t = 0.0;
+    cdpr_real_t y[2] = {1.0, 2.0};
+    cdpr_real_t yt[2] = {1.0, 2.0};
+    double emax = 0.0;
+    for (int k = 0; k < 50; ++k) {
+        const unsigned long fac0 = solver.stats.factorisations;
+        const unsigned long rhs0 = solver.stats.rhs_evals;
+        const unsigned long sol0 = solver.stats.solves;
+        cdpr_real_t en = -1.0;
+        const cdpr_real_t tk = t;
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_ros_fixed(&solver, &pb, &t, y, 0.01, 5, &en));
+        TEST_ASSERT_EQUAL_UINT(5u, solver.stats.factorisations - fac0);
+        TEST_ASSERT_EQUAL_UINT(20u, solver.stats.rhs_evals - rhs0);
+        TEST_ASSERT_EQUAL_UINT(20u, solver.stats.solves - sol0);
+        TEST_ASSERT_TRUE(en >= 0.0 && isfinite(en));
+        /* The same five steps by hand, one trial each from the fixed call's own times. */
+        double worst = 0.0;
+        for (int i = 0; i < 5; ++i) {
+            cdpr_real_t yn[2];
+            cdpr_real_t e = 0.0;
+            cdpr_ros_invalidate(&solver);
+            TEST_ASSERT_EQUAL_INT(
+                CDPR_OK, cdpr_ros_trial(&solver, &pb, tk + (cdpr_real_t)i * ((cdpr_real_t)0.01 / 5),
+                                        yt, (cdpr_real_t)0.01 / 5, yn, &e));
+            yt[0] = yn[0];
+            yt[1] = yn[1];
+            worst = fmax(worst, (double)e);
+        }
+        TEST_ASSERT_EQUAL_MEMORY(yt, y, sizeof y);
+        TEST_ASSERT_EQUAL_DOUBLE(worst, (double)en);
+        const double td = (double)t;
+        emax = fmax(emax, fabs((double)y[0] - exp(-td)));
+        emax = fmax(emax, fabs((double)y[1] - (cos(td) + exp(-L * td))));
+    }
+    TEST_ASSERT_EQUAL_DOUBLE(0.5, (double)t);
+    TEST_ASSERT_TRUE_MESSAGE(emax < TOL(1e-6, 1e-4), "fixed steps left the closed form");
+    /* A non-finite step: refused, state and time bit-identical, counted. */
+    dense_t d1 = dense(1, jac_minus_one, 1.0, NULL);
+    unsigned long nan_calls = 0;
+    const cdpr_ros_problem_t pn = problem(rhs_nan_far, &nan_calls, &d1);
+    init_solver(&p, 1);
+    cdpr_real_t t1 = 0.0;
+    cdpr_real_t y1[1] = {1.0};
+    const cdpr_real_t y1b = y1[0];
+    cdpr_real_t en = 7.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_STATE_NOT_FINITE,
+                          cdpr_ros_fixed(&solver, &pn, &t1, y1, 1.0, 1, &en));
+    TEST_ASSERT_EQUAL_MEMORY(&y1b, y1, sizeof y1b);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, (double)t1);
+    TEST_ASSERT_EQUAL_DOUBLE(7.0, (double)en);
+    TEST_ASSERT_EQUAL_UINT(1u, solver.stats.nonfinite_rejected);
+    TEST_ASSERT_EQUAL_UINT(1u, solver.stats.failures);
+    TEST_ASSERT_TRUE(nan_calls >= 1u);
+    /* Bad arguments: nothing changed, not counted. */
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_ros_fixed(&solver, &pn, &t1, y1, 1.0, 0, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_ros_fixed(&solver, &pn, &t1, y1, 0.0, 1, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_ros_fixed(&solver, NULL, &t1, y1, 1.0, 1, NULL));
+    TEST_ASSERT_EQUAL_UINT(1u, solver.stats.failures);
+}
+
 static void test_two_identical_runs_are_bit_identical(void)
 {
     cdpr_real_t y1[2], y2[2];
@@ -796,5 +868,6 @@ int main(void)
     RUN_TEST(test_invalid_arguments_and_parameters);
     RUN_TEST(test_no_heap_allocation);
     RUN_TEST(test_two_identical_runs_are_bit_identical);
+    RUN_TEST(test_fixed_equal_steps_exact_work);
     return UNITY_END() ? 1 : 0;
 }

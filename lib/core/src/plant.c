@@ -39,6 +39,7 @@ void cdpr_plant_params_default(cdpr_plant_params_t *pp)
     pp->period_s = CDPR_R(0.01);
     pp->max_trials = 50;
     pp->max_attempts = 1;
+    pp->substeps = 0;
 }
 
 cdpr_status_t cdpr_plant_params_validate(const cdpr_plant_params_t *pp, cdpr_diag_t *diag)
@@ -46,7 +47,8 @@ cdpr_status_t cdpr_plant_params_validate(const cdpr_plant_params_t *pp, cdpr_dia
     if (pp == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "params", -1);
     }
-    if (pp->integrator != CDPR_PLANT_RKF45 && pp->integrator != CDPR_PLANT_ROS34PW2) {
+    if (pp->integrator != CDPR_PLANT_RKF45 && pp->integrator != CDPR_PLANT_ROS34PW2 &&
+        pp->integrator != CDPR_PLANT_ROS34PW2_FIXED) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "integrator", -1);
     }
     if (pp->start != CDPR_PLANT_START_SETTLED && pp->start != CDPR_PLANT_START_CATENARY) {
@@ -64,6 +66,9 @@ cdpr_status_t cdpr_plant_params_validate(const cdpr_plant_params_t *pp, cdpr_dia
     }
     if (pp->max_attempts < 1 || pp->max_attempts > CDPR_PLANT_MAX_ATTEMPTS) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "max_attempts", -1);
+    }
+    if (pp->substeps < 0 || pp->substeps > CDPR_PLANT_MAX_SUBSTEPS) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "substeps", CDPR_PLANT_MAX_SUBSTEPS);
     }
     CDPR_TRY(check_finite_v3(pp->wind_m_per_s, "wind_m_per_s", -1, diag));
     const cdpr_cabin_motion_t *m = &pp->initial;
@@ -100,6 +105,57 @@ cdpr_status_t cdpr_plant_init_model(cdpr_plant_t *p, const cdpr_plant_params_t *
         p->params.cables[j].length_m = p->initial.cable[j].length_m;
     }
     return cdpr_robot_init(&p->robot, &p->params, diag);
+}
+
+cdpr_status_t cdpr_plant_fixed_substeps(const cdpr_robot_t *r, const cdpr_winch_params_t *w,
+                                        cdpr_real_t period_s, int *n, cdpr_real_t *omega_max)
+{
+    if (r == NULL || w == NULL || n == NULL || !(period_s > CDPR_R(0.0))) {
+        return CDPR_E_INVALID_ARG;
+    }
+    cdpr_real_t om = CDPR_R(0.0);
+    for (int j = 0; j < r->p.n_cables; ++j) {
+        const cdpr_cable_t *c = &r->cable[j];
+        const cdpr_real_t delta = c->delta_m;
+        const cdpr_real_t b_min = CDPR_R(0.5) * delta - w[j].u_max_m_per_s * period_s;
+        if (!(b_min > CDPR_R(0.0))) {
+            return CDPR_E_OUT_OF_RANGE;
+        }
+        const cdpr_real_t oj =
+            CDPR_R(2.0) * CDPR_SQRT(c->p.ea_N / c->p.rho_kg_per_m) / CDPR_SQRT(delta * b_min);
+        om = (oj > om) ? oj : om;
+    }
+    const cdpr_real_t x = period_s * om / CDPR_R(CDPR_PLANT_FIXED_H_OMEGA);
+    if (!(x <= (cdpr_real_t)CDPR_PLANT_MAX_SUBSTEPS)) {
+        return CDPR_E_OUT_OF_RANGE;
+    }
+    int k = (int)x;
+    k += ((cdpr_real_t)k < x) ? 1 : 0;
+    *n = (k < 1) ? 1 : k;
+    if (omega_max != NULL) {
+        *omega_max = om;
+    }
+    return CDPR_OK;
+}
+
+/* Fixed mode: the substeps in force, derived, or the user's when not fewer. */
+static cdpr_status_t choose_substeps(cdpr_plant_t *p, cdpr_diag_t *diag)
+{
+    p->substeps = 0;
+    if (p->pp.integrator != CDPR_PLANT_ROS34PW2_FIXED) {
+        return CDPR_OK;
+    }
+    int need = 0;
+    const cdpr_status_t st =
+        cdpr_plant_fixed_substeps(&p->robot, p->pp.winch, p->pp.period_s, &need, NULL);
+    if (st != CDPR_OK) {
+        return cdpr_diag_set(diag, st, "substeps", CDPR_PLANT_MAX_SUBSTEPS);
+    }
+    if (p->pp.substeps != 0 && p->pp.substeps < need) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "substeps", need);
+    }
+    p->substeps = (p->pp.substeps != 0) ? p->pp.substeps : need;
+    return CDPR_OK;
 }
 
 /* Per-component absolute tolerances of the run for the current layout. */
@@ -147,7 +203,7 @@ static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
     }
     p->robot.in.wind_m_per_s = p->pp.wind_m_per_s;
     fill_atol(p);
-    if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
+    if (p->pp.integrator != CDPR_PLANT_RKF45) {
         cdpr_ros_params_t rp = p->pp.ros;
         rp.atol_vec = p->atol;
         (void)cdpr_robot_w_init(&p->w, &p->robot); /* cannot fail: both pointers are valid */
@@ -173,6 +229,7 @@ static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
 cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cdpr_diag_t *diag)
 {
     CDPR_TRY(cdpr_plant_init_model(p, pp, diag));
+    CDPR_TRY(choose_substeps(p, diag));
     CDPR_TRY(place_and_settle(p, diag));
     CDPR_TRY(start_run(p, diag));
     p->stats.steps = 0U;
@@ -188,6 +245,9 @@ cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cd
     p->stats.max_factorisations = 0U;
     p->stats.last_solves = 0U;
     p->stats.max_solves = 0U;
+    p->stats.last_err_norm = CDPR_R(0.0);
+    p->stats.max_err_norm = CDPR_R(0.0);
+    p->stats.err_above_one_periods = 0U;
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
         p->nodes.insertions[j] = 0U;
         p->nodes.removals[j] = 0U;
@@ -276,15 +336,26 @@ int cdpr_plant_command(cdpr_plant_t *p, cdpr_winch_mode_t mode, const cdpr_real_
 static cdpr_status_t advance_once(cdpr_plant_t *p, cdpr_real_t t)
 {
     cdpr_real_t tt = t;
+    cdpr_ros_problem_t pb;
+    pb.f = cdpr_robot_rhs;
+    pb.f_ctx = &p->robot;
+    pb.factor = cdpr_robot_w_factor;
+    pb.solve = cdpr_robot_w_solve;
+    pb.lin_ctx = &p->w;
     switch (p->pp.integrator) {
-    case CDPR_PLANT_ROS34PW2: {
-        cdpr_ros_problem_t pb;
-        pb.f = cdpr_robot_rhs;
-        pb.f_ctx = &p->robot;
-        pb.factor = cdpr_robot_w_factor;
-        pb.solve = cdpr_robot_w_solve;
-        pb.lin_ctx = &p->w;
+    case CDPR_PLANT_ROS34PW2:
         return cdpr_ros_advance(&p->ros, &pb, &tt, p->y, p->pp.period_s, p->pp.max_trials);
+    case CDPR_PLANT_ROS34PW2_FIXED: {
+        cdpr_real_t e = CDPR_R(0.0);
+        const cdpr_status_t st =
+            cdpr_ros_fixed(&p->ros, &pb, &tt, p->y, p->pp.period_s, p->substeps, &e);
+        if (st == CDPR_OK) {
+            cdpr_plant_stats_t *s = &p->stats;
+            s->last_err_norm = e;
+            s->max_err_norm = (e > s->max_err_norm) ? e : s->max_err_norm;
+            s->err_above_one_periods += (e > CDPR_R(1.0)) ? 1U : 0U;
+        }
+        return st;
     }
     case CDPR_PLANT_RKF45:
     default:
@@ -297,7 +368,7 @@ static cdpr_status_t advance_once(cdpr_plant_t *p, cdpr_real_t t)
 static void work_counts(const cdpr_plant_t *p, unsigned long *rhs, unsigned long *fac,
                         unsigned long *sol)
 {
-    if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
+    if (p->pp.integrator != CDPR_PLANT_RKF45) {
         *rhs = p->ros.stats.rhs_evals;
         *fac = p->ros.stats.factorisations;
         *sol = p->ros.stats.solves;
@@ -387,7 +458,7 @@ cdpr_status_t cdpr_plant_advance(cdpr_plant_t *p, int *flags)
         ret = (ret == CDPR_OK) ? ns : ret;
     }
     if (changed != 0) {
-        if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
+        if (p->pp.integrator != CDPR_PLANT_RKF45) {
             (void)cdpr_ros_set_dim(&p->ros, r->dim);
         } else {
             (void)cdpr_rkf45_set_dim(&p->rk, r->dim);

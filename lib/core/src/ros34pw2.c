@@ -536,3 +536,47 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
     }
     return CDPR_OK;
 }
+
+cdpr_status_t cdpr_ros_fixed(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
+                             cdpr_real_t *y, cdpr_real_t dt, int n, cdpr_real_t *err_max)
+{
+    if (s == NULL || ros_problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
+        !isfinite(dt) || !(dt > CDPR_R(0.0)) || n < 1) {
+        return CDPR_E_INVALID_ARG;
+    }
+    if (ros_all_finite(y, s->dim) == 0) {
+        return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
+    }
+    cdpr_real_t *yn = ros_slot(s, YNEW);
+    cdpr_real_t *yb = ros_slot(s, YBAK);
+    const cdpr_real_t t0 = *t;
+    const cdpr_real_t h = dt / (cdpr_real_t)n;
+    ros_copy(yb, y, s->dim);
+    cdpr_real_t emax = CDPR_R(0.0);
+    cdpr_status_t st = CDPR_OK;
+    for (int i = 0; i < n && st == CDPR_OK; ++i) {
+        cdpr_real_t err = CDPR_R(0.0);
+        s->w_valid = 0; /* a new W every step: the same work in every call */
+        st = ros_try(s, pb, t0 + (cdpr_real_t)i * h, y, h, yn, &err, 0);
+        if (st == CDPR_OK && !isfinite(err)) {
+            s->stats.nonfinite_rejected++;
+            st = CDPR_E_STATE_NOT_FINITE;
+        }
+        if (st == CDPR_OK) {
+            ros_copy(y, yn, s->dim);
+            s->stats.steps_accepted++;
+            emax = (err > emax) ? err : emax;
+        }
+    }
+    s->w_valid = 0;
+    if (st != CDPR_OK) {
+        ros_copy(y, yb, s->dim);
+        *t = t0;
+        return ros_failed(s, st);
+    }
+    *t = t0 + dt;
+    if (err_max != NULL) {
+        *err_max = emax;
+    }
+    return CDPR_OK;
+}

@@ -75,6 +75,7 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
     pp->period_s = sc->period_s;
     pp->max_trials = in->max_trials;
     pp->max_attempts = in->max_attempts;
+    pp->substeps = in->substeps;
     return CDPR_OK;
 }
 
@@ -116,6 +117,24 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
     }
     if (strcmp(f, "period_s") == 0) {
         return fail(sc, "run.period_s", "period must be in (0, 10] s", d, err);
+    }
+    if (strcmp(f, "substeps") == 0) {
+        if (d->status == CDPR_E_OUT_OF_RANGE && d->index > 0 &&
+            d->index < CDPR_PLANT_MAX_SUBSTEPS && sc->integrator.substeps > 0) {
+            snprintf(what, sizeof what,
+                     "%d substeps per period are fewer than this model needs: at least %d at "
+                     "period %g s (its stiffest axial mode; omit the key for the derived count)",
+                     sc->integrator.substeps, d->index, sc->period_s);
+        } else {
+            snprintf(what, sizeof what,
+                     "the fixed mode cannot hold this model at period %g s: it would need more "
+                     "than %d substeps, or a winch hauls a whole half-segment in within one "
+                     "period: shorten run.period_s, use fewer robot segments or "
+                     "integrator.method ros34pw2",
+                     sc->period_s, CDPR_PLANT_MAX_SUBSTEPS);
+        }
+        cdpr_scenario_error(sc, "integrator.substeps", what, err);
+        return CDPR_E_OUT_OF_RANGE;
     }
     if (strcmp(f, "max_trials") == 0 || strcmp(f, "max_attempts") == 0) {
         return fail(sc, (f[4] == 't') ? "integrator.max_trials" : "integrator.max_attempts",

@@ -149,6 +149,7 @@ typedef struct raw_integrator {
     double *h_max_s;
     double *max_trials;   /* whole number, see segments */
     double *max_attempts; /* whole number */
+    double *substeps;     /* whole number */
     cdpr_plant_integrator_t *method;
     struct raw_integrator *rkf45;    /* integrator.rkf45: settings when the method is rkf45 */
     struct raw_integrator *ros34pw2; /* integrator.ros34pw2: when it is ros34pw2 */
@@ -327,6 +328,7 @@ static const cyaml_schema_field_t controller_fields[] = {
 static const cyaml_strval_t method_names[] = {
     {"rkf45", CDPR_PLANT_RKF45},
     {"ros34pw2", CDPR_PLANT_ROS34PW2},
+    {"ros34pw2-fixed", CDPR_PLANT_ROS34PW2_FIXED},
 };
 /* The integrator section: the method, one subsection per method, then the settings. A
  * subsection (integrator.rkf45, integrator.ros34pw2) takes the same settings without method
@@ -347,6 +349,7 @@ static const cyaml_schema_field_t integrator_fields[] = {
     OPT_NUMP("h_max_s", raw_integrator_t, h_max_s),
     OPT_NUMP("max_trials", raw_integrator_t, max_trials),
     OPT_NUMP("max_attempts", raw_integrator_t, max_attempts),
+    OPT_NUMP("substeps", raw_integrator_t, substeps),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_field_t run_fields[] = {
@@ -455,8 +458,9 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->integrator.h_max_s = 0.01;
     sc->integrator.max_trials = 100;
     sc->integrator.max_attempts = 1;
+    sc->integrator.substeps = 0;
     sc->integrator.method = CDPR_PLANT_RKF45;
-    for (int m = 0; m < 2; ++m) {
+    for (int m = 0; m < CDPR_SCENARIO_METHODS; ++m) {
         sc->integrator_for[m] = sc->integrator;
         sc->integrator_for[m].method = (cdpr_plant_integrator_t)m;
     }
@@ -591,6 +595,9 @@ static void take_integrator(const raw_integrator_t *in, cdpr_scenario_integrator
     if (in->max_attempts != NULL) {
         out->max_attempts = (int)*in->max_attempts;
     }
+    if (in->substeps != NULL) {
+        out->substeps = (int)*in->substeps;
+    }
 }
 
 /* controller, integrator and run sections, and the description. */
@@ -621,8 +628,9 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
         if (in->method != NULL) {
             sc->integrator.method = *in->method;
         }
-        const raw_integrator_t *sub[2] = {in->rkf45, in->ros34pw2};
-        for (int m = 0; m < 2; ++m) {
+        const raw_integrator_t *sub[CDPR_SCENARIO_METHODS] = {in->rkf45, in->ros34pw2,
+                                                              in->ros34pw2};
+        for (int m = 0; m < CDPR_SCENARIO_METHODS; ++m) {
             sc->integrator_for[m] = sc->integrator;
             sc->integrator_for[m].method = (cdpr_plant_integrator_t)m;
             if (sub[m] != NULL) {
@@ -783,6 +791,10 @@ static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *
                 snprintf(key, sizeof key, "%s.max_attempts", name[i]);
                 st =
                     whole(sc, key, sec[i]->max_attempts, 1.0, (double)CDPR_PLANT_MAX_ATTEMPTS, err);
+            }
+            if (st == CDPR_OK) {
+                snprintf(key, sizeof key, "%s.substeps", name[i]);
+                st = whole(sc, key, sec[i]->substeps, 1.0, (double)CDPR_PLANT_MAX_SUBSTEPS, err);
             }
         }
     }
@@ -1379,7 +1391,7 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
     }
     if (ov->method >= 0) {
         const cdpr_plant_integrator_t m = (cdpr_plant_integrator_t)ov->method;
-        if (m != sc->integrator.method && (m == CDPR_PLANT_RKF45 || m == CDPR_PLANT_ROS34PW2)) {
+        if (m != sc->integrator.method && ov->method < CDPR_SCENARIO_METHODS) {
             /* The method's own settings (integrator.rkf45 / integrator.ros34pw2 of the file);
              * --max-trials / --max-attempts below still apply on top. */
             const cdpr_scenario_integrator_t *in = &sc->integrator_for[m];

@@ -347,10 +347,16 @@ static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum)
     cdpr_sim_tracker_counts(&s->tracker, sum);
     sum->substep_limit_hits = p->stats.substep_limit_hits;
     sum->min_length_periods = p->stats.min_length_periods;
-    if (p->pp.integrator == CDPR_PLANT_ROS34PW2) {
+    sum->max_rhs_per_period = p->stats.max_rhs_evals;
+    sum->max_err_norm = (double)NAN;
+    sum->err_above_one_periods = 0;
+    if (p->pp.integrator != CDPR_PLANT_RKF45) {
         sum->steps_accepted = p->ros.stats.steps_accepted;
         sum->steps_rejected = p->ros.stats.steps_rejected;
         sum->rhs_evals = p->ros.stats.rhs_evals;
+        sum->substeps = p->substeps;
+        sum->max_err_norm = (p->substeps > 0) ? (double)p->stats.max_err_norm : (double)NAN;
+        sum->err_above_one_periods = p->stats.err_above_one_periods;
     } else {
         sum->steps_accepted = p->rk.stats.steps_accepted;
         sum->steps_rejected = p->rk.stats.steps_rejected;

@@ -88,6 +88,8 @@ const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator)
         return "rkf45";
     case CDPR_PLANT_ROS34PW2:
         return "ros34pw2";
+    case CDPR_PLANT_ROS34PW2_FIXED:
+        return "ros34pw2-fixed";
     }
     return NULL;
 }
@@ -241,6 +243,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"rms_error_after_transfer_m", sum->rms_error_after_transfer_m},
         {"first_slack_demand_t_s", sum->first_slack_demand_t_s},
         {"first_slack_demand_N", sum->first_slack_demand_N},
+        {"max_err_norm", sum->max_err_norm},
     };
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; ++i) {
         /* JSON has no NaN or infinity: a non-finite value is not known. */
@@ -267,6 +270,10 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
         {"steps_accepted", (long)sum->steps_accepted, KNOWN(sum->steps_accepted)},
         {"steps_rejected", (long)sum->steps_rejected, KNOWN(sum->steps_rejected)},
         {"rhs_evals", (long)sum->rhs_evals, KNOWN(sum->rhs_evals)},
+        {"max_rhs_per_period", (long)sum->max_rhs_per_period, KNOWN(sum->max_rhs_per_period)},
+        {"substeps", (long)sum->substeps, (sum->substeps > 0) ? 1 : 0},
+        {"err_above_one_periods", (long)sum->err_above_one_periods,
+         KNOWN(sum->err_above_one_periods)},
         {"settle_steps", sum->settle_steps, (sum->settle_steps >= 0) ? 1 : 0},
         {"segments", (long)cdpr_scenario_segments(sc), 1},
         {"first_slack_demand_cable", (long)sum->first_slack_demand_cable,
@@ -305,6 +312,7 @@ typedef struct {
     double *node_insertions, *node_removals, *capacity_hits, *substep_limit_hits, *ik_failures;
     double *min_length_periods, *nodes_min, *nodes_max, *periods, *steps_accepted;
     double *steps_rejected, *rhs_evals, *settle_steps, *learning_updates, *learning_saturations;
+    double *max_rhs_per_period, *substeps, *max_err_norm, *err_above_one_periods;
 } raw_summary_t;
 
 #define SUM_NUM(key)                                                                               \
@@ -357,6 +365,10 @@ static const cyaml_schema_field_t summary_fields[] = {
     SUM_NUM(settle_steps),
     SUM_OPT_NUM(learning_updates),
     SUM_OPT_NUM(learning_saturations),
+    SUM_OPT_NUM(max_rhs_per_period),
+    SUM_OPT_NUM(substeps),
+    SUM_OPT_NUM(max_err_norm),
+    SUM_OPT_NUM(err_above_one_periods),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_value_t summary_schema = {
@@ -424,6 +436,13 @@ static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
     sum->steps_accepted = count_or_unknown(r->steps_accepted);
     sum->steps_rejected = count_or_unknown(r->steps_rejected);
     sum->rhs_evals = count_or_unknown(r->rhs_evals);
+    sum->max_rhs_per_period = count_or_unknown(r->max_rhs_per_period);
+    sum->substeps = (r->substeps != NULL && *r->substeps >= 1.0 &&
+                     *r->substeps <= (double)CDPR_PLANT_MAX_SUBSTEPS)
+                        ? (int)*r->substeps
+                        : 0;
+    sum->max_err_norm = (r->max_err_norm != NULL) ? *r->max_err_norm : (double)NAN;
+    sum->err_above_one_periods = count_or_unknown(r->err_above_one_periods);
     sum->settle_steps = (r->settle_steps != NULL) ? (long)*r->settle_steps : -1;
 }
 
@@ -522,6 +541,13 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
                 "  integrator      %lu steps, %lu rejected, %lu substep-limit periods, "
                 "%lu IK failures\n",
                 s->steps_accepted, s->steps_rejected, s->substep_limit_hits, s->ik_failures);
+        if (s->substeps > 0 && s->err_above_one_periods != CDPR_SIM_UNKNOWN) {
+            fprintf(f,
+                    "  fixed cost      %d substeps, %lu RHS in every period (most %lu); error "
+                    "norm max %.3g, above 1 in %lu periods\n",
+                    s->substeps, 4UL * (unsigned long)s->substeps, s->max_rhs_per_period,
+                    s->max_err_norm, s->err_above_one_periods);
+        }
     } else {
         fprintf(f, "  controller      %lu IK failures (the plant's integrator ran elsewhere)\n",
                 s->ik_failures);

@@ -216,7 +216,7 @@ static void fill_stats(cdpr_rt_t *rt)
         t->node_removals += p->nodes.removals[j];
     }
     t->final_time_s = cdpr_plant_time(p);
-    const int ros = (p->pp.integrator == CDPR_PLANT_ROS34PW2) ? 1 : 0;
+    const int ros = (p->pp.integrator != CDPR_PLANT_RKF45) ? 1 : 0;
     t->rhs_evals = (ros != 0) ? p->ros.stats.rhs_evals : p->rk.stats.rhs_evals;
     t->factorisations = (ros != 0) ? p->ros.stats.factorisations : 0UL;
     t->solves = (ros != 0) ? p->ros.stats.solves : 0UL;
@@ -638,7 +638,17 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
             "for their trial budget: state kept)\n",
             t->substep_limit_hits, t->step_failures, rt->plant.stats.budget_refusals);
     const double np = (t->periods > 0) ? (double)t->periods : 1.0;
-    if (rt->plant.pp.integrator == CDPR_PLANT_ROS34PW2) {
+    if (rt->plant.pp.integrator == CDPR_PLANT_ROS34PW2_FIXED) {
+        const int n = rt->plant.substeps;
+        fprintf(f,
+                "  integrator         ROS34PW2, fixed: %d substeps, per period %.2f RHS, %.2f "
+                "factorisations, %.2f solves on average, at most %lu / %lu / %lu (fixed: %d / %d "
+                "/ %d); error norm max %.3g, above 1 in %lu periods\n",
+                n, (double)t->rhs_evals / np, (double)t->factorisations / np,
+                (double)t->solves / np, t->max_rhs_per_period, t->max_factorisations_per_period,
+                t->max_solves_per_period, 4 * n, n, 4 * n, (double)rt->plant.stats.max_err_norm,
+                rt->plant.stats.err_above_one_periods);
+    } else if (rt->plant.pp.integrator == CDPR_PLANT_ROS34PW2) {
         fprintf(f,
                 "  integrator         ROS34PW2: per period %.2f RHS, %.2f factorisations, %.2f "
                 "solves on average, at most %lu / %lu / %lu (bound %d trials: %d / %d / %d)\n",

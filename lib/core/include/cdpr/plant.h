@@ -25,10 +25,17 @@
 /// the failure counters, and says so: the caller keeps the last good state and tries again.
 ///
 /// Integrators: `params.integrator` selects the scheme behind the one advance call:
-/// CDPR_PLANT_RKF45 (cdpr_rkf45_advance, the default) or CDPR_PLANT_ROS34PW2 (cdpr_ros_advance
-/// with the robot's W-matrix of robot_w.h). Adding a scheme adds a value here and a case in
-/// plant.c; the contract of the period (exactly Δt, bounded work, transactional) is the
-/// plant's, whatever the scheme.
+/// CDPR_PLANT_RKF45 (cdpr_rkf45_advance, the default), CDPR_PLANT_ROS34PW2 (cdpr_ros_advance
+/// with the robot's W-matrix of robot_w.h) or CDPR_PLANT_ROS34PW2_FIXED (cdpr_ros_fixed: the
+/// same method in exactly `substeps` equal steps, the same work in every period). Adding a
+/// scheme adds a value here and a case in plant.c; the contract of the period (exactly Δt,
+/// bounded work, transactional) is the plant's, whatever the scheme.
+///
+/// Fixed-cost stepping (CDPR_PLANT_ROS34PW2_FIXED; docs/model.md "Fixed-cost stepping"): the
+/// number of substeps n is derived at init from the stiffest axial mode the discretisation can
+/// have during the run, so that h ω_max <= CDPR_PLANT_FIXED_H_OMEGA (cdpr_plant_fixed_substeps);
+/// a user may ask for more (params.substeps), never fewer. Every period then costs exactly n
+/// factorisations, 4 n solves and 4 n RHS evaluations: that is the worst case, and the mean.
 ///
 /// Memory: caller-owned (sizeof(cdpr_plant_t) is in docs/api.md; about 300 kB at the default
 /// capacities in double: declare it static). The plant's integrator points into the plant's own
@@ -37,7 +44,8 @@
 /// pointer it was not given, or performs I/O. Work of one period: at most max_attempts x max_trials
 /// integrator trials (RKF45: 6 robot RHS evaluations each, O(total segments) per evaluation;
 /// ROS34PW2: 4 RHS evaluations, 1 factorisation and 4 solves of W, each O(total segments)) plus
-/// O(state dimension) for the rollback copy and the node events.
+/// O(state dimension) for the rollback copy and the node events; fixed mode: exactly `substeps`
+/// ROS34PW2 steps (no attempts, no trial bound), fewer only when the period fails.
 #ifndef CDPR_PLANT_H
 #define CDPR_PLANT_H
 
@@ -60,9 +68,20 @@
 
 /// Integration scheme of the plant.
 typedef enum {
-    CDPR_PLANT_RKF45 = 0,   ///< adaptive Runge-Kutta-Fehlberg 4(5) (rkf45.h), the reference
-    CDPR_PLANT_ROS34PW2 = 1 ///< L-stable Rosenbrock-W 3(2) (ros34pw2.h) with robot_w.h
+    CDPR_PLANT_RKF45 = 0,         ///< adaptive Runge-Kutta-Fehlberg 4(5) (rkf45.h), the reference
+    CDPR_PLANT_ROS34PW2 = 1,      ///< L-stable Rosenbrock-W 3(2) (ros34pw2.h) with robot_w.h
+    CDPR_PLANT_ROS34PW2_FIXED = 2 ///< the same in `substeps` equal steps per period (fixed cost)
 } cdpr_plant_integrator_t;
+
+/// Largest step size times ω_max (cdpr_plant_fixed_substeps) the fixed mode allows. Measured on
+/// the paper's circle (docs/model.md "Fixed-cost stepping"): runs held at h ω_max = 5.4 (6 x 16
+/// segments at 1 kHz with one substep, 6 x 32 with two) and blew up at the first slack event at
+/// 10.9 (6 x 32 at 1 kHz and 6 x 16 at 500 Hz, one substep each); 4 keeps a margin below the
+/// largest value that held.
+#define CDPR_PLANT_FIXED_H_OMEGA 4.0
+
+/// Most substeps per period of the fixed mode (a model that needs more is refused at init).
+#define CDPR_PLANT_MAX_SUBSTEPS 64
 
 /// How the plant starts.
 typedef enum {
@@ -104,6 +123,10 @@ typedef struct {
     int max_trials;                     ///< integrator trials per attempt, >= 1; default 50
     int max_attempts;                   ///< attempts per period while the budget is refused, in
                                         ///< [1, CDPR_PLANT_MAX_ATTEMPTS]; default 1
+    /// Substeps per period of CDPR_PLANT_ROS34PW2_FIXED: 0 (the default) takes the derived n of
+    /// cdpr_plant_fixed_substeps; otherwise at least that n and at most
+    /// CDPR_PLANT_MAX_SUBSTEPS. Unused by the other schemes.
+    int substeps;
 } cdpr_plant_params_t;
 
 /// Workspace reals per state component: the larger of the two integrators' needs (both 9).
@@ -133,6 +156,13 @@ typedef struct {
     unsigned long max_factorisations;  ///< largest last_factorisations since init
     unsigned long last_solves;         ///< solves with W in the last period
     unsigned long max_solves;          ///< largest last_solves since init
+    /// Fixed mode: the largest error norm of the last period's substeps (the adaptive scheme's
+    /// norm: > 1 is a step it would have rejected), its largest value since init, and the
+    /// periods in which it exceeded 1 (a health figure: the fixed mode never refuses a finite
+    /// step). 0 with the other schemes.
+    cdpr_real_t last_err_norm;
+    cdpr_real_t max_err_norm;            ///< largest last_err_norm since init
+    unsigned long err_above_one_periods; ///< periods with last_err_norm > 1
 } cdpr_plant_stats_t;
 
 /// Measurements at t_k for a controller: what cdpr-rt publishes for state k.
@@ -161,6 +191,8 @@ typedef struct {
     cdpr_settle_t settle;                      ///< settling report (steps, residual)
     cdpr_plant_params_t pp;                    ///< validated copy of the parameters
     long k;                                    ///< periods stepped; t_k = k Δt
+    int substeps;                              ///< substeps per period in force (fixed mode;
+                                               ///< 0 with the other schemes)
     int ready;                                 ///< 1 after a successful cdpr_plant_init
     int commanded;                             ///< command applied, advance pending (internal)
     cdpr_real_t atol[CDPR_ROBOT_STATE_MAX];    ///< per-component tolerances (internal)
@@ -182,7 +214,8 @@ void cdpr_plant_params_default(cdpr_plant_params_t *pp);
 /// which cdpr_plant_init validates with their modules' rules). O(1); no allocation.
 /// Errors (diag names the field): CDPR_E_INVALID_ARG (NULL, unknown integrator or start),
 /// CDPR_E_NOT_FINITE (period_s, wind_m_per_s, initial), CDPR_E_OUT_OF_RANGE (period_s outside
-/// (0, 10], max_trials < 1, max_attempts outside [1, CDPR_PLANT_MAX_ATTEMPTS], a non-zero
+/// (0, 10], max_trials < 1, max_attempts outside [1, CDPR_PLANT_MAX_ATTEMPTS], substeps outside
+/// [0, CDPR_PLANT_MAX_SUBSTEPS] (index CDPR_PLANT_MAX_SUBSTEPS), a non-zero
 /// initial velocity or rate, robot.mode not dynamic).
 cdpr_status_t cdpr_plant_params_validate(const cdpr_plant_params_t *pp, cdpr_diag_t *diag);
 
@@ -196,13 +229,31 @@ cdpr_status_t cdpr_plant_params_validate(const cdpr_plant_params_t *pp, cdpr_dia
 cdpr_status_t cdpr_plant_init_model(cdpr_plant_t *p, const cdpr_plant_params_t *pp,
                                     cdpr_diag_t *diag);
 
+/// Substeps per period the fixed mode needs for the robot `r` (built, e.g. by
+/// cdpr_plant_init_model), its winches `w` and the period: the smallest n with
+/// (period_s / n) ω_max <= CDPR_PLANT_FIXED_H_OMEGA, where ω_max bounds the axial frequencies the
+/// run can reach. For a node between segments of unstretched lengths a and b, Gershgorin's
+/// bound on the chain gives ω^2 <= 4 EA / (ρ a b); the winch keeps the pulley-side segment in
+/// [Δ/2, 2Δ] at the end of every period (winch.h) and hauls in at most u_max per second within
+/// it, so b >= Δ/2 - u_max period_s next to a segment of Δ: ω_max = 2 sqrt(EA/ρ) / sqrt(Δ b_min),
+/// the largest over the cables with more than one segment. Writes n (and ω_max [rad/s], may be
+/// NULL). O(cables); no allocation. Errors (*n and *omega_max not written): CDPR_E_INVALID_ARG
+/// (NULL r, w or n; period_s not > 0); CDPR_E_OUT_OF_RANGE when a period can haul a whole
+/// half-segment in (b_min <= 0: no substep count holds) or n would exceed
+/// CDPR_PLANT_MAX_SUBSTEPS.
+cdpr_status_t cdpr_plant_fixed_substeps(const cdpr_robot_t *r, const cdpr_winch_params_t *w,
+                                        cdpr_real_t period_s, int *n, cdpr_real_t *omega_max);
+
 /// Build the plant (steps 1-3 above). Not real-time: the settling is bounded by
 /// pp->settle.max_steps integrator steps. No allocation. On success the plant is at t_0 = 0,
 /// k = 0, ready. Errors (the plant is then not ready): those of cdpr_plant_init_model;
 /// cdpr_statics_place_catenary's (diag.field "initial"); settling: CDPR_E_NO_CONVERGENCE or
 /// an integrator error (diag.field "settle"; p->settle holds steps and residual);
 /// cdpr_winch_init's (diag names the winch field); cdpr_rkf45_init's for the settling
-/// ("settle_rkf45") or the run ("rkf45"); cdpr_ros_init's for the run ("ros").
+/// ("settle_rkf45") or the run ("rkf45"); cdpr_ros_init's for the run ("ros"); fixed mode:
+/// cdpr_plant_fixed_substeps's (diag.field "substeps", index the derived n when known), and
+/// CDPR_E_OUT_OF_RANGE for a params.substeps below the derived n (diag "substeps", index = the
+/// derived n) -- checked before the settling, so a refusal costs no settle.
 cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cdpr_diag_t *diag);
 
 /// Plant time t_k = k Δt [s]. O(1); cannot fail.

@@ -210,4 +210,27 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
 cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
                                cdpr_real_t *y, cdpr_real_t dt, int max_trials);
 
+/// Advance by exactly dt in `n` equal steps of h = dt / n, each accepted whatever its error
+/// estimate: the fixed-cost call of a real-time loop (plant.h, CDPR_PLANT_ROS34PW2_FIXED). The
+/// step size must keep h times the largest frequency of the problem small enough for the
+/// linearly implicit stages (the caller derives n; docs/model.md "Fixed-cost stepping"); the
+/// error estimates then report how well it did: *err_max (may be NULL) receives the largest
+/// weighted error norm of the n steps, the same norm as the adaptive calls (> 1: a step the
+/// adaptive control would have rejected).
+/// Work of a successful call, always the same: n factorisations (W is renewed every step,
+/// whatever jac_reuse_max says), 4 n solves, 4 n calls of f, plus O(n dim) arithmetic; no
+/// allocation. A failing call stops at the failing step, so it never does more.
+/// Outcomes:
+/// - CDPR_OK: *t = t + dt, y advanced by the n steps.
+/// - CDPR_E_INVALID_ARG: s, pb, one of its callbacks, t or y is NULL, *t or dt is NaN/Inf,
+///   dt <= 0, or n < 1. Nothing changed, not counted.
+/// - CDPR_E_STATE_NOT_FINITE: y on entry, or the result of a step, is not finite (a step's is
+///   also counted in stats.nonfinite_rejected).
+/// - CDPR_E_RHS (f refused), CDPR_E_SINGULAR (factor or solve refused; also counted in
+///   stats.singular_failures).
+/// On every error but CDPR_E_INVALID_ARG: y and *t bit-identical to entry, *err_max not written,
+/// counted in stats.failures. The step-size state (h_s) is never touched.
+cdpr_status_t cdpr_ros_fixed(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
+                             cdpr_real_t *y, cdpr_real_t dt, int n, cdpr_real_t *err_max);
+
 #endif /* CDPR_ROS34PW2_H */

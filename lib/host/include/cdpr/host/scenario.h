@@ -43,8 +43,13 @@ typedef struct {
     double h_max_s;                 ///< largest step [s]
     int max_trials;                 ///< integrator trials per attempt (bounded work)
     int max_attempts;               ///< attempts per period while the budget is refused (>= 1)
-    cdpr_plant_integrator_t method; ///< integrator.method: rkf45 (default) or ros34pw2
+    int substeps;                   ///< ros34pw2-fixed: substeps per period (0: derived)
+    cdpr_plant_integrator_t method; ///< integrator.method: rkf45 (default), ros34pw2 or
+                                    ///< ros34pw2-fixed
 } cdpr_scenario_integrator_t;
+
+/// Integration methods a scenario can name (cdpr_plant_integrator_t values 0..N-1).
+#define CDPR_SCENARIO_METHODS 3
 
 /// Where a scenario's robot comes from.
 typedef enum {
@@ -68,15 +73,14 @@ typedef struct {
     cdpr_tracker_gains_t gains;            ///< controller gains
     cdpr_scenario_integrator_t integrator; ///< integrator settings and work bound in use: those
                                            ///< of integrator.method (integrator_for[method])
-    cdpr_scenario_integrator_t integrator_for[2]; ///< the settings each method gets, indexed by
-                                                  ///< cdpr_plant_integrator_t: the section's own
-                                                  ///< keys, then those of its `rkf45:` or
-                                                  ///< `ros34pw2:` subsection; --integrator
-                                                  ///< (cdpr_scenario_override) switches to one
-    double duration_s;                            ///< simulated time [s] (run.duration_s)
-    double period_s;                              ///< control period of plant, controller and
-                                                  ///< outputs [s] (run.period_s)
-    double output_rate_hz;                        ///< CSV rows per simulated second
+    /// The settings each method gets, indexed by cdpr_plant_integrator_t: the section's own
+    /// keys, then those of its `rkf45:` or `ros34pw2:` subsection (ros34pw2-fixed takes the
+    /// `ros34pw2:` one); --integrator (cdpr_scenario_override) switches to one.
+    cdpr_scenario_integrator_t integrator_for[CDPR_SCENARIO_METHODS];
+    double duration_s;     ///< simulated time [s] (run.duration_s)
+    double period_s;       ///< control period of plant, controller and
+                           ///< outputs [s] (run.period_s)
+    double output_rate_hz; ///< CSV rows per simulated second
 } cdpr_scenario_t;
 
 /// Error text of a failed load or check: "FILE:LINE: KEY: what".

@@ -60,36 +60,43 @@ typedef enum {
 /// Summary of a run (outputs). Errors are |p - p_d| and the angle of q_d q^-1 over every
 /// control period t_k, k = 0..N (t_0 after settling). Unknown values: see the file comment.
 typedef struct {
-    double rms_error_m;                ///< RMS position error [m]
-    double max_error_m;                ///< largest position error [m]
-    double final_error_m;              ///< position error at the end [m]
-    double initial_error_m;            ///< position error at t = 0 (after settling) [m]
-    double rms_error_second_half_m;    ///< RMS position error over t >= duration/2 [m]
-    double rms_error_rad;              ///< RMS attitude error [rad]
-    double max_error_rad;              ///< largest attitude error [rad]
-    double final_error_rad;            ///< attitude error at the end [rad]
-    double max_tension_N;              ///< largest end tension, any cable, either end [N]
-    double min_tension_N;              ///< smallest end tension [N]
-    double max_payout_m_per_s;         ///< largest |payout rate| applied [m/s]
-    unsigned long node_insertions;     ///< all cables (over LCM: from the segment counts seen)
-    unsigned long node_removals;       ///< all cables (over LCM: from the segment counts seen)
-    unsigned long capacity_hits;       ///< node-event calls that wanted a node at capacity
-    unsigned long substep_limit_hits;  ///< periods with CDPR_WARN_SUBSTEP_LIMIT
-    unsigned long ik_failures;         ///< periods whose feed-forward IK failed (held)
-    unsigned long min_length_periods;  ///< winch-periods held at the minimum length
-    unsigned long steps_accepted;      ///< RKF45 accepted steps (run only)
-    unsigned long steps_rejected;      ///< RKF45 rejected trials
-    unsigned long rhs_evals;           ///< RHS calls (run only)
-    long settle_steps;                 ///< accepted steps of the initial settling (< 0: unknown)
-    int nodes_min;                     ///< fewest segments of any cable during the run
-    int nodes_max;                     ///< most segments of any cable during the run
-    long periods;                      ///< control periods run
-    double sim_time_s;                 ///< simulated time reached [s]
-    double wall_time_s;                ///< wall-clock time of the run incl. settling [s]
-    double settle_wall_time_s;         ///< of which settling [s] (NaN: unknown)
-    double rms_error_after_transfer_m; ///< RMS position error over t >= controller.transfer_s
-                                       ///< (the whole run without a transfer) [m]
-    int n_cables;                      ///< cables of the per-cable counts below (0: unknown)
+    double rms_error_m;                  ///< RMS position error [m]
+    double max_error_m;                  ///< largest position error [m]
+    double final_error_m;                ///< position error at the end [m]
+    double initial_error_m;              ///< position error at t = 0 (after settling) [m]
+    double rms_error_second_half_m;      ///< RMS position error over t >= duration/2 [m]
+    double rms_error_rad;                ///< RMS attitude error [rad]
+    double max_error_rad;                ///< largest attitude error [rad]
+    double final_error_rad;              ///< attitude error at the end [rad]
+    double max_tension_N;                ///< largest end tension, any cable, either end [N]
+    double min_tension_N;                ///< smallest end tension [N]
+    double max_payout_m_per_s;           ///< largest |payout rate| applied [m/s]
+    unsigned long node_insertions;       ///< all cables (over LCM: from the segment counts seen)
+    unsigned long node_removals;         ///< all cables (over LCM: from the segment counts seen)
+    unsigned long capacity_hits;         ///< node-event calls that wanted a node at capacity
+    unsigned long substep_limit_hits;    ///< periods with CDPR_WARN_SUBSTEP_LIMIT
+    unsigned long ik_failures;           ///< periods whose feed-forward IK failed (held)
+    unsigned long min_length_periods;    ///< winch-periods held at the minimum length
+    unsigned long steps_accepted;        ///< RKF45 accepted steps (run only)
+    unsigned long steps_rejected;        ///< RKF45 rejected trials
+    unsigned long rhs_evals;             ///< RHS calls (run only)
+    unsigned long max_rhs_per_period;    ///< most RHS calls of one period (= the mean in the
+                                         ///< fixed mode)
+    int substeps;                        ///< fixed mode: substeps per period (0: another scheme)
+    double max_err_norm;                 ///< fixed mode: largest error norm of a substep (NaN:
+                                         ///< unknown or another scheme; > 1: the adaptive
+                                         ///< control would have rejected that step)
+    unsigned long err_above_one_periods; ///< fixed mode: periods with an error norm above 1
+    long settle_steps;                   ///< accepted steps of the initial settling (< 0: unknown)
+    int nodes_min;                       ///< fewest segments of any cable during the run
+    int nodes_max;                       ///< most segments of any cable during the run
+    long periods;                        ///< control periods run
+    double sim_time_s;                   ///< simulated time reached [s]
+    double wall_time_s;                  ///< wall-clock time of the run incl. settling [s]
+    double settle_wall_time_s;           ///< of which settling [s] (NaN: unknown)
+    double rms_error_after_transfer_m;   ///< RMS position error over t >= controller.transfer_s
+                                         ///< (the whole run without a transfer) [m]
+    int n_cables;                        ///< cables of the per-cable counts below (0: unknown)
     unsigned long slack_periods[CDPR_MAX_CABLES];        ///< recorded periods with cable j's cabin-
                                                          ///< or winch-end tension <= 0 (the plant)
     unsigned long slack_demand_periods[CDPR_MAX_CABLES]; ///< periods whose feed-forward
