@@ -76,7 +76,8 @@ def main():
     tens = {}
     ctl = {"answered": 0, "seq": 0, "l0": None, "t0": None, "last": -1, "cmd": b"",
            "session": secrets.randbits(63) or 1, "plant": 0, "heard": 0.0, "ignored": 0,
-           "acc": None, "run": 0, "cand": None, "in_row": 0, "other_seen": 0}
+           "acc": None, "run": 0, "cand": None, "in_row": 0, "other_seen": 0,
+           "last_other": None}
     refused = {"seq": 0, "time": 0, "value": 0}
     applied = {"ours": 0, "none": 0, "other": 0}
     window = 1000
@@ -88,6 +89,8 @@ def main():
             if is_state:
                 ctl["heard"] = now
             return True
+        if ctl["plant"] == 0 and not is_state:
+            return False  # tensions before the first state: no plant followed yet
         if is_state and (ctl["plant"] == 0 or now - ctl["heard"] > 0.5):
             if ctl["plant"] != 0:
                 print("controller: plant restarted (session %d -> %d)" %
@@ -168,10 +171,15 @@ def main():
             return False
         ctl.update(acc=(s.seq, s.utime_us, list(m.length_m[:m.n_cables])), cand=None,
                    run=ctl["run"] + 1, in_row=0)
+        # Another session's command applied again (same session and seq as before) is a
+        # stopped controller's last command until the plant's watchdog holds: not a rival.
+        applied_again = (s.controller_session, s.command_seq) == ctl["last_other"]
+        if s.controller_session not in (0, ctl["session"]):
+            ctl["last_other"] = (s.controller_session, s.command_seq)
         if ctl["answered"] > 0:
             if s.controller_session == ctl["session"]:
                 applied["ours"] += 1
-            elif s.controller_session == 0:
+            elif s.controller_session == 0 or applied_again:
                 applied["none"] += 1
             else:
                 applied["other"] += 1

@@ -294,7 +294,8 @@ static void test_another_controller_in_control(void)
         cdpr_cable_tensions_t ten;
         make_pair(k, &st, &ten);
         if (k >= 30) {
-            st.controller_session = 999; /* a take-over */
+            st.controller_session = 999; /* a take-over: a new command of it every period */
+            st.command_seq = 1000 + k;
         } else if (k == 5) {
             st.controller_session = 0; /* one period on hold */
         }
@@ -305,6 +306,47 @@ static void test_another_controller_in_control(void)
     TEST_ASSERT_EQUAL_UINT64(28, g_node.stats.applied_ours);
     TEST_ASSERT_FALSE(cdpr_rt_tracker_in_control(&g_node, CDPR_RT_MAX_OTHER_SHARE));
     TEST_ASSERT_TRUE(cdpr_rt_tracker_in_control(&g_node, 0.6));
+}
+
+/* A controller that stopped: the plant applies its last command again (same session and seq)
+ * until its watchdog holds, and a loaded plant may do so after our first command went out.
+ * That is not a rival: counted as none, the controller stays in control. */
+static void test_stopped_controller_last_command_is_not_a_rival(void)
+{
+    for (int64_t k = 0; k < N_STATES; ++k) {
+        cdpr_cabin_state_t st;
+        cdpr_cable_tensions_t ten;
+        make_pair(k, &st, &ten);
+        if (k < 12) {
+            st.controller_session = 999;
+            st.command_seq = 500; /* its last command, applied again and again */
+        }
+        send(&st, &ten);
+    }
+    TEST_ASSERT_EQUAL_UINT64(0, g_node.stats.applied_other);
+    TEST_ASSERT_EQUAL_UINT64(11, g_node.stats.applied_none);
+    TEST_ASSERT_EQUAL_UINT64(N_STATES - 12, g_node.stats.applied_ours);
+    TEST_ASSERT_TRUE(cdpr_rt_tracker_in_control(&g_node, CDPR_RT_MAX_OTHER_SHARE));
+}
+
+/* A controller that starts while the plant runs may hear a tensions message before the first
+ * state: no plant is followed yet, so it is not "another plant" (that made a restarted
+ * cdpr-tracker exit 5 in fault_controller_restart under load). */
+static void test_tensions_before_the_first_state_are_not_another_plant(void)
+{
+    cdpr_cabin_state_t st;
+    cdpr_cable_tensions_t ten;
+    make_pair(0, &st, &ten);
+    unsigned char buf[1024];
+    const int n = cdpr_cable_tensions_t_encode(buf, 0, (int)sizeof buf, &ten);
+    TEST_ASSERT_TRUE(n > 0);
+    TEST_ASSERT_EQUAL_INT(0, lcm_publish(g_lcm, "CDPR_CABLE_TENSIONS", buf, (unsigned)n));
+    (void)lcm_handle_timeout(g_lcm, 0);
+    for (int64_t k = 1; k < 10; ++k) {
+        send_real(k);
+    }
+    TEST_ASSERT_EQUAL_UINT64(0, g_node.stats.other_plant_states);
+    TEST_ASSERT_EQUAL_INT64(9, g_last_state_seq);
 }
 
 static void test_plant_at_another_rate(void)
@@ -362,6 +404,8 @@ int main(void)
     RUN_TEST(test_implausible_values_are_refused);
     RUN_TEST(test_forged_anchor_resyncs_after_two_pairs);
     RUN_TEST(test_another_controller_in_control);
+    RUN_TEST(test_stopped_controller_last_command_is_not_a_rival);
+    RUN_TEST(test_tensions_before_the_first_state_are_not_another_plant);
     RUN_TEST(test_plant_at_another_rate);
     RUN_TEST(test_second_plant_is_ignored_not_followed);
     return UNITY_END() ? 1 : 0;

@@ -129,6 +129,8 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
     }
     set_bounds(&t->bounds, model, winch);
     t->other_controller = -1;
+    t->last_other_session = 0;
+    t->last_other_seq = -1;
     t->answered_state_seq = -1;
     t->cmd_seq = -1;
     return CDPR_OK;
@@ -167,6 +169,9 @@ static int from_followed_plant(cdpr_rt_tracker_t *t, int64_t session, int is_sta
             t->last_state_ns = now;
         }
         return 1;
+    }
+    if (t->plant_session == 0 && is_state == 0) {
+        return 0; /* tensions before the first state: no plant followed yet, none other */
     }
     const int silent =
         t->plant_session == 0 || (double)(now - t->last_state_ns) > t->plant_silence_s * 1e9;
@@ -424,12 +429,23 @@ cdpr_status_t cdpr_rt_tracker_check_pair(const cdpr_rt_tracker_t *t, const cdpr_
 /* Whose command the plant applied in the step that led to an accepted state. */
 static void count_control(cdpr_rt_tracker_t *t, const cdpr_cabin_state_t *st)
 {
+    /* Another session's command applied again (same session and seq as in the state before) is
+     * a stopped controller's last command, applied until the plant's watchdog holds, not a
+     * controller competing with us: a loaded plant may still apply it after ours was sent. */
+    const int repeat =
+        (st->controller_session == t->last_other_session && st->command_seq == t->last_other_seq)
+            ? 1
+            : 0;
+    if (st->controller_session != t->controller_session && st->controller_session != 0) {
+        t->last_other_session = st->controller_session;
+        t->last_other_seq = st->command_seq;
+    }
     if (t->cmd_seq < 0) {
         return; /* before our first command nothing of ours could be applied */
     }
     if (st->controller_session == t->controller_session) {
         t->stats.applied_ours++;
-    } else if (st->controller_session == 0) {
+    } else if (st->controller_session == 0 || repeat != 0) {
         t->stats.applied_none++;
     } else {
         t->stats.applied_other++;

@@ -99,8 +99,10 @@ typedef struct {
     uint64_t resyncs;             ///< sequence window re-anchored on two agreeing pairs
     uint64_t rate_mismatch;       ///< one-period steps whose time step is not the period
     uint64_t applied_ours;        ///< states after our first command that applied ours
-    uint64_t applied_none;        ///< ... that applied no command (the plant held)
-    uint64_t applied_other;       ///< ... that applied another controller session's command
+    uint64_t applied_none;        ///< ... that applied no new command: the plant held, or
+                                  ///< applied the same command of another session again (a
+                                  ///< controller that stopped, until the watchdog holds)
+    uint64_t applied_other;       ///< ... that applied a new command of another session
 } cdpr_rt_tracker_stats_t;
 
 /// Session events (optional callbacks; on the lcm thread). `old_session` 0: none.
@@ -188,6 +190,8 @@ typedef struct {
     long refused_in_row;                             ///< pairs refused since the last accepted
     long acc_run;                                    ///< pairs accepted since the anchor
     int64_t other_controller;                        ///< last other session reported
+    int64_t last_other_session;                      ///< other session of the last state
+    int64_t last_other_seq;                          ///< and its command seq (internal)
     cdpr_rt_tracker_session_fn on_other_controller;  ///< optional (old = ours, new = other)
 } cdpr_rt_tracker_t;
 
