@@ -689,24 +689,26 @@ cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t 
     /* The file the path names, links and ".." resolved: only a .yaml/.yml file is read (a
      * scenario's robot.file cannot make the loader read, or echo, any other file), and the
      * resolved path is the rig's name, so the summary says which file ran. */
-    char *real = realpath(path, NULL);
-    if (real == NULL) {
+    char *resolved = realpath(path, NULL);
+    if (resolved == NULL) {
         snprintf(err->msg, sizeof err->msg, "%s: cannot open robot file: %s", path,
                  strerror(errno));
         return CDPR_E_IO;
     }
-    const size_t len = strlen(real);
-    const int yaml_ext = ((len > 5U && strcmp(real + len - 5U, ".yaml") == 0) ||
-                          (len > 4U && strcmp(real + len - 4U, ".yml") == 0))
+    char real[sizeof rig->name];
+    const size_t len = strlen(resolved);
+    (void)snprintf(real, sizeof real, "%s", resolved);
+    const int yaml_ext = ((len > 5U && strcmp(resolved + len - 5U, ".yaml") == 0) ||
+                          (len > 4U && strcmp(resolved + len - 4U, ".yml") == 0))
                              ? 1
                              : 0;
+    free(resolved);
     if (yaml_ext == 0 || len >= sizeof rig->name) {
         snprintf(err->msg, sizeof err->msg,
                  "%s: cannot open robot file: %s (the path resolves to %.200s%s)", path,
                  (yaml_ext == 0) ? "not a robot file, whose name ends in .yaml or .yml"
                                  : "path too long once resolved",
                  real, (len > 200U) ? "..." : "");
-        free(real);
         return CDPR_E_IO;
     }
     cdpr_yaml_log_t lg;
@@ -732,6 +734,5 @@ cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t 
         (void)snprintf(rig->name, sizeof rig->name, "%s", real);
     }
     cdpr_yaml_free(&file_schema, data);
-    free(real);
     return st;
 }
