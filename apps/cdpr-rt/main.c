@@ -64,6 +64,11 @@ static void usage(FILE *f)
            "  --watchdog S           no valid command for S -> winches hold (default: 0.1 s\n"
            "                         or two periods, the longer; free-running: >= 2 periods)\n"
            "  --start-delay S        free-running: wait S before the first period (default 0)\n"
+           "  --startup S            free-running: deadline misses in the first S of plant\n"
+           "                         time are counted apart (default 1)\n"
+           "  --max-misses N         free-running: stop (exit 1) after N deadline misses after\n"
+           "                         the start-up (default 0: count only)\n"
+           "  --max-misses-in-row N  free-running: stop after N misses in a row (default 0)\n"
            "  --lcm-url URL          LCM provider (default: liblcm's, i.e. $LCM_DEFAULT_URL or\n"
            "                         udpm://239.255.76.67:7667?ttl=0)\n"
            "  --prefix P             channel prefix (default CDPR_)\n"
@@ -89,6 +94,9 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"priority", required_argument, NULL, 'P'},
                                              {"watchdog", required_argument, NULL, 'w'},
                                              {"start-delay", required_argument, NULL, 's'},
+                                             {"startup", required_argument, NULL, 'U'},
+                                             {"max-misses", required_argument, NULL, 'X'},
+                                             {"max-misses-in-row", required_argument, NULL, 'Y'},
                                              {"lcm-url", required_argument, NULL, 'u'},
                                              {"prefix", required_argument, NULL, 'p'},
                                              {"with-tracker", no_argument, NULL, 't'},
@@ -131,6 +139,17 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 's':
             bad = (int)cdpr_cli_real("cdpr-rt", "start-delay", optarg, &o->rt.start_delay_s);
+            break;
+        case 'U':
+            bad = (int)cdpr_cli_real("cdpr-rt", "startup", optarg, &o->rt.startup_s);
+            break;
+        case 'X':
+        case 'Y':
+            /* Whole, >= 0 and within a long. */
+            bad = (int)cdpr_cli_number("cdpr-rt", (c == 'X') ? "max-misses" : "max-misses-in-row",
+                                       optarg, 0.0, 1e15, &v);
+            bad = (bad == 0 && floor(v) < v) ? 1 : bad;
+            *((c == 'X') ? &o->rt.max_misses : &o->rt.max_misses_in_row) = (long)v;
             break;
         case 'u':
             o->rt.lcm.url = optarg;
@@ -197,6 +216,36 @@ static int tracker_open(lcm_t *lcm, void *ctx)
 }
 
 /* The in-process tracker on the bridge thread, recording what it sees. */
+/* The work of one period, stated before the run (docs/realtime.md "Real-time contract"): the
+ * fixed mode's exact count, or the adaptive schemes' bound. */
+static void print_work_per_period(const cdpr_rt_t *rt)
+{
+    const cdpr_plant_t *p = &rt->plant;
+    const int trials = p->pp.max_trials * p->pp.max_attempts;
+    switch (p->pp.integrator) {
+    case CDPR_PLANT_ROS34PW2_FIXED:
+        fprintf(stderr,
+                "cdpr-rt: work per period: exactly %d RHS, %d factorisations, %d solves (%d "
+                "fixed substeps of %.4g ms), every period\n",
+                4 * p->substeps, p->substeps, 4 * p->substeps, p->substeps,
+                1e3 * (double)p->pp.period_s / p->substeps);
+        break;
+    case CDPR_PLANT_ROS34PW2:
+        fprintf(stderr,
+                "cdpr-rt: work per period: adaptive, at most %d RHS, %d factorisations, %d "
+                "solves (%d trials); no worst case below that bound\n",
+                4 * trials, trials, 4 * trials, trials);
+        break;
+    case CDPR_PLANT_RKF45:
+    default:
+        fprintf(stderr,
+                "cdpr-rt: work per period: adaptive, at most %d RHS (%d trials); no worst case "
+                "below that bound\n",
+                6 * trials, trials);
+        break;
+    }
+}
+
 static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc)
 {
     cdpr_tracker_gains_t g = sc->gains;
@@ -334,6 +383,7 @@ int main(int argc, char **argv)
                 sc.duration_s, 1.0 / sc.period_s, sc.integrator.max_attempts,
                 sc.integrator.max_trials, (g_rt.o.lockstep != 0) ? "lockstep" : "free-running",
                 (o.rt.lcm.url != NULL) ? o.rt.lcm.url : "liblcm's default URL");
+        print_work_per_period(&g_rt);
     }
     st = cdpr_rt_run(&g_rt, &err);
     if (st != CDPR_OK) {

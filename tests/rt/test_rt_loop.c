@@ -551,6 +551,84 @@ static void test_stalled_publisher_drops_and_rt_thread_keeps_stepping(void)
     TEST_ASSERT_EQUAL_UINT(0, g_counts.allocs);
 }
 
+/* The overrun contract on synthetic periods (no clock involved): each miss classified by what
+ * made it late, the start-up counted apart, the policy stops at its limits. 1 kHz: T = 1 ms. */
+static void test_overruns_classified_and_policy(void)
+{
+    static cdpr_rt_t rt;
+    memset(&rt, 0, sizeof rt);
+    cdpr_rt_opts_default(&rt.o);
+    rt.o.startup_s = 0.005; /* the first 5 periods */
+    rt.o.max_misses = 4;
+    rt.o.max_misses_in_row = 0;
+    rt.period_ns = 1000000;
+    rt.plant.pp.period_s = 0.001;
+    const int64_t T = rt.period_ns;
+    long in_row = 0;
+    int stop = 0;
+    /* start-up: a miss of any kind is counted apart */
+    for (int k = 0; k < 5; ++k) {
+        rt.tel.periods = k;
+        stop |= cdpr_rt_judge_period(&rt, k * T, k * T + 3 * T, k * T + 4 * T, 100, &in_row);
+    }
+    TEST_ASSERT_EQUAL_INT(5, rt.tel.startup_misses);
+    TEST_ASSERT_EQUAL_INT(5, rt.tel.deadline_misses);
+    const struct {
+        int64_t wake; /* t0 - start */
+        int64_t wall; /* t1 - t0 */
+        int64_t cpu;  /* thread CPU time */
+        long late, pre, lng, row;
+    } p[] = {
+        {10000, 400000, 390000, 0, 0, 0, 0},   /* on time */
+        {800000, 400000, 390000, 1, 0, 0, 1},  /* woke 0.8 ms late, 0.4 ms of work */
+        {10000, 1500000, 400000, 1, 1, 0, 2},  /* 1.5 ms of wall, 0.4 ms of CPU: preempted */
+        {10000, 1500000, 1200000, 1, 1, 1, 3}, /* 1.2 ms of CPU: the plant is too slow */
+        {10000, 990000, 980000, 1, 1, 1, 0},   /* just in time: the run of misses ends */
+    };
+    for (int i = 0; i < 5; ++i) {
+        rt.tel.periods = 5 + i;
+        const int64_t start = (5 + i) * T;
+        stop |= cdpr_rt_judge_period(&rt, start, start + p[i].wake, start + p[i].wake + p[i].wall,
+                                     p[i].cpu, &in_row);
+        TEST_ASSERT_EQUAL_INT(p[i].late, rt.tel.misses_late_wakeup);
+        TEST_ASSERT_EQUAL_INT(p[i].pre, rt.tel.misses_preempted);
+        TEST_ASSERT_EQUAL_INT(p[i].lng, rt.tel.misses_long_compute);
+        TEST_ASSERT_EQUAL_INT(p[i].row, in_row);
+    }
+    TEST_ASSERT_EQUAL_INT(0, stop);
+    TEST_ASSERT_EQUAL_INT(3, rt.tel.misses_in_row_max);
+    TEST_ASSERT_EQUAL_INT(800000, rt.tel.wake_late_ns_max);
+    /* the fourth miss after the start-up stops the run */
+    rt.tel.periods = 10;
+    TEST_ASSERT_EQUAL_INT(1, cdpr_rt_judge_period(&rt, 10 * T, 10 * T, 12 * T, 100, &in_row));
+    TEST_ASSERT_EQUAL_INT(1, rt.tel.overrun_stop);
+    /* in a row: 2 allowed in a row, the second one stops */
+    memset(&rt.tel, 0, sizeof rt.tel);
+    rt.o.max_misses = 0;
+    rt.o.max_misses_in_row = 2;
+    rt.o.startup_s = 0.0;
+    in_row = 0;
+    rt.tel.periods = 1;
+    TEST_ASSERT_EQUAL_INT(0, cdpr_rt_judge_period(&rt, T, T, 3 * T, 100, &in_row));
+    rt.tel.periods = 2;
+    TEST_ASSERT_EQUAL_INT(0, cdpr_rt_judge_period(&rt, 2 * T, 2 * T, 2 * T + 10, 100, &in_row));
+    rt.tel.periods = 3;
+    TEST_ASSERT_EQUAL_INT(0, cdpr_rt_judge_period(&rt, 3 * T, 3 * T, 5 * T, 100, &in_row));
+    rt.tel.periods = 4;
+    TEST_ASSERT_EQUAL_INT(1, cdpr_rt_judge_period(&rt, 4 * T, 4 * T, 6 * T, 100, &in_row));
+    /* count only (the default): never stops */
+    cdpr_rt_opts_default(&rt.o);
+    memset(&rt.tel, 0, sizeof rt.tel);
+    in_row = 0;
+    for (int k = 0; k < 3000; ++k) {
+        rt.tel.periods = k;
+        TEST_ASSERT_EQUAL_INT(
+            0, cdpr_rt_judge_period(&rt, k * T, k * T, k * T + 2 * T, 2 * T, &in_row));
+    }
+    TEST_ASSERT_EQUAL_INT(2000, rt.tel.misses_long_compute);
+    TEST_ASSERT_EQUAL_INT(1000, rt.tel.startup_misses);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -558,5 +636,6 @@ int main(void)
     RUN_TEST(test_rt_thread_makes_no_allocation_and_no_lcm_call);
     RUN_TEST(test_silence_holds_then_resumes_and_bad_commands_are_ignored);
     RUN_TEST(test_stalled_publisher_drops_and_rt_thread_keeps_stepping);
+    RUN_TEST(test_overruns_classified_and_policy);
     return UNITY_END();
 }

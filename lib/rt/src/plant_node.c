@@ -34,6 +34,9 @@ void cdpr_rt_opts_default(cdpr_rt_opts_t *o)
     o->shape_rate_hz = 10.0;
     o->diag_rate_hz = 1.0;
     o->start_delay_s = 0.0;
+    o->startup_s = CDPR_RT_STARTUP_DEFAULT_S;
+    o->max_misses = 0;
+    o->max_misses_in_row = 0;
     cdpr_lcm_bridge_params_default(&o->lcm);
     o->lcm.watchdog_timeout_s = 0.0; /* follow the period (cdpr_rt_init) */
 }
@@ -64,6 +67,16 @@ static cdpr_status_t check_opts(const cdpr_rt_opts_t *op, cdpr_scenario_error_t 
     }
     if (!(op->start_delay_s >= 0.0 && op->start_delay_s <= 3600.0)) {
         return opt_error("start-delay", op->start_delay_s, "must be in [0, 3600] s", err);
+    }
+    if (!(op->startup_s >= 0.0 && op->startup_s <= 3600.0)) {
+        return opt_error("startup", op->startup_s, "must be in [0, 3600] s", err);
+    }
+    if (op->max_misses < 0) {
+        return opt_error("max-misses", (double)op->max_misses, "must be >= 0 (0: count only)", err);
+    }
+    if (op->max_misses_in_row < 0) {
+        return opt_error("max-misses-in-row", (double)op->max_misses_in_row,
+                         "must be >= 0 (0: count only)", err);
     }
     return CDPR_OK;
 }
@@ -180,11 +193,26 @@ static int64_t hist_quantile(const uint32_t *hist, long total, double q)
     return (int64_t)cdpr_rt_hist_quantile_bin(hist, CDPR_RT_HIST_US, n, q) * 1000;
 }
 
-static void record(cdpr_rt_t *rt, int64_t ns)
+/* The periodic thread's CPU time [ns]. */
+static int64_t thread_cpu_ns(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) {
+        return 0;
+    }
+    return (int64_t)ts.tv_sec * 1000000000 + (int64_t)ts.tv_nsec;
+}
+
+static void record(cdpr_rt_t *rt, int64_t ns, int64_t cpu_ns)
 {
     cdpr_rt_telemetry_t *t = &rt->tel;
     const int64_t us = ns / 1000;
     rt->hist[(us < CDPR_RT_HIST_US) ? us : CDPR_RT_HIST_US]++;
+    const int64_t cpu_us = cpu_ns / 1000;
+    rt->hist_cpu[(cpu_us < CDPR_RT_HIST_US) ? cpu_us : CDPR_RT_HIST_US]++;
+    if (cpu_ns > t->cpu_ns_max) {
+        t->cpu_ns_max = cpu_ns;
+    }
     if (t->periods == 1 || ns < t->compute_ns_min) {
         t->compute_ns_min = ns;
     }
@@ -205,6 +233,10 @@ static void fill_stats(cdpr_rt_t *rt)
     if (t->compute_ns_median > t->compute_ns_max) {
         t->compute_ns_median = t->compute_ns_max;
     }
+    t->cpu_ns_median = hist_quantile(rt->hist_cpu, t->periods, 0.5);
+    t->cpu_ns_p99 = hist_quantile(rt->hist_cpu, t->periods, 0.99);
+    t->cpu_ns_p99 = (t->cpu_ns_p99 < t->cpu_ns_max) ? t->cpu_ns_p99 : t->cpu_ns_max;
+    t->cpu_ns_median = (t->cpu_ns_median < t->cpu_ns_max) ? t->cpu_ns_median : t->cpu_ns_max;
     t->step_failures = (long)p->stats.step_failures;
     t->substep_limit_hits = (long)p->stats.substep_limit_hits;
     t->min_length_periods = (long)p->stats.min_length_periods;
@@ -361,6 +393,45 @@ static void prefault_stack(void)
     }
 }
 
+int cdpr_rt_judge_period(cdpr_rt_t *rt, int64_t start, int64_t t0, int64_t t1, int64_t cpu,
+                         long *in_row)
+{
+    cdpr_rt_telemetry_t *t = &rt->tel;
+    const cdpr_rt_opts_t *o = &rt->o;
+    const int64_t T = rt->period_ns;
+    const int startup =
+        ((double)t->periods < floor(o->startup_s / rt->plant.pp.period_s + 0.5)) ? 1 : 0;
+    const int64_t late = t0 - start;
+    if (startup == 0 && late > t->wake_late_ns_max) {
+        t->wake_late_ns_max = late;
+    }
+    if (t1 <= start + T) {
+        *in_row = 0;
+        return 0;
+    }
+    t->deadline_misses++;
+    if (startup != 0) {
+        t->startup_misses++;
+        return 0;
+    }
+    if (cpu > T) {
+        t->misses_long_compute++;
+    } else if (t1 - t0 > T) {
+        t->misses_preempted++;
+    } else {
+        t->misses_late_wakeup++;
+    }
+    (*in_row)++;
+    t->misses_in_row_max = (*in_row > t->misses_in_row_max) ? *in_row : t->misses_in_row_max;
+    const long after = t->misses_long_compute + t->misses_preempted + t->misses_late_wakeup;
+    if ((o->max_misses > 0 && after >= o->max_misses) ||
+        (o->max_misses_in_row > 0 && *in_row >= o->max_misses_in_row)) {
+        t->overrun_stop = 1;
+        return 1;
+    }
+    return 0;
+}
+
 static void *periodic(void *arg)
 {
     cdpr_rt_t *rt = arg;
@@ -381,6 +452,7 @@ static void *periodic(void *arg)
     int64_t next = start + T;
     long failed_in_row = 0;
     long unanswered_in_row = 0;
+    long missed_in_row = 0;
     while (rt->advanced < rt->n_periods) {
         if (o->stop != NULL && *o->stop != 0) {
             break;
@@ -388,6 +460,7 @@ static void *periodic(void *arg)
         cdpr_lcm_command_t cmd;
         const long timeouts_before = t->lockstep_timeouts;
         const int64_t t0 = take_command(rt, next, &cmd);
+        const int64_t cpu0 = thread_cpu_ns();
         unanswered_in_row = (t->lockstep_timeouts > timeouts_before) ? unanswered_in_row + 1 : 0;
         if (unanswered_in_row >= rt->give_up_periods) {
             t->no_controller = 1; /* a lockstep plant without a controller: stop, say so */
@@ -410,18 +483,20 @@ static void *periodic(void *arg)
         t->periods++;
         publish(rt, pf);
         const int64_t t1 = cdpr_lcm_now_ns();
-        record(rt, t1 - t0);
+        const int64_t cpu = thread_cpu_ns() - cpu0;
+        record(rt, t1 - t0, cpu);
         if (o->lockstep == 0) {
+            const int stop = cdpr_rt_judge_period(rt, next, t0, t1, cpu, &missed_in_row);
             next += T;
-            if (t1 > next) {
-                t->deadline_misses++;
-                while (t1 - next >= T) {
-                    next += T;
-                    t->periods_skipped++;
-                }
+            while (t1 - next >= T) { /* start times already past: skipped, not run late */
+                next += T;
+                t->periods_skipped++;
             }
             __atomic_store_n(&rt->mon_misses, t->deadline_misses, __ATOMIC_RELAXED);
             __atomic_store_n(&rt->mon_periods, t->periods, __ATOMIC_RELAXED);
+            if (stop != 0) {
+                break;
+            }
         }
         if (failed_in_row >= rt->stall_periods) {
             t->stalled = 1;
@@ -481,6 +556,15 @@ static cdpr_status_t run_status(const cdpr_rt_t *rt, cdpr_scenario_error_t *err)
                  "the plant could not advance: %ld periods in a row failed at t = %.6g s (%s)",
                  rt->stall_periods, t->final_time_s, cdpr_status_str(rt->stall_status));
         return rt->stall_status;
+    }
+    if (t->overrun_stop != 0) {
+        snprintf(err->msg, sizeof err->msg,
+                 "overrun policy: %ld deadline misses after the %g s start-up (%ld in a row at "
+                 "most; limits %ld in total, %ld in a row) at t = %.6g s: stopping",
+                 t->misses_late_wakeup + t->misses_preempted + t->misses_long_compute,
+                 rt->o.startup_s, t->misses_in_row_max, rt->o.max_misses, rt->o.max_misses_in_row,
+                 t->final_time_s);
+        return CDPR_E_INTERRUPTED;
     }
     if (t->no_controller != 0) {
         snprintf(err->msg, sizeof err->msg,
@@ -604,9 +688,19 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
             "period at p99)\n",
             to_us(t->compute_ns_min), to_us(t->compute_ns_median), to_us(t->compute_ns_p99),
             to_us(t->compute_ns_max), 100.0 * to_us(t->compute_ns_p99) / period_us);
+    fprintf(f,
+            "  thread CPU [us]    median %.0f  p99 %.0f  max %.1f  (%.1f %% of the period at "
+            "p99)\n",
+            to_us(t->cpu_ns_median), to_us(t->cpu_ns_p99), to_us(t->cpu_ns_max),
+            100.0 * to_us(t->cpu_ns_p99) / period_us);
     if (rt->o.lockstep == 0) {
         fprintf(f, "  deadline misses    %ld (start times skipped: %ld)\n", t->deadline_misses,
                 t->periods_skipped);
+        fprintf(f,
+                "  overruns           start-up (first %g s) %ld; then %ld late wake-ups, %ld "
+                "preempted, %ld long computations (most in a row %ld); latest wake-up %.1f us\n",
+                rt->o.startup_s, t->startup_misses, t->misses_late_wakeup, t->misses_preempted,
+                t->misses_long_compute, t->misses_in_row_max, to_us(t->wake_late_ns_max));
     } else {
         fprintf(f, "  lockstep           %ld timeouts, %ld states sent again\n",
                 t->lockstep_timeouts, t->lockstep_resends);

@@ -71,6 +71,18 @@
 /// Fraction of missed deadlines over the first second that reports an overload.
 #define CDPR_RT_OVERLOAD_RATIO 0.1
 
+/// Overruns (free-running), each deadline miss classified by what made it late:
+/// - late wake-up: the period's work took less than a period of wall time, but the thread woke
+///   late (the machine: scheduling, another process);
+/// - preempted: the work took more than a period of wall time but less than a period of the
+///   thread's CPU time (the machine took the CPU away meanwhile);
+/// - long computation: the work took more than a period of the thread's CPU time (the plant:
+///   too many segments or substeps for this CPU at this rate).
+/// Misses within cdpr_rt_opts_t.startup_s of plant time are counted apart (start-up: page
+/// faults, caches, the controller subscribing); after it, cdpr_rt_opts_t.max_misses (in total)
+/// and max_misses_in_row stop the run (0: count only).
+#define CDPR_RT_STARTUP_DEFAULT_S 1.0
+
 /// Options of the node (inputs). cdpr_rt_opts_default fills the defaults. The run settings
 /// are the scenario's: control period run.period_s, plant time run.duration_s, work bound
 /// integrator.max_trials x max_attempts (command-line overrides: cdpr_scenario_override).
@@ -101,6 +113,11 @@ typedef struct {
     /// CDPR_RT_OVERLOAD_RATIO of its deadlines.
     void (*on_overload)(long periods, long misses, double rate_hz, void *ctx);
     void *on_overload_ctx;
+    /// Overrun policy (free-running; see CDPR_RT_STARTUP_DEFAULT_S): plant time at the start
+    /// whose misses are counted apart [s], in [0, 3600]; default CDPR_RT_STARTUP_DEFAULT_S.
+    double startup_s;
+    long max_misses;        ///< stop after this many misses after the start-up (0: count only)
+    long max_misses_in_row; ///< stop after this many misses in a row after it (0: count only)
 } cdpr_rt_opts_t;
 
 /// Telemetry (outputs of cdpr_rt_run).
@@ -112,6 +129,16 @@ typedef struct {
     int64_t compute_ns_median; ///< (1 us resolution above CDPR_RT_HIST_US: the max)
     int64_t compute_ns_p99;
     int64_t compute_ns_max;
+    int64_t cpu_ns_median; ///< the same work as the periodic thread's CPU time
+    int64_t cpu_ns_p99;    ///< (CLOCK_THREAD_CPUTIME_ID; 1 us bins)
+    int64_t cpu_ns_max;
+    int64_t wake_late_ns_max;         ///< free-running: latest wake-up after the start-up
+    long startup_misses;              ///< misses within opts.startup_s (not in the three below)
+    long misses_late_wakeup;          ///< after the start-up: the work fit, the wake-up was late
+    long misses_preempted;            ///< the work took > 1 period of wall, < 1 period of CPU time
+    long misses_long_compute;         ///< the work took > 1 period of the thread's CPU time
+    long misses_in_row_max;           ///< longest run of consecutive misses after the start-up
+    int overrun_stop;                 ///< 1: the overrun policy stopped the run
     double wall_s;                    ///< wall time of the periodic loop [s]
     long hold_periods;                ///< periods stepped with the hold command
     long commands_applied;            ///< periods stepped with a new command
@@ -153,8 +180,9 @@ typedef struct {
     cdpr_lcm_bridge_t bridge;
     cdpr_rt_opts_t o;
     cdpr_rt_telemetry_t tel;
-    long give_up_periods;               ///< lockstep: unanswered periods before it stops
-    uint32_t hist[CDPR_RT_HIST_US + 1]; ///< compute-time histogram (RT thread)
+    long give_up_periods;                   ///< lockstep: unanswered periods before it stops
+    uint32_t hist[CDPR_RT_HIST_US + 1];     ///< compute-time histogram (RT thread)
+    uint32_t hist_cpu[CDPR_RT_HIST_US + 1]; ///< the same in thread CPU time
     cdpr_cabin_state_t st_msg;
     cdpr_cable_tensions_t ten_msg;
     cdpr_diagnostics_t diag_msg;
@@ -195,6 +223,18 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
 /// CDPR_E_IO when the bridge or the thread could not start (`err` says why). Telemetry in
 /// rt->tel.
 cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
+
+/// The deadline of one free-running period (what the periodic thread calls after each one;
+/// public for tests and for loops of their own): the period was scheduled at `start`, its work
+/// began at `t0` and ended at `t1` (CLOCK_MONOTONIC, ns) after `cpu_ns` of the thread's CPU
+/// time; the period before it is counted in rt->tel.periods. A miss (t1 after start + period)
+/// is counted in rt->tel.deadline_misses, and classified (late wake-up, preempted, long
+/// computation: CDPR_RT_STARTUP_DEFAULT_S) or counted apart within rt->o.startup_s of plant
+/// time; `*in_row` carries the misses in a row from call to call (start at 0). Returns 1 when
+/// the overrun policy (rt->o.max_misses, max_misses_in_row) stops the run
+/// (rt->tel.overrun_stop set), else 0. O(1), no allocation, real-time safe.
+int cdpr_rt_judge_period(cdpr_rt_t *rt, int64_t start, int64_t t0, int64_t t1, int64_t cpu_ns,
+                         long *in_row);
 
 /// Print the telemetry summary (human-readable) to `f`.
 void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f);
