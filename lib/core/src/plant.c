@@ -125,7 +125,7 @@ cdpr_status_t cdpr_plant_fixed_substeps(const cdpr_robot_t *r, const cdpr_winch_
             CDPR_R(2.0) * CDPR_SQRT(c->p.ea_N / c->p.rho_kg_per_m) / CDPR_SQRT(delta * b_min);
         om = (oj > om) ? oj : om;
     }
-    const cdpr_real_t x = period_s * om / CDPR_R(CDPR_PLANT_FIXED_H_OMEGA);
+    const cdpr_real_t x = period_s * om / (cdpr_real_t)CDPR_PLANT_FIXED_H_OMEGA;
     if (!(x <= (cdpr_real_t)CDPR_PLANT_MAX_SUBSTEPS)) {
         return CDPR_E_OUT_OF_RANGE;
     }
