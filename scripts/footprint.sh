@@ -135,6 +135,7 @@ def core_graph(preset, segments=None):
 
 roots = [("cdpr_rkf45_advance", "one control period (advance -> robot RHS)"),
          ("cdpr_ros_advance", "one control period, ROS34PW2 (RHS, W factor and solves)"),
+         ("cdpr_ros_fixed", "one control period, fixed mode (n ROS34PW2 steps)"),
          ("cdpr_robot_rhs", "robot RHS alone"),
          ("cdpr_winch_node_events", "node insertion/removal"),
          ("cdpr_winch_update", "winch command update"),
