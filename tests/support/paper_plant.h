@@ -60,6 +60,25 @@ static inline void test_paper_plant_params(cdpr_plant_params_t *pp, int segments
     pp->max_trials = 400;
 }
 
+/* The implicit plant's real-time settings of the tests and docs (docs/model.md §7): loose node
+ * tolerances (the stiff axial modes are damped, not resolved), 1 kHz, at most 3 trials;
+ * `vtol` is the node-velocity tolerance [m/s] (1e-2 in the docs). Also what the fixed mode's
+ * error norm is weighed with. */
+static inline void test_paper_rt_params(cdpr_plant_params_t *pp, cdpr_plant_integrator_t m,
+                                        double vtol)
+{
+    pp->integrator = m;
+    pp->ros.rtol = CDPR_R(1e-3);
+    pp->ros.h_max_s = CDPR_R(0.01);
+    pp->ros.h_init_s = CDPR_R(1e-3);
+    pp->atol.position_m = CDPR_R(1e-4);
+    pp->atol.velocity_m_per_s = (cdpr_real_t)vtol;
+    pp->atol.quaternion = CDPR_R(1e-6);
+    pp->atol.rate_rad_per_s = CDPR_R(1e-4);
+    pp->period_s = CDPR_R(0.001);
+    pp->max_trials = 3;
+}
+
 /* Payout rates of period k at 1 kHz (the implicit plant tests): every cable pays out / hauls in
  * with its own phase, so the cabin translates and turns and the tensions swing (peak rates 0.4
  * m/s). */

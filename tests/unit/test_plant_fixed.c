@@ -37,16 +37,7 @@ static void init_plant(cdpr_plant_t *p, const cdpr_plant_params_t *pp)
 static void rt_params(cdpr_plant_params_t *pp, int segments, cdpr_plant_integrator_t m)
 {
     test_paper_plant_params(pp, segments);
-    pp->integrator = m;
-    pp->ros.rtol = CDPR_R(1e-3);
-    pp->ros.h_max_s = CDPR_R(0.01);
-    pp->ros.h_init_s = CDPR_R(1e-3);
-    pp->atol.position_m = CDPR_R(1e-4);
-    pp->atol.velocity_m_per_s = CDPR_R(1e-2);
-    pp->atol.quaternion = CDPR_R(1e-6);
-    pp->atol.rate_rad_per_s = CDPR_R(1e-4);
-    pp->period_s = CDPR_R(0.001);
-    pp->max_trials = 3;
+    test_paper_rt_params(pp, m, 1e-2);
 }
 
 /* ω_max of plant.h computed here from the parameters: the rope's wave speed, the nominal

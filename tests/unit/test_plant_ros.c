@@ -60,16 +60,7 @@ static double g_vtol = 1e-2; /* velocity atol of ros_params [m/s] */
 
 static void ros_params(cdpr_plant_params_t *pp)
 {
-    pp->integrator = CDPR_PLANT_ROS34PW2;
-    pp->ros.rtol = CDPR_R(1e-3);
-    pp->ros.h_max_s = CDPR_R(0.01);
-    pp->ros.h_init_s = CDPR_R(1e-3);
-    pp->atol.position_m = CDPR_R(1e-4);
-    pp->atol.velocity_m_per_s = (cdpr_real_t)g_vtol;
-    pp->atol.quaternion = CDPR_R(1e-6);
-    pp->atol.rate_rad_per_s = CDPR_R(1e-4);
-    pp->period_s = CDPR_R(0.001);
-    pp->max_trials = 3;
+    test_paper_rt_params(pp, CDPR_PLANT_ROS34PW2, g_vtol);
 }
 
 static void ref_params(cdpr_plant_params_t *pp)

@@ -486,15 +486,29 @@ static cdpr_status_t ros_judge(cdpr_ros_t *s, ros_walk_t *w, cdpr_real_t *y, con
     return st;
 }
 
-cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
-                               cdpr_real_t *y, cdpr_real_t dt, int max_trials)
+/* The checks on entry of the calls over an interval (advance, fixed): CDPR_E_INVALID_ARG (not
+ * counted) for bad arguments or a `count` (trials, steps) below 1, CDPR_E_STATE_NOT_FINITE
+ * (counted) for a non-finite y, else CDPR_OK. */
+static cdpr_status_t ros_interval_entry(cdpr_ros_t *s, const cdpr_ros_problem_t *pb,
+                                        const cdpr_real_t *t, const cdpr_real_t *y, cdpr_real_t dt,
+                                        int count)
 {
     if (s == NULL || ros_problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
-        !isfinite(dt) || !(dt > CDPR_R(0.0)) || max_trials < 1) {
+        !isfinite(dt) || !(dt > CDPR_R(0.0)) || count < 1) {
         return CDPR_E_INVALID_ARG;
     }
     if (ros_all_finite(y, s->dim) == 0) {
         return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
+    }
+    return CDPR_OK;
+}
+
+cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
+                               cdpr_real_t *y, cdpr_real_t dt, int max_trials)
+{
+    const cdpr_status_t in = ros_interval_entry(s, pb, t, y, dt, max_trials);
+    if (in != CDPR_OK) {
+        return in;
     }
     cdpr_real_t *yn = ros_slot(s, YNEW);
     cdpr_real_t *yb = ros_slot(s, YBAK);
@@ -540,12 +554,9 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
 cdpr_status_t cdpr_ros_fixed(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
                              cdpr_real_t *y, cdpr_real_t dt, int n, cdpr_real_t *err_max)
 {
-    if (s == NULL || ros_problem_ok(pb) == 0 || t == NULL || y == NULL || !isfinite(*t) ||
-        !isfinite(dt) || !(dt > CDPR_R(0.0)) || n < 1) {
-        return CDPR_E_INVALID_ARG;
-    }
-    if (ros_all_finite(y, s->dim) == 0) {
-        return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
+    const cdpr_status_t in = ros_interval_entry(s, pb, t, y, dt, n);
+    if (in != CDPR_OK) {
+        return in;
     }
     cdpr_real_t *yn = ros_slot(s, YNEW);
     cdpr_real_t *yb = ros_slot(s, YBAK);
