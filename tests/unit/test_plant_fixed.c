@@ -100,9 +100,9 @@ typedef struct {
     double tension_mean_N; /* 10 ms moving mean of the winch-end tension */
     double hist[6][10];
     double hist_ref[6][10];
-} dev_t;
+} deviation_t;
 
-static void deviate(dev_t *d, int k, const cdpr_plant_t *p)
+static void deviate(deviation_t *d, int k, const cdpr_plant_t *p)
 {
     cdpr_plant_meas_t a, b;
     cdpr_plant_measure(&ref, &a);
@@ -143,7 +143,7 @@ static void test_fixed_at_least_as_close_as_adaptive(void)
     init_plant(&fixed, &pp);
     rt_params(&pp, 16, CDPR_PLANT_ROS34PW2);
     init_plant(&adaptive, &pp);
-    static dev_t df, da;
+    static deviation_t df, da;
     memset(&df, 0, sizeof df);
     memset(&da, 0, sizeof da);
     for (int k = 0; k < 1500; ++k) {
