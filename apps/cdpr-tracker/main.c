@@ -415,6 +415,15 @@ static void on_other_plant(int64_t followed, int64_t other, void *ctx)
             (long long)other, (long long)followed);
 }
 
+static void on_in_control(int64_t ours, int64_t state_seq, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr,
+            "cdpr-tracker: in control: the plant applied our command (session %lld) "
+            "in the step to state %lld\n",
+            (long long)ours, (long long)state_seq);
+}
+
 static void on_other_controller(int64_t ours, int64_t other, void *ctx)
 {
     (void)ctx;
@@ -485,6 +494,7 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     g_tracker.on_plant_restart = on_plant_restart;
     g_tracker.on_other_plant = on_other_plant;
     g_tracker.on_other_controller = on_other_controller;
+    g_tracker.on_in_control = (o->quiet == 0) ? on_in_control : NULL;
     return CDPR_OK;
 }
 

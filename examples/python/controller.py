@@ -179,6 +179,9 @@ def main():
         if ctl["answered"] > 0:
             if s.controller_session == ctl["session"]:
                 applied["ours"] += 1
+                if applied["ours"] == 1:
+                    print("controller: in control: the plant applied our command in the step "
+                          "to state %d" % s.seq, file=sys.stderr)
             elif s.controller_session == 0 or applied_again:
                 applied["none"] += 1
             else:

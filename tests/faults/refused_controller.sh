@@ -32,8 +32,9 @@ sleep 1
 kill -STOP "$t"
 "$py" "$src/examples/python/controller.py" --lcm-url "$url" --timeout 5 > "$w/ctl.txt" 2>&1 &
 ctl=$!
-wait_for "$w/ctl.txt" "waiting for" 60
-sleep 1
+# The take-over has happened when the plant applied the new controller's command (a fixed
+# delay here once let the stopped tracker resume first on a loaded machine).
+wait_for "$w/ctl.txt" "in control: the plant applied our command" 60
 kill -CONT "$t"
 rc=0
 wait "$rt" || rc=$?
@@ -64,8 +65,7 @@ sleep 1
 kill -STOP "$ctl"
 "$bin/cdpr-tracker" "$sc" $common --idle-exit 30 > "$w/t2.txt" 2>&1 &
 t=$!
-wait_for "$w/t2.txt" "waiting for" 60
-sleep 1
+wait_for "$w/t2.txt" "in control: the plant applied our command" 60
 kill -CONT "$ctl"
 rc=0
 wait "$rt" || rc=$?

@@ -287,8 +287,20 @@ static void test_forged_anchor_resyncs_after_two_pairs(void)
     TEST_ASSERT_EQUAL_INT64(19, g_last_state_seq);
 }
 
+static int g_in_control_calls;
+static int64_t g_in_control_seq;
+static void count_in_control(int64_t ours, int64_t state_seq, void *ctx)
+{
+    (void)ours;
+    (void)ctx;
+    g_in_control_calls++;
+    g_in_control_seq = state_seq;
+}
+
 static void test_another_controller_in_control(void)
 {
+    g_in_control_calls = 0;
+    g_node.on_in_control = count_in_control;
     for (int64_t k = 0; k < N_STATES; ++k) {
         cdpr_cabin_state_t st;
         cdpr_cable_tensions_t ten;
@@ -304,6 +316,8 @@ static void test_another_controller_in_control(void)
     TEST_ASSERT_EQUAL_UINT64(30, g_node.stats.applied_other);
     TEST_ASSERT_EQUAL_UINT64(1, g_node.stats.applied_none);
     TEST_ASSERT_EQUAL_UINT64(28, g_node.stats.applied_ours);
+    TEST_ASSERT_EQUAL_INT(1, g_in_control_calls); /* once, at the first state applying ours */
+    TEST_ASSERT_EQUAL_INT64(1, g_in_control_seq);
     TEST_ASSERT_FALSE(cdpr_rt_tracker_in_control(&g_node, CDPR_RT_MAX_OTHER_SHARE));
     TEST_ASSERT_TRUE(cdpr_rt_tracker_in_control(&g_node, 0.6));
 }

@@ -445,6 +445,9 @@ static void count_control(cdpr_rt_tracker_t *t, const cdpr_cabin_state_t *st)
     }
     if (st->controller_session == t->controller_session) {
         t->stats.applied_ours++;
+        if (t->stats.applied_ours == 1 && t->on_in_control != NULL) {
+            t->on_in_control(t->controller_session, st->seq, t->on_session_ctx);
+        }
     } else if (st->controller_session == 0 || repeat != 0) {
         t->stats.applied_none++;
     } else {

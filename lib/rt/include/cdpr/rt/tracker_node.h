@@ -53,7 +53,9 @@
 /// Control (issue 26): each accepted state names the controller session whose command the
 /// plant applied in the step that led to it. After this node's first command, every state is
 /// counted as applied_ours, applied_none (0: the plant held) or applied_other (another
-/// controller holds the plant); on_other_controller is called once per other session.
+/// controller holds the plant); on_other_controller is called once per other session, and
+/// on_in_control once, at the first state that applied this node's command (what a script or
+/// an operator waits for after a take-over, instead of a fixed delay).
 /// cdpr_rt_tracker_in_control tells whether the share not applied stayed within a bound.
 ///
 /// Threads: every function on the thread that owns the lcm_t. The generated *_publish
@@ -193,6 +195,7 @@ typedef struct {
     int64_t last_other_session;                      ///< other session of the last state
     int64_t last_other_seq;                          ///< and its command seq (internal)
     cdpr_rt_tracker_session_fn on_other_controller;  ///< optional (old = ours, new = other)
+    cdpr_rt_tracker_session_fn on_in_control; ///< optional, once (old = ours, new = state seq)
 } cdpr_rt_tracker_t;
 
 /// Build the node: the controller (cdpr_tracker_init with `model` params, `traj`, gains `g`
