@@ -558,7 +558,8 @@ static void test_overruns_classified_and_policy(void)
     static cdpr_rt_t rt;
     memset(&rt, 0, sizeof rt);
     cdpr_rt_opts_default(&rt.o);
-    rt.o.startup_s = 0.005; /* the first 5 periods */
+    rt.o.startup_s = 0.005;
+    rt.startup_periods = 5; /* what cdpr_rt_init makes of it at 1 kHz */
     rt.o.max_misses = 4;
     rt.o.max_misses_in_row = 0;
     rt.period_ns = 1000000;
@@ -607,6 +608,7 @@ static void test_overruns_classified_and_policy(void)
     rt.o.max_misses = 0;
     rt.o.max_misses_in_row = 2;
     rt.o.startup_s = 0.0;
+    rt.startup_periods = 0;
     in_row = 0;
     rt.tel.periods = 1;
     TEST_ASSERT_EQUAL_INT(0, cdpr_rt_judge_period(&rt, T, T, 3 * T, 100, &in_row));
@@ -618,6 +620,7 @@ static void test_overruns_classified_and_policy(void)
     TEST_ASSERT_EQUAL_INT(1, cdpr_rt_judge_period(&rt, 4 * T, 4 * T, 6 * T, 100, &in_row));
     /* count only (the default): never stops */
     cdpr_rt_opts_default(&rt.o);
+    rt.startup_periods = 1000; /* the default 1 s at 1 kHz */
     memset(&rt.tel, 0, sizeof rt.tel);
     in_row = 0;
     for (int k = 0; k < 3000; ++k) {

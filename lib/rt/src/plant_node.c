@@ -131,6 +131,7 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
         return st;
     }
     rt->period_ns = (int64_t)llround(sc->period_s * 1e9);
+    rt->startup_periods = (long)llround(rt->o.startup_s / sc->period_s); /* checked: <= 3600 s */
     if (rt->period_ns < 1) {
         cdpr_scenario_error(sc, "run.period_s", "shorter than the clock's 1 ns", err);
         return CDPR_E_OUT_OF_RANGE;
@@ -399,8 +400,7 @@ int cdpr_rt_judge_period(cdpr_rt_t *rt, int64_t start, int64_t t0, int64_t t1, i
     cdpr_rt_telemetry_t *t = &rt->tel;
     const cdpr_rt_opts_t *o = &rt->o;
     const int64_t T = rt->period_ns;
-    const int startup =
-        ((double)t->periods < floor(o->startup_s / rt->plant.pp.period_s + 0.5)) ? 1 : 0;
+    const int startup = (t->periods < rt->startup_periods) ? 1 : 0;
     const int64_t late = t0 - start;
     if (startup == 0 && late > t->wake_late_ns_max) {
         t->wake_late_ns_max = late;

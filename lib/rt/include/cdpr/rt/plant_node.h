@@ -199,8 +199,9 @@ typedef struct {
     long shape_every;           ///< periods between shape messages (0: none)
     long diag_every;            ///< periods between diagnostics (0: none)
     int64_t period_ns;
-    int hold;         ///< the last step used the hold command
-    long mon_periods; ///< periods and misses for the overload check (atomic; RT thread)
+    long startup_periods; ///< periods of opts.startup_s (set by cdpr_rt_init)
+    int hold;             ///< the last step used the hold command
+    long mon_periods;     ///< periods and misses for the overload check (atomic; RT thread)
     long mon_misses;
     int done; ///< the periodic thread has finished (atomic)
 } cdpr_rt_t;
@@ -229,10 +230,10 @@ cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
 /// began at `t0` and ended at `t1` (CLOCK_MONOTONIC, ns) after `cpu_ns` of the thread's CPU
 /// time; the period before it is counted in rt->tel.periods. A miss (t1 after start + period)
 /// is counted in rt->tel.deadline_misses, and classified (late wake-up, preempted, long
-/// computation: CDPR_RT_STARTUP_DEFAULT_S) or counted apart within rt->o.startup_s of plant
-/// time; `*in_row` carries the misses in a row from call to call (start at 0). Returns 1 when
-/// the overrun policy (rt->o.max_misses, max_misses_in_row) stops the run
-/// (rt->tel.overrun_stop set), else 0. O(1), no allocation, real-time safe.
+/// computation: CDPR_RT_STARTUP_DEFAULT_S) or counted apart within rt->startup_periods (opts
+/// startup_s in periods, set by cdpr_rt_init); `*in_row` carries the misses in a row from call to
+/// call (start at 0). Returns 1 when the overrun policy (rt->o.max_misses, max_misses_in_row) stops
+/// the run (rt->tel.overrun_stop set), else 0. O(1), no allocation, real-time safe.
 int cdpr_rt_judge_period(cdpr_rt_t *rt, int64_t start, int64_t t0, int64_t t1, int64_t cpu_ns,
                          long *in_row);
 
