@@ -201,6 +201,7 @@ static void test_fixed_refuses_too_few_substeps_and_long_periods(void)
     pp.period_s = CDPR_R(0.5);
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_plant_init(&fixed, &pp, &d));
     TEST_ASSERT_EQUAL_STRING("substeps", d.field);
+    TEST_ASSERT_EQUAL_INT(-1, d.index); /* no count holds: no count to name */
     /* 100 ms at 32 segments would need more than 64 substeps. */
     rt_params(&pp, 32, CDPR_PLANT_ROS34PW2_FIXED);
     pp.period_s = CDPR_R(0.1);

@@ -149,7 +149,7 @@ static cdpr_status_t choose_substeps(cdpr_plant_t *p, cdpr_diag_t *diag)
     const cdpr_status_t st =
         cdpr_plant_fixed_substeps(&p->robot, p->pp.winch, p->pp.period_s, &need, NULL);
     if (st != CDPR_OK) {
-        return cdpr_diag_set(diag, st, "substeps", CDPR_PLANT_MAX_SUBSTEPS);
+        return cdpr_diag_set(diag, st, "substeps", -1); /* no count holds */
     }
     if (p->pp.substeps != 0 && p->pp.substeps < need) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "substeps", need);

@@ -119,8 +119,8 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
         return fail(sc, "run.period_s", "period must be in (0, 10] s", d, err);
     }
     if (strcmp(f, "substeps") == 0) {
-        if (d->status == CDPR_E_OUT_OF_RANGE && d->index > 0 &&
-            d->index < CDPR_PLANT_MAX_SUBSTEPS && sc->integrator.substeps > 0) {
+        if (d->status == CDPR_E_OUT_OF_RANGE && sc->integrator.substeps > 0 &&
+            sc->integrator.substeps < d->index) {
             snprintf(what, sizeof what,
                      "%d substeps per period are fewer than this model needs: at least %d at "
                      "period %g s (its stiffest axial mode; omit the key for the derived count)",

@@ -251,7 +251,7 @@ cdpr_status_t cdpr_plant_fixed_substeps(const cdpr_robot_t *r, const cdpr_winch_
 /// an integrator error (diag.field "settle"; p->settle holds steps and residual);
 /// cdpr_winch_init's (diag names the winch field); cdpr_rkf45_init's for the settling
 /// ("settle_rkf45") or the run ("rkf45"); cdpr_ros_init's for the run ("ros"); fixed mode:
-/// cdpr_plant_fixed_substeps's (diag.field "substeps", index the derived n when known), and
+/// cdpr_plant_fixed_substeps's (diag.field "substeps", index -1: no count holds), and
 /// CDPR_E_OUT_OF_RANGE for a params.substeps below the derived n (diag "substeps", index = the
 /// derived n) -- checked before the settling, so a refusal costs no settle.
 cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cdpr_diag_t *diag);
