@@ -309,6 +309,13 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
     g_tracker_sum.settle_steps = p->settle.steps;
     g_tracker_sum.settle_wall_time_s = (double)NAN; /* not measured by cdpr_rt_init */
     g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
+    cdpr_rt_summary_figures(&g_rt, &g_tracker_sum.rt);
+    g_tracker_sum.max_rhs_per_period = g_rt.tel.max_rhs_per_period;
+    if (p->pp.integrator == CDPR_PLANT_ROS34PW2_FIXED) {
+        g_tracker_sum.substeps = p->substeps;
+        g_tracker_sum.max_err_norm = (double)p->stats.max_err_norm;
+        g_tracker_sum.err_above_one_periods = p->stats.err_above_one_periods;
+    }
     g_tracker_sum.status = CDPR_SIM_OK;
     const char *why = "";
     if (st != CDPR_OK) {

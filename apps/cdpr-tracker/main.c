@@ -39,6 +39,7 @@
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/rt/lcmlog.h"
+#include "cdpr/rt/plant_node.h"
 #include "cdpr/rt/tracker_node.h"
 
 typedef struct {
@@ -634,6 +635,21 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     g_sum.err_above_one_periods = CDPR_SIM_UNKNOWN;
     g_sum.settle_steps = -1;
     g_sum.settle_wall_time_s = (double)NAN;
+    if (g_tracker.have_plant_diag != 0) {
+        /* The plant's own figures as its newest diagnostics gave them (it sends one before
+         * its last state): work per period, health of the fixed mode, overruns. */
+        const cdpr_diagnostics_t *d = &g_tracker.plant_diag;
+        cdpr_rt_figures_from_diagnostics(d, &g_sum.rt);
+        g_sum.rhs_evals = (unsigned long)d->rhs_evals;
+        g_sum.max_rhs_per_period = (unsigned long)d->max_rhs_per_period;
+        g_sum.substep_limit_hits = (unsigned long)d->substep_limit_hits;
+        g_sum.capacity_hits = (unsigned long)d->capacity_hits;
+        if (d->integrator == CDPR_DIAGNOSTICS_T_INTEGRATOR_ROS34PW2_FIXED && d->substeps > 0) {
+            g_sum.substeps = (int)d->substeps;
+            g_sum.max_err_norm = d->max_err_norm;
+            g_sum.err_above_one_periods = (unsigned long)d->err_above_one_periods;
+        }
+    }
     finish_status(rc, csv_failed);
     const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
     char script[1200];

@@ -336,6 +336,59 @@ static void test_deploy_retrieve_node_events(void)
     TEST_ASSERT_EQUAL_UINT32((unsigned)s.node_removals, (unsigned)rem);
 }
 
+/* The real-time block of a summary (the plant's figures a controller got from cdpr-rt's
+ * diagnostics) reads back exactly; a summary without one (a batch run) reads back unknown. */
+static void test_summary_real_time_block_round_trip(void)
+{
+    char scenario[600];
+    snprintf(scenario, sizeof scenario, "%s/scenarios/paper-line.yaml", CDPR_SOURCE_DIR);
+    static cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(scenario, &sc, &err), err.msg);
+    static cdpr_sim_summary_t sum;
+    static cdpr_sim_summary_t back;
+    memset(&sum, 0, sizeof sum);
+    sum.rt.known = 1;
+    sum.rt.seq = 8000;
+    sum.rt.periods = 8001;
+    sum.rt.deadline_misses = 17;
+    sum.rt.startup_misses = 9;
+    sum.rt.misses_late_wakeup = 5;
+    sum.rt.misses_preempted = 2;
+    sum.rt.misses_long_compute = 1;
+    sum.rt.misses_in_row_max = 3;
+    sum.rt.overrun_stop = 1;
+    sum.rt.compute_us_p99 = 412.0;
+    sum.rt.compute_us_max = 5327.75;
+    sum.rt.cpu_us_p99 = 118.0;
+    sum.rt.cpu_us_max = 161.25;
+    sum.rt.wake_late_us_max = 4000.5;
+    char path[700];
+    mkdir(CDPR_TEST_TMP, 0775);
+    snprintf(path, sizeof path, "%s/rt-summary.json", CDPR_TEST_TMP);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &sum));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &back, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(1, back.rt.known);
+    TEST_ASSERT_EQUAL_INT(8000, back.rt.seq);
+    TEST_ASSERT_EQUAL_INT(8001, back.rt.periods);
+    TEST_ASSERT_EQUAL_UINT(17, back.rt.deadline_misses);
+    TEST_ASSERT_EQUAL_UINT(9, back.rt.startup_misses);
+    TEST_ASSERT_EQUAL_UINT(5, back.rt.misses_late_wakeup);
+    TEST_ASSERT_EQUAL_UINT(2, back.rt.misses_preempted);
+    TEST_ASSERT_EQUAL_UINT(1, back.rt.misses_long_compute);
+    TEST_ASSERT_EQUAL_UINT(3, back.rt.misses_in_row_max);
+    TEST_ASSERT_EQUAL_INT(1, back.rt.overrun_stop);
+    TEST_ASSERT_EQUAL_DOUBLE(412.0, back.rt.compute_us_p99);
+    TEST_ASSERT_EQUAL_DOUBLE(5327.75, back.rt.compute_us_max);
+    TEST_ASSERT_EQUAL_DOUBLE(118.0, back.rt.cpu_us_p99);
+    TEST_ASSERT_EQUAL_DOUBLE(161.25, back.rt.cpu_us_max);
+    TEST_ASSERT_EQUAL_DOUBLE(4000.5, back.rt.wake_late_us_max);
+    sum.rt.known = 0;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &sum));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &back, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(0, back.rt.known);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -343,5 +396,6 @@ int main(void)
     RUN_TEST(test_regression_sees_a_1_percent_mass_change);
     RUN_TEST(test_paper_line_regression_and_rerun);
     RUN_TEST(test_deploy_retrieve_node_events);
+    RUN_TEST(test_summary_real_time_block_round_trip);
     return UNITY_END() ? 1 : 0;
 }

@@ -48,19 +48,31 @@ if ! cmp "$w/sim.csv" "$w/tracker.csv"; then
 fi
 echo "PASS: 100 periods over udpm == in-process, bit for bit (and the same provenance comments)"
 
-# The tracker's summary: what only the plant knows is null, never 0; the node events (from
-# the segment counts of the tensions messages) and segment range equal the batch run's.
-for k in rhs_evals steps_accepted steps_rejected settle_steps settle_wall_time_s \
-    capacity_hits substep_limit_hits min_length_periods; do
+# The tracker's summary: what neither the messages nor the plant's diagnostics tell is null,
+# never 0; the node events (from the segment counts of the tensions messages), the segment
+# range and the plant's work (from its diagnostics, the one sent before its last state) equal
+# the batch run's; the real-time block is the plant's as of its last state, 100.
+for k in steps_accepted steps_rejected settle_steps settle_wall_time_s min_length_periods; do
     grep -qF "\"$k\": null," "$w/tracker/summary.json" ||
         { echo "FAIL: the tracker's $k is not null"; exit 1; }
 done
-for k in node_insertions node_removals nodes_min nodes_max scenario_sha256 integrator; do
+for k in node_insertions node_removals nodes_min nodes_max scenario_sha256 integrator \
+    rhs_evals max_rhs_per_period capacity_hits substep_limit_hits; do
     a=$(grep -F "\"$k\":" "$w/sim/summary.json")
     b=$(grep -F "\"$k\":" "$w/tracker/summary.json")
     [ "$a" = "$b" ] || { echo "FAIL: $k: cdpr-sim '$a', cdpr-tracker '$b'"; exit 1; }
 done
-echo "PASS: the tracker's summary: plant-only counts null, node events and provenance as cdpr-sim's"
+for kv in '"rt_seq": 100,' '"rt_periods": 100,' '"rt_deadline_misses": 0,' '"rt_overrun_stop": 0,'; do
+    grep -qF "$kv" "$w/tracker/summary.json" || { echo "FAIL: the tracker's summary lacks $kv"; exit 1; }
+    if grep -qF "$kv" "$w/sim/summary.json"; then echo "FAIL: cdpr-sim has $kv"; exit 1; fi
+done
+grep -qF '"rt_seq": null,' "$w/sim/summary.json" || { echo "FAIL: cdpr-sim's rt_seq is not null"; exit 1; }
+if grep -qF '"rt_cpu_us_p99": null' "$w/tracker/summary.json"; then
+    echo "FAIL: the plant's thread CPU time is missing from the tracker's summary"
+    exit 1
+fi
+echo "PASS: the tracker's summary: unknowns null; node events, provenance and the plant's work as" \
+    "cdpr-sim's; the plant's real-time figures as of its last state"
 
 # 2. Replay the recorded log into a fresh plant in lockstep: the recorded commands, answered
 #    by state seq, must reproduce every recorded state bit for bit.

@@ -142,6 +142,24 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     TEST_ASSERT_EQUAL_UINT64(g_tracker.stats.answered + g_tracker.stats.bad_measurement,
                              cdpr_rt_tracker_step_times(&g_tracker, &med, &p99, &mx));
     TEST_ASSERT_TRUE(med > 0 && med <= p99 && p99 <= mx);
+    /* The plant's diagnostics reached the controller (1 Hz: the one at state 100 was handled
+     * before the answer to state 101): its session, lockstep's one period per state, its work
+     * so far, no overrun in lockstep, the thread CPU quantiles ordered. */
+    const cdpr_diagnostics_t *dg = &g_tracker.plant_diag;
+    TEST_ASSERT_EQUAL_INT(1, g_tracker.have_plant_diag);
+    TEST_ASSERT_TRUE(g_tracker.stats.diagnostics >= 1);
+    TEST_ASSERT_TRUE(dg->seq >= 100 && dg->seq <= periods);
+    TEST_ASSERT_EQUAL_INT64(g_rt.tel.plant_session, dg->plant_session);
+    TEST_ASSERT_EQUAL_INT64(dg->seq, dg->periods);
+    TEST_ASSERT_EQUAL_INT(CDPR_DIAGNOSTICS_T_INTEGRATOR_RKF45, dg->integrator);
+    TEST_ASSERT_TRUE(dg->rhs_evals > 0 && (unsigned long)dg->rhs_evals <= g_rt.tel.rhs_evals);
+    TEST_ASSERT_EQUAL_INT64(0, dg->deadline_misses + dg->startup_misses);
+    TEST_ASSERT_EQUAL_INT(0, dg->substeps);
+    TEST_ASSERT_TRUE(dg->cpu_ns_median > 0 && dg->cpu_ns_median <= dg->cpu_ns_p99 &&
+                     dg->cpu_ns_p99 <= dg->cpu_ns_max);
+    if (dg->seq == periods) { /* the one sent before the last state: the whole run's work */
+        TEST_ASSERT_EQUAL_UINT64(g_rt.tel.rhs_evals, (uint64_t)dg->rhs_evals);
+    }
 
     /* In-process: the same plant and controller called directly, no LCM. */
     cdpr_scenario_t sc_ref = g_sc;
@@ -599,6 +617,34 @@ static void test_overruns_classified_and_policy(void)
     TEST_ASSERT_EQUAL_INT(0, stop);
     TEST_ASSERT_EQUAL_INT(3, rt.tel.misses_in_row_max);
     TEST_ASSERT_EQUAL_INT(800000, rt.tel.wake_late_ns_max);
+    /* The telemetry goes to diagnostics_t and from it to a summary's real-time block field
+     * by field (distinct values, so that no two can be swapped unseen). */
+    const cdpr_rt_telemetry_t saved = rt.tel;
+    rt.tel.deadline_misses = 16;
+    rt.tel.startup_misses = 15;
+    rt.tel.misses_late_wakeup = 11;
+    rt.tel.misses_preempted = 12;
+    rt.tel.misses_long_compute = 13;
+    rt.tel.misses_in_row_max = 14;
+    rt.tel.wake_late_ns_max = 17000;
+    rt.tel.compute_ns_max = 19000;
+    rt.tel.cpu_ns_max = 18000;
+    rt.tel.overrun_stop = 1;
+    cdpr_sim_rt_t fig;
+    cdpr_rt_summary_figures(&rt, &fig);
+    TEST_ASSERT_EQUAL_INT(16, rt.diag_msg.deadline_misses);
+    TEST_ASSERT_EQUAL_INT(1, fig.known);
+    TEST_ASSERT_EQUAL_UINT(16, fig.deadline_misses);
+    TEST_ASSERT_EQUAL_UINT(15, fig.startup_misses);
+    TEST_ASSERT_EQUAL_UINT(11, fig.misses_late_wakeup);
+    TEST_ASSERT_EQUAL_UINT(12, fig.misses_preempted);
+    TEST_ASSERT_EQUAL_UINT(13, fig.misses_long_compute);
+    TEST_ASSERT_EQUAL_UINT(14, fig.misses_in_row_max);
+    TEST_ASSERT_EQUAL_DOUBLE(17.0, fig.wake_late_us_max);
+    TEST_ASSERT_EQUAL_DOUBLE(19.0, fig.compute_us_max);
+    TEST_ASSERT_EQUAL_DOUBLE(18.0, fig.cpu_us_max);
+    TEST_ASSERT_EQUAL_INT(1, fig.overrun_stop);
+    rt.tel = saved;
     /* the fourth miss after the start-up stops the run */
     rt.tel.periods = 10;
     TEST_ASSERT_EQUAL_INT(1, cdpr_rt_judge_period(&rt, 10 * T, 10 * T, 12 * T, 100, &in_row));

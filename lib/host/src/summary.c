@@ -192,6 +192,40 @@ static void write_counts(FILE *f, const char *key, int n, const unsigned long *c
     fputc(']', f);
 }
 
+/* The real-time plant's figures, "rt_*" keys (null when not known). */
+static void write_rt(FILE *f, const cdpr_sim_rt_t *rt)
+{
+    const struct {
+        const char *k;
+        double v;
+        int whole;
+    } v[] = {
+        {"rt_seq", (double)rt->seq, 1},
+        {"rt_periods", (double)rt->periods, 1},
+        {"rt_deadline_misses", (double)rt->deadline_misses, 1},
+        {"rt_startup_misses", (double)rt->startup_misses, 1},
+        {"rt_misses_late_wakeup", (double)rt->misses_late_wakeup, 1},
+        {"rt_misses_preempted", (double)rt->misses_preempted, 1},
+        {"rt_misses_long_compute", (double)rt->misses_long_compute, 1},
+        {"rt_misses_in_row_max", (double)rt->misses_in_row_max, 1},
+        {"rt_overrun_stop", (double)rt->overrun_stop, 1},
+        {"rt_compute_us_p99", rt->compute_us_p99, 0},
+        {"rt_compute_us_max", rt->compute_us_max, 0},
+        {"rt_cpu_us_p99", rt->cpu_us_p99, 0},
+        {"rt_cpu_us_max", rt->cpu_us_max, 0},
+        {"rt_wake_late_us_max", rt->wake_late_us_max, 0},
+    };
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; ++i) {
+        if (rt->known == 0 || !isfinite(v[i].v)) {
+            fprintf(f, ",\n  \"%s\": null", v[i].k);
+        } else if (v[i].whole != 0) {
+            fprintf(f, ",\n  \"%s\": %.0f", v[i].k, v[i].v);
+        } else {
+            fprintf(f, ",\n  \"%s\": %.17g", v[i].k, v[i].v);
+        }
+    }
+}
+
 cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
                                      const cdpr_sim_summary_t *sum)
 {
@@ -288,6 +322,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
             fprintf(f, ",\n  \"%s\": null", ints[i].k);
         }
     }
+    write_rt(f, &sum->rt);
     write_counts(f, "slack_periods", sum->n_cables, sum->slack_periods);
     write_counts(f, "slack_demand_periods", sum->n_cables, sum->slack_demand_periods);
     write_reals(f, "lap_rms_m", sum->n_laps, sum->lap_rms_m);
@@ -313,6 +348,10 @@ typedef struct {
     double *min_length_periods, *nodes_min, *nodes_max, *periods, *steps_accepted;
     double *steps_rejected, *rhs_evals, *settle_steps, *learning_updates, *learning_saturations;
     double *max_rhs_per_period, *substeps, *max_err_norm, *err_above_one_periods;
+    double *rt_seq, *rt_periods, *rt_deadline_misses, *rt_startup_misses, *rt_misses_late_wakeup;
+    double *rt_misses_preempted, *rt_misses_long_compute, *rt_misses_in_row_max;
+    double *rt_overrun_stop, *rt_compute_us_p99, *rt_compute_us_max, *rt_cpu_us_p99;
+    double *rt_cpu_us_max, *rt_wake_late_us_max;
 } raw_summary_t;
 
 #define SUM_NUM(key)                                                                               \
@@ -369,6 +408,20 @@ static const cyaml_schema_field_t summary_fields[] = {
     SUM_OPT_NUM(substeps),
     SUM_OPT_NUM(max_err_norm),
     SUM_OPT_NUM(err_above_one_periods),
+    SUM_OPT_NUM(rt_seq),
+    SUM_OPT_NUM(rt_periods),
+    SUM_OPT_NUM(rt_deadline_misses),
+    SUM_OPT_NUM(rt_startup_misses),
+    SUM_OPT_NUM(rt_misses_late_wakeup),
+    SUM_OPT_NUM(rt_misses_preempted),
+    SUM_OPT_NUM(rt_misses_long_compute),
+    SUM_OPT_NUM(rt_misses_in_row_max),
+    SUM_OPT_NUM(rt_overrun_stop),
+    SUM_OPT_NUM(rt_compute_us_p99),
+    SUM_OPT_NUM(rt_compute_us_max),
+    SUM_OPT_NUM(rt_cpu_us_p99),
+    SUM_OPT_NUM(rt_cpu_us_max),
+    SUM_OPT_NUM(rt_wake_late_us_max),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_value_t summary_schema = {
@@ -391,6 +444,31 @@ static unsigned long count_or_unknown(const double *v)
 static void string_or_empty(char *dst, size_t cap, const char *v)
 {
     snprintf(dst, cap, "%s", (v != NULL) ? v : "");
+}
+
+/* The real-time block: known when its state seq is (a file of a batch run, or written before
+ * the block existed, has none). */
+static void rt_from_raw(const raw_summary_t *r, cdpr_sim_rt_t *rt)
+{
+    memset(rt, 0, sizeof *rt);
+    if (r->rt_seq == NULL || !(*r->rt_seq >= 0.0)) {
+        return;
+    }
+    rt->known = 1;
+    rt->seq = (long)*r->rt_seq;
+    rt->periods = (r->rt_periods != NULL) ? (long)*r->rt_periods : -1;
+    rt->deadline_misses = count_or_unknown(r->rt_deadline_misses);
+    rt->startup_misses = count_or_unknown(r->rt_startup_misses);
+    rt->misses_late_wakeup = count_or_unknown(r->rt_misses_late_wakeup);
+    rt->misses_preempted = count_or_unknown(r->rt_misses_preempted);
+    rt->misses_long_compute = count_or_unknown(r->rt_misses_long_compute);
+    rt->misses_in_row_max = count_or_unknown(r->rt_misses_in_row_max);
+    rt->overrun_stop = (r->rt_overrun_stop != NULL && *r->rt_overrun_stop > 0.0) ? 1 : 0;
+    rt->compute_us_p99 = real_or_nan(r->rt_compute_us_p99);
+    rt->compute_us_max = real_or_nan(r->rt_compute_us_max);
+    rt->cpu_us_p99 = real_or_nan(r->rt_cpu_us_p99);
+    rt->cpu_us_max = real_or_nan(r->rt_cpu_us_max);
+    rt->wake_late_us_max = real_or_nan(r->rt_wake_late_us_max);
 }
 
 static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
@@ -444,6 +522,7 @@ static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
     sum->max_err_norm = (r->max_err_norm != NULL) ? *r->max_err_norm : (double)NAN;
     sum->err_above_one_periods = count_or_unknown(r->err_above_one_periods);
     sum->settle_steps = (r->settle_steps != NULL) ? (long)*r->settle_steps : -1;
+    rt_from_raw(r, &sum->rt);
 }
 
 cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
@@ -510,6 +589,24 @@ static void print_laps(FILE *f, const cdpr_sim_summary_t *s)
     fprintf(f, "%s m; last lap %.4g m\n", (more != 0) ? " ..." : "", s->lap_rms_m[s->n_laps - 1]);
 }
 
+/* The real-time plant's work per period and its overruns, when known. */
+static void print_rt(FILE *f, const cdpr_sim_rt_t *rt)
+{
+    if (rt->known == 0) {
+        return;
+    }
+    fprintf(f,
+            "  real time       plant as of state %ld: work per period p99 %.0f us CPU, %.0f us "
+            "wall (max %.0f / %.0f us)\n",
+            rt->seq, rt->cpu_us_p99, rt->compute_us_p99, rt->cpu_us_max, rt->compute_us_max);
+    fprintf(f,
+            "  overruns        %lu deadline misses: %lu in the start-up; then %lu late "
+            "wake-ups, %lu preempted, %lu long computations (most in a row %lu)%s\n",
+            rt->deadline_misses, rt->startup_misses, rt->misses_late_wakeup, rt->misses_preempted,
+            rt->misses_long_compute, rt->misses_in_row_max,
+            (rt->overrun_stop != 0) ? "; the overrun policy stopped the plant" : "");
+}
+
 void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s)
 {
     fprintf(f, "%s: %s%s%s\n", title, cdpr_sim_status_name(s->status),
@@ -554,6 +651,7 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
     }
     print_slack(f, s);
     print_laps(f, s);
+    print_rt(f, &s->rt);
     if (isfinite(s->settle_wall_time_s)) {
         fprintf(f, "  time            %.3g s simulated in %.3g s wall (settling %.3g s)\n",
                 s->sim_time_s, s->wall_time_s, s->settle_wall_time_s);

@@ -207,6 +207,7 @@ static int64_t thread_cpu_ns(void)
 static void record(cdpr_rt_t *rt, int64_t ns, int64_t cpu_ns)
 {
     cdpr_rt_telemetry_t *t = &rt->tel;
+    rt->recorded++;
     const int64_t us = ns / 1000;
     rt->hist[(us < CDPR_RT_HIST_US) ? us : CDPR_RT_HIST_US]++;
     const int64_t cpu_us = cpu_ns / 1000;
@@ -226,16 +227,16 @@ static void fill_stats(cdpr_rt_t *rt)
 {
     cdpr_rt_telemetry_t *t = &rt->tel;
     const cdpr_plant_t *p = &rt->plant;
-    t->compute_ns_median = hist_quantile(rt->hist, t->periods, 0.5);
-    t->compute_ns_p99 = hist_quantile(rt->hist, t->periods, 0.99);
+    t->compute_ns_median = hist_quantile(rt->hist, rt->recorded, 0.5);
+    t->compute_ns_p99 = hist_quantile(rt->hist, rt->recorded, 0.99);
     if (t->compute_ns_p99 > t->compute_ns_max) {
         t->compute_ns_p99 = t->compute_ns_max;
     }
     if (t->compute_ns_median > t->compute_ns_max) {
         t->compute_ns_median = t->compute_ns_max;
     }
-    t->cpu_ns_median = hist_quantile(rt->hist_cpu, t->periods, 0.5);
-    t->cpu_ns_p99 = hist_quantile(rt->hist_cpu, t->periods, 0.99);
+    t->cpu_ns_median = hist_quantile(rt->hist_cpu, rt->recorded, 0.5);
+    t->cpu_ns_p99 = hist_quantile(rt->hist_cpu, rt->recorded, 0.99);
     t->cpu_ns_p99 = (t->cpu_ns_p99 < t->cpu_ns_max) ? t->cpu_ns_p99 : t->cpu_ns_max;
     t->cpu_ns_median = (t->cpu_ns_median < t->cpu_ns_max) ? t->cpu_ns_median : t->cpu_ns_max;
     t->step_failures = (long)p->stats.step_failures;
@@ -258,7 +259,8 @@ static void fill_stats(cdpr_rt_t *rt)
     t->max_solves_per_period = p->stats.max_solves;
 }
 
-static void push_diagnostics(cdpr_rt_t *rt)
+/* rt->diag_msg from the telemetry as it is now. */
+static void fill_diagnostics(cdpr_rt_t *rt)
 {
     cdpr_diagnostics_t *m = &rt->diag_msg;
     cdpr_rt_telemetry_t *t = &rt->tel;
@@ -288,14 +290,40 @@ static void push_diagnostics(cdpr_rt_t *rt)
     m->max_rhs_per_period = (int32_t)t->max_rhs_per_period;
     m->max_factorisations_per_period = (int32_t)t->max_factorisations_per_period;
     m->max_solves_per_period = (int32_t)t->max_solves_per_period;
-    (void)cdpr_lcm_bridge_push_diagnostics(&rt->bridge, m);
+    if (rt->plant.pp.integrator == CDPR_PLANT_ROS34PW2_FIXED) {
+        m->substeps = (int32_t)rt->plant.substeps;
+        m->max_err_norm = (double)rt->plant.stats.max_err_norm;
+        m->err_above_one_periods = (int64_t)rt->plant.stats.err_above_one_periods;
+    }
+    m->cpu_ns_median = t->cpu_ns_median;
+    m->cpu_ns_p99 = t->cpu_ns_p99;
+    m->cpu_ns_max = t->cpu_ns_max;
+    m->wake_late_ns_max = t->wake_late_ns_max;
+    m->startup_misses = t->startup_misses;
+    m->misses_late_wakeup = t->misses_late_wakeup;
+    m->misses_preempted = t->misses_preempted;
+    m->misses_long_compute = t->misses_long_compute;
+    m->misses_in_row_max = t->misses_in_row_max;
+    m->overrun_stop = (int8_t)t->overrun_stop;
+}
+
+static void push_diagnostics(cdpr_rt_t *rt)
+{
+    fill_diagnostics(rt);
+    (void)cdpr_lcm_bridge_push_diagnostics(&rt->bridge, &rt->diag_msg);
 }
 
 /* State rt->seq of the plant as it is now: cabin state, tensions, shape and diagnostics when
- * due; one wake-up of the bridge. */
+ * due; one wake-up of the bridge. With the last state of the run, the diagnostics go first: a
+ * controller that stops at the last state has then received the run's figures (its summary
+ * reports them), whatever the machine's load. */
 static void publish(cdpr_rt_t *rt, int plant_flags)
 {
     cdpr_plant_t *p = &rt->plant;
+    const int last = (rt->advanced >= rt->n_periods) ? 1 : 0;
+    if (last != 0 && rt->diag_every > 0) {
+        push_diagnostics(rt);
+    }
     cdpr_tracker_meas_t m;
     cdpr_plant_measure_out(p, &m, &rt->out); /* the tensions message's values too */
     int32_t flags = (int32_t)plant_flags;
@@ -318,7 +346,7 @@ static void publish(cdpr_rt_t *rt, int plant_flags)
         rt->shape_msg.plant_session = session;
         (void)cdpr_lcm_bridge_push_shape(&rt->bridge, &rt->shape_msg);
     }
-    if (rt->diag_every > 0 && rt->seq > 0 && rt->seq % rt->diag_every == 0) {
+    if (last == 0 && rt->diag_every > 0 && rt->seq > 0 && rt->seq % rt->diag_every == 0) {
         push_diagnostics(rt);
     }
     cdpr_lcm_bridge_wake(&rt->bridge);
@@ -762,4 +790,30 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
     }
     fprintf(f, "  winches            %ld winch-periods at the minimum length\n",
             t->min_length_periods);
+}
+
+void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_sim_rt_t *out)
+{
+    memset(out, 0, sizeof *out);
+    out->known = 1;
+    out->seq = (long)d->seq;
+    out->periods = (long)d->periods;
+    out->deadline_misses = (unsigned long)d->deadline_misses;
+    out->startup_misses = (unsigned long)d->startup_misses;
+    out->misses_late_wakeup = (unsigned long)d->misses_late_wakeup;
+    out->misses_preempted = (unsigned long)d->misses_preempted;
+    out->misses_long_compute = (unsigned long)d->misses_long_compute;
+    out->misses_in_row_max = (unsigned long)d->misses_in_row_max;
+    out->overrun_stop = (d->overrun_stop != 0) ? 1 : 0;
+    out->compute_us_p99 = to_us(d->compute_ns_p99);
+    out->compute_us_max = to_us(d->compute_ns_max);
+    out->cpu_us_p99 = to_us(d->cpu_ns_p99);
+    out->cpu_us_max = to_us(d->cpu_ns_max);
+    out->wake_late_us_max = to_us(d->wake_late_ns_max);
+}
+
+void cdpr_rt_summary_figures(cdpr_rt_t *rt, cdpr_sim_rt_t *out)
+{
+    fill_diagnostics(rt);
+    cdpr_rt_figures_from_diagnostics(&rt->diag_msg, out);
 }

@@ -111,6 +111,7 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
     snprintf(t->ch_state, sizeof t->ch_state, "%sCABIN_STATE", pre);
     snprintf(t->ch_tensions, sizeof t->ch_tensions, "%sCABLE_TENSIONS", pre);
     snprintf(t->ch_command, sizeof t->ch_command, "%sWINCH_COMMAND", pre);
+    snprintf(t->ch_diag, sizeof t->ch_diag, "%sDIAGNOSTICS", pre);
     const cdpr_status_t st = cdpr_tracker_init(&t->tracker, model, traj, g, period_s, 0.0, diag);
     if (st != CDPR_OK) {
         return st;
@@ -152,6 +153,7 @@ static void follow_plant(cdpr_rt_tracker_t *t, int64_t session)
     t->have_state = 0;
     t->have_ten = 0;
     t->cmd_len = 0;
+    t->have_plant_diag = 0;
     /* Same inputs as at init, which accepted them: cannot fail. */
     (void)cdpr_tracker_init(&t->tracker, t->model, t->traj, &t->gains, t->period_s, 0.0, NULL);
     if (t->on_plant_restart != NULL) {
@@ -242,12 +244,34 @@ static void on_tensions(const lcm_recv_buf_t *rbuf, const char *channel, void *u
     }
 }
 
+/* The plant's diagnostics: kept for the summary (never used for control). Another session's,
+ * or one older than the one kept, is ignored; one that does not decode exactly is counted. */
+static void on_diagnostics(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    cdpr_rt_tracker_t *t = user;
+    cdpr_diagnostics_t msg;
+    if (cdpr_diagnostics_t_decode(rbuf->data, 0, (int)rbuf->data_size, &msg) !=
+        (int)rbuf->data_size) {
+        t->stats.decode_errors++;
+        return;
+    }
+    if (t->plant_session == 0 || msg.plant_session != t->plant_session ||
+        (t->have_plant_diag != 0 && msg.seq < t->plant_diag.seq)) {
+        return;
+    }
+    t->plant_diag = msg;
+    t->have_plant_diag = 1;
+    t->stats.diagnostics++;
+}
+
 cdpr_status_t cdpr_rt_tracker_attach(cdpr_rt_tracker_t *t, lcm_t *lcm)
 {
     t->lcm = lcm;
     t->sub_state = lcm_subscribe(lcm, t->ch_state, on_state, t);
     t->sub_tensions = lcm_subscribe(lcm, t->ch_tensions, on_tensions, t);
-    if (t->sub_state == NULL || t->sub_tensions == NULL) {
+    t->sub_diag = lcm_subscribe(lcm, t->ch_diag, on_diagnostics, t);
+    if (t->sub_state == NULL || t->sub_tensions == NULL || t->sub_diag == NULL) {
         cdpr_rt_tracker_detach(t);
         return CDPR_E_IO;
     }
@@ -263,9 +287,13 @@ void cdpr_rt_tracker_detach(cdpr_rt_tracker_t *t)
         if (t->sub_tensions != NULL) {
             (void)lcm_unsubscribe(t->lcm, t->sub_tensions);
         }
+        if (t->sub_diag != NULL) {
+            (void)lcm_unsubscribe(t->lcm, t->sub_diag);
+        }
     }
     t->sub_state = NULL;
     t->sub_tensions = NULL;
+    t->sub_diag = NULL;
     t->lcm = NULL;
 }
 

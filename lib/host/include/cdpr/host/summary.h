@@ -57,6 +57,27 @@ typedef enum {
                               ///< rows written before, `message` says why
 } cdpr_sim_status_t;
 
+/// The real-time plant's figures in a summary: cdpr-rt's own telemetry (its in-process
+/// tracker), or the plant's newest `diagnostics_t` received by a controller over LCM. Not known
+/// in a batch run (cdpr-sim), nor when no diagnostics came.
+typedef struct {
+    int known;                         ///< 1: the figures below are the plant's
+    long seq;                          ///< plant state they are as of
+    long periods;                      ///< control periods run by then
+    unsigned long deadline_misses;     ///< free-running: periods that ended after the next start
+    unsigned long startup_misses;      ///< misses within the start-up allowance
+    unsigned long misses_late_wakeup;  ///< after it: the work fit, the wake-up was late
+    unsigned long misses_preempted;    ///< > 1 period of wall time, < 1 period of CPU time
+    unsigned long misses_long_compute; ///< > 1 period of the thread's CPU time
+    unsigned long misses_in_row_max;   ///< most misses in a row after the start-up
+    int overrun_stop;                  ///< 1: the overrun policy stopped the plant
+    double compute_us_p99;             ///< a period's work, wall time: p99 [us]
+    double compute_us_max;             ///< ... max [us]
+    double cpu_us_p99;                 ///< the same in the periodic thread's CPU time: p99 [us]
+    double cpu_us_max;                 ///< ... max [us]
+    double wake_late_us_max;           ///< latest wake-up after the start-up [us]
+} cdpr_sim_rt_t;
+
 /// Summary of a run (outputs). Errors are |p - p_d| and the angle of q_d q^-1 over every
 /// control period t_k, k = 0..N (t_0 after settling). Unknown values: see the file comment.
 typedef struct {
@@ -111,6 +132,7 @@ typedef struct {
     double lap_rms_m[CDPR_SIM_MAX_LAPS];   ///< RMS position error of each complete lap [m]
     double lap_max_m[CDPR_SIM_MAX_LAPS];   ///< largest position error of each lap [m]
     double lap_rms_rad[CDPR_SIM_MAX_LAPS]; ///< RMS attitude error of each lap [rad]
+    cdpr_sim_rt_t rt;                      ///< the real-time plant's figures (rt.known)
     cdpr_sim_status_t status;              ///< see cdpr_sim_status_t
     char message[256];                     ///< what failed or warned, "" if nothing
     cdpr_sim_provenance_t prov;            ///< where the outputs come from

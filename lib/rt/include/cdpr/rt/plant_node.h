@@ -52,6 +52,7 @@
 
 #include "cdpr/lcm/bridge.h"
 #include "cdpr/host/plant.h"
+#include "cdpr/host/summary.h"
 
 /// Compute-time histogram: 1 us bins up to this many us, plus an overflow bin.
 #define CDPR_RT_HIST_US 20000
@@ -183,6 +184,8 @@ typedef struct {
     long give_up_periods;                   ///< lockstep: unanswered periods before it stops
     uint32_t hist[CDPR_RT_HIST_US + 1];     ///< compute-time histogram (RT thread)
     uint32_t hist_cpu[CDPR_RT_HIST_US + 1]; ///< the same in thread CPU time
+    long recorded;                          ///< periods in hist and hist_cpu (the newest
+                                            ///< period's is added after its messages)
     cdpr_cabin_state_t st_msg;
     cdpr_cable_tensions_t ten_msg;
     cdpr_diagnostics_t diag_msg;
@@ -239,5 +242,12 @@ int cdpr_rt_judge_period(cdpr_rt_t *rt, int64_t start, int64_t t0, int64_t t1, i
 
 /// Print the telemetry summary (human-readable) to `f`.
 void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f);
+
+/// The real-time figures of a run's summary (summary.json "rt_*") from the telemetry as it is
+/// now (after cdpr_rt_run: the whole run). Not real-time safe (computes the percentiles).
+void cdpr_rt_summary_figures(cdpr_rt_t *rt, cdpr_sim_rt_t *out);
+
+/// The same from a `diagnostics_t` (a controller's view of the plant, cdpr_rt_tracker_t).
+void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_sim_rt_t *out);
 
 #endif /* CDPR_RT_PLANT_NODE_H */

@@ -74,6 +74,7 @@
 #include "cdpr/winch.h"
 #include "lcmtypes/cdpr_cable_tensions_t.h"
 #include "lcmtypes/cdpr_cabin_state_t.h"
+#include "lcmtypes/cdpr_diagnostics_t.h"
 #include "lcmtypes/cdpr_winch_command_t.h"
 
 /// Called after each answered state (e.g. to log the period): the measurement, the command
@@ -105,6 +106,8 @@ typedef struct {
                                   ///< applied the same command of another session again (a
                                   ///< controller that stopped, until the watchdog holds)
     uint64_t applied_other;       ///< ... that applied a new command of another session
+    uint64_t diagnostics;         ///< the followed plant's diagnostics kept (newest in
+                                  ///< cdpr_rt_tracker_t.plant_diag)
 } cdpr_rt_tracker_stats_t;
 
 /// Session events (optional callbacks; on the lcm thread). `old_session` 0: none.
@@ -160,9 +163,11 @@ typedef struct {
     char ch_state[64];
     char ch_tensions[64];
     char ch_command[64];
+    char ch_diag[64];
     lcm_t *lcm; ///< not owned
     lcm_subscription_t *sub_state;
     lcm_subscription_t *sub_tensions;
+    lcm_subscription_t *sub_diag;
     cdpr_cabin_state_t state;              ///< newest state
     cdpr_cable_tensions_t ten;             ///< newest tensions
     int have_state;                        ///< a state has been received
@@ -196,6 +201,12 @@ typedef struct {
     int64_t last_other_seq;                          ///< and its command seq (internal)
     cdpr_rt_tracker_session_fn on_other_controller;  ///< optional (old = ours, new = other)
     cdpr_rt_tracker_session_fn on_in_control; ///< optional, once (old = ours, new = state seq)
+    /// The newest diagnostics of the plant followed (its work, overruns and health as of state
+    /// plant_diag.seq; the plant sends one before its last state). Informational only: they
+    /// never change a command. Kept when they decode exactly, name the followed session and
+    /// are not older than the one kept; cleared when another plant session is followed.
+    cdpr_diagnostics_t plant_diag;
+    int have_plant_diag; ///< 1: plant_diag holds one
 } cdpr_rt_tracker_t;
 
 /// Build the node: the controller (cdpr_tracker_init with `model` params, `traj`, gains `g`
