@@ -9,8 +9,8 @@
 #     transfer, winch tension feedback and learning over laps) through the real-time loop: cdpr-rt (the plant, 1 kHz periodic thread) and cdpr-tracker (the
 #     external controller) as two processes exchanging cabin state, cable tensions and winch
 #     commands over LCM UDP multicast on loopback, recorded by lcm-logger. The plant integrates
-#     with ROS34PW2 and the scenario's integrator.ros34pw2 settings (at most 4 trials per 1 ms
-#     period; docs/performance.md "Which integrator to ship"). When multicast
+#     in the fixed-cost mode (ROS34PW2 in n equal substeps per 1 ms period, n derived from the
+#     model: the same work in every period; docs/realtime.md "Real-time contract"). When multicast
 #     cannot be set up, both sides run in one process over memq:// instead, and it says so.
 #     Writes out/paper-circle-rt/ (timeseries.csv, summary.json, figure4.png, errors.png,
 #     tensions.png, laps.csv, laps.png, circle.lcmlog) and prints the tracking summary (with
@@ -58,7 +58,7 @@ if [[ $multicast -eq 1 ]]; then
     echo "two processes over $url; lcm-logger records to $out/circle.lcmlog"
     # The tracker checks its controller's design at load (a few seconds with feedback on):
     # start the plant only once it listens, so that it sees state 0.
-    "$bin/cdpr-tracker" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url "$url" --out "$out" \
+    "$bin/cdpr-tracker" "$scenario" --rate 1000 --integrator ros34pw2-fixed --lcm-url "$url" --out "$out" \
         2> >(tee "$out/tracker.stderr" >&2) &
     tracker=$!
     for _ in $(seq 600); do
@@ -72,7 +72,7 @@ if [[ $multicast -eq 1 ]]; then
         exit 1
     fi
     status=0
-    "$bin/cdpr-rt" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url "$url" --start-delay 0.5 --realtime \
+    "$bin/cdpr-rt" "$scenario" --rate 1000 --integrator ros34pw2-fixed --lcm-url "$url" --start-delay 0.5 --realtime \
         || status=$?
     wait "$tracker" || status=$?
     sleep 0.2
@@ -82,7 +82,7 @@ if [[ $multicast -eq 1 ]]; then
 else
     echo "NOTE: UDP multicast unavailable ($why):"
     echo "      running plant and tracker in one process over memq:// instead"
-    "$bin/cdpr-rt" "$scenario" --rate 1000 --integrator ros34pw2 --lcm-url memq:// --realtime --with-tracker \
+    "$bin/cdpr-rt" "$scenario" --rate 1000 --integrator ros34pw2-fixed --lcm-url memq:// --realtime --with-tracker \
         --tracker-out "$out"
 fi
 echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png, $out/laps.png (error per lap)"
