@@ -153,8 +153,8 @@ static void init_or_fail(cdpr_plant_t *p, const cdpr_plant_params_t *pp)
 }
 
 /* One second of `name` at 1 kHz: the scenario's controller closes the loop on an RKF45
- * reference at rtol 1e-10; the fixed mode and the adaptive real-time setting (the scenario's
- * ros34pw2 section) get the same commands from the same settled start. The fixed mode must be
+ * reference at rtol 1e-10; the fixed mode and the adaptive real-time setting (below) get the
+ * same commands from the same settled start. The fixed mode must be
  * at least as close to the reference as the adaptive one in cabin position, attitude and 10 ms
  * mean winch tension. */
 static void accuracy_case(const char *name)
