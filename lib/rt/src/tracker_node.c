@@ -256,7 +256,10 @@ static void on_diagnostics(const lcm_recv_buf_t *rbuf, const char *channel, void
         t->stats.decode_errors++;
         return;
     }
-    if (t->plant_session == 0 || msg.plant_session != t->plant_session ||
+    /* Within the sequence already trusted: at most one state ahead of the newest accepted pair
+     * (the plant sends it just before its state), so a forged seq cannot pin a stale copy. */
+    if (t->plant_session == 0 || msg.plant_session != t->plant_session || t->have_accepted == 0 ||
+        msg.seq < 0 || msg.seq > t->acc_seq + 1 ||
         (t->have_plant_diag != 0 && msg.seq < t->plant_diag.seq)) {
         return;
     }
