@@ -392,6 +392,50 @@ static void test_plant_at_another_rate(void)
 /* Two plants on one channel prefix, interleaved: the node keeps the plant it follows (its
  * states come every period, far inside CDPR_RT_PLANT_SILENCE_S) and counts the other's
  * (issue 26: the silence timeout x 1e-6 made every other-plant state a "restart"). */
+/* The plant's diagnostics of period k (what cdpr-tracker's summary is built from). */
+static void send_diag(int64_t seq, int64_t session, int64_t misses)
+{
+    cdpr_diagnostics_t d;
+    memset(&d, 0, sizeof d);
+    d.seq = seq;
+    d.plant_session = session;
+    d.periods = seq;
+    d.deadline_misses = misses;
+    unsigned char buf[2048];
+    const int n = cdpr_diagnostics_t_encode(buf, 0, (int)sizeof buf, &d);
+    TEST_ASSERT_TRUE(n > 0);
+    TEST_ASSERT_EQUAL_INT(0, lcm_publish(g_lcm, "CDPR_DIAGNOSTICS", buf, (unsigned)n));
+    for (int i = 0; i < 4; ++i) {
+        (void)lcm_handle_timeout(g_lcm, 0);
+    }
+}
+
+/* Forged diagnostics (far ahead, another plant session, before any trusted state, older than
+ * the copy kept) never replace the plant's own: the copy the summary reads stays the newest
+ * genuine one, within one state of the newest accepted pair. */
+static void test_forged_diagnostics_never_replace_the_plants(void)
+{
+    send_diag(0, 77, 555); /* before any accepted pair: nothing to check it against */
+    TEST_ASSERT_EQUAL_INT(0, g_node.have_plant_diag);
+    for (int64_t k = 0; k < N_STATES; ++k) {
+        send_diag(k, 77, k); /* the plant's: sent just before its state */
+        if (k == 20) {
+            send_diag(k + ((int64_t)1 << 40), 77, 999999); /* far ahead */
+            send_diag(k, 78, 999998);                      /* another plant session */
+            send_diag(k - 5, 77, 999997);                  /* older than the copy kept */
+            TEST_ASSERT_EQUAL_INT64(20, g_node.plant_diag.seq);
+            TEST_ASSERT_EQUAL_INT64(20, g_node.plant_diag.deadline_misses);
+        }
+        send_real(k);
+    }
+    TEST_ASSERT_EQUAL_INT(1, g_node.have_plant_diag);
+    TEST_ASSERT_EQUAL_INT64(N_STATES - 1, g_node.plant_diag.seq);
+    TEST_ASSERT_EQUAL_INT64(N_STATES - 1, g_node.plant_diag.deadline_misses);
+    /* Kept: the genuine ones from period 1 on (period 0's arrived before the first pair). */
+    TEST_ASSERT_EQUAL_UINT64(N_STATES - 1, g_node.stats.diagnostics);
+    TEST_ASSERT_EQUAL_INT(N_STATES, g_commands);
+}
+
 static void test_second_plant_is_ignored_not_followed(void)
 {
     for (int64_t k = 0; k < 20; ++k) {
@@ -422,5 +466,6 @@ int main(void)
     RUN_TEST(test_tensions_before_the_first_state_are_not_another_plant);
     RUN_TEST(test_plant_at_another_rate);
     RUN_TEST(test_second_plant_is_ignored_not_followed);
+    RUN_TEST(test_forged_diagnostics_never_replace_the_plants);
     return UNITY_END() ? 1 : 0;
 }
