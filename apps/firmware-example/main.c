@@ -32,15 +32,21 @@
 #define N_SEGMENTS 16 /* -DN_SEGMENTS=32: the variants of CMakeLists.txt */
 #endif
 #define N_PERIODS 200 /* 0.2 s of simulated time */
-#ifdef FW_ROS34PW2
-/* -DFW_ROS34PW2: the implicit integrator (ros34pw2.h), at most 3 trials of 1 factorisation,
- * 4 solves and 4 RHS evaluations per period, node tolerances as in docs/model.md §7. With
- * -DFW_FIXED too: the fixed-cost mode (plant.h "Fixed-cost stepping"), exactly n substeps per
- * period, n derived from the model at init: n factorisations, 4 n solves and 4 n RHS
- * evaluations in every period. */
+#if defined(FW_RKF45)
+/* -DFW_RKF45: the explicit RKF45 (rkf45.h) with step control, at most MAX_TRIALS trials per
+ * period: a bound, not a constant; the work varies 2-3x between periods (docs/firmware.md). */
+#define MAX_TRIALS 40 /* work bound per period: 6 x 40 RHS evaluations */
+#elif defined(FW_ROS34PW2)
+/* -DFW_ROS34PW2: the adaptive implicit integrator (ros34pw2.h), at most 3 trials of 1
+ * factorisation, 4 solves and 4 RHS evaluations per period, node tolerances as in
+ * docs/model.md §7. */
 #define MAX_TRIALS 3
 #else
-#define MAX_TRIALS 40 /* work bound per period: 6 x 40 RHS evaluations */
+/* Default: the fixed-cost mode (plant.h "Fixed-cost stepping"), exactly n ROS34PW2 substeps
+ * per period, n derived from the model at init: n factorisations, 4 n solves and 4 n RHS
+ * evaluations in every period, the mean and the worst case alike. */
+#define FW_FIXED
+#define MAX_TRIALS 1 /* not used by the fixed mode (it has no trials) */
 #endif
 #define SYSTICK_HZ     1000
 #define CPU_CLOCK_HZ   25000000u /* QEMU's MPS2 boards clock SysTick at 25 MHz */
@@ -157,7 +163,7 @@ static int init_model(void)
     params.atol.velocity_m_per_s = ATOL;
     params.atol.quaternion = ATOL;
     params.atol.rate_rad_per_s = ATOL;
-#ifdef FW_ROS34PW2
+#ifndef FW_RKF45
 #ifdef FW_FIXED
     params.integrator = CDPR_PLANT_ROS34PW2_FIXED;
 #else
@@ -198,7 +204,7 @@ static cdpr_status_t control_period(void)
     return st;
 }
 
-#ifdef FW_ROS34PW2
+#ifndef FW_RKF45
 /* The parts of an implicit period, measured once on the final state: one RHS evaluation, one
  * factorisation of W (gamma h for the 1 ms step) and one solve. A trial is 4 RHS + 4 solves
  * (+ 1 factorisation when W is renewed) + the stage arithmetic: the floor of any 4-stage
@@ -271,7 +277,7 @@ int main(void)
         clocks_sum += s1 - s0;
         clocks_max = (s1 - s0 > clocks_max) ? s1 - s0 : clocks_max;
     }
-#ifdef FW_ROS34PW2
+#ifndef FW_RKF45
     print_part_costs(per_calib);
 #endif
     SYST_CSR = 0u;

@@ -14,7 +14,8 @@
 ///   b    = (0.24212380706095346, -1.2232505839045147, 1.5452602553351020, gamma)
 ///   bhat = (0.37810903145819369, -0.096042292212423178, 0.5, 0.2179332607542295)
 /// and transformed here (30-digit arithmetic) to a = alpha Gamma^-1, c = diag(1/gamma) -
-/// Gamma^-1, m = b Gamma^-1, mhat = bhat Gamma^-1, so that no product with J is needed. The
+/// Gamma^-1, m = b Gamma^-1, mhat = bhat Gamma^-1, so that no product with J is needed; the
+/// stages are solved scaled by 1/(gamma h), with gamma c_ij as constants (ros_try). The
 /// order conditions (order 3, embedded 2) hold for these values to 2e-16; tests/unit/
 /// test_ros34pw2.c measures the order and the stability function.
 #include "cdpr/ros34pw2.h"
@@ -36,18 +37,15 @@
 #define A41 CDPR_R(4.1847604823191607312)
 #define A42 CDPR_R(-0.28519201735549591370)
 #define A43 CDPR_R(2.2942803602790417167)
-/* c_ij (stage right-hand sides). */
-#define C21 CDPR_R(-4.5885607205580834861)
-#define C31 CDPR_R(-4.1847604823191607312)
-#define C32 CDPR_R(0.28519201735549591370)
-#define C41 CDPR_R(-6.3681792001283577635)
-#define C42 CDPR_R(-6.7956209444668361844)
-#define C43 CDPR_R(2.8700986043310560892)
-/* m_i (propagated solution; stiffly accurate: m_i = a_4i, m_4 = 1). */
-#define M1 CDPR_R(4.1847604823191601453)
-#define M2 CDPR_R(-0.28519201735549587377)
-#define M3 CDPR_R(2.2942803602790413955)
-#define M4 CDPR_R(1.0)
+/* gamma c_ij (stage right-hand sides of the scaled stages v_i = u_i / (gamma h), see ros_try). */
+#define GC21 CDPR_R(-2.0000000000000000229282014293589199)
+#define GC31 CDPR_R(-1.8239969947745137296274783014252208)
+#define GC32 CDPR_R(0.12430565256672007208669333448398830)
+#define GC41 CDPR_R(-2.7756761163024680797381504435714465)
+#define GC42 CDPR_R(-2.9619836625547887173740055318838396)
+#define GC43 CDPR_R(1.2509798950560604161150341212585428)
+/* m_i (propagated solution) need no constants: the method is stiffly accurate, m_i = a_4i and
+ * m_4 = 1, so the new state is stage 4's state plus the last stage (ros_finish). */
 /* e_i = m_i - mhat_i (error estimate). */
 #define E1 CDPR_R(0.27774994764796811038)
 #define E2 CDPR_R(-1.4032398951759990242)
@@ -197,81 +195,110 @@ static cdpr_status_t ros_prepare_w(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, 
     return CDPR_OK;
 }
 
-/* One trial; `have_f1` says slot F1 already holds f(t, y). The slots never alias each other
- * or y/y_out. */
-static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
-                             const cdpr_real_t *restrict y, cdpr_real_t h,
-                             cdpr_real_t *restrict y_out, cdpr_real_t *err, int have_f1)
+/* The last pass of a trial: new state (y_out = yt + gamma h v4; y_out may be y), error
+ * estimate and its weighted max-norm, without a data-dependent branch. `vec` 1: atol[i] per
+ * component, 0: atol[0] for all (a constant once inlined: two specialised loops). Non-finite
+ * state: +Inf. The state is checked through the sum of |y_new| (Inf or NaN when a component
+ * is, one addition per component instead of a classification); a finite state whose sum
+ * overflows is refused too. */
+static inline cdpr_real_t ros_finish(const cdpr_ros_t *s, const cdpr_real_t *y, cdpr_real_t *y_out,
+                                     cdpr_real_t gh, const cdpr_real_t ge[4],
+                                     const cdpr_real_t *atol, int vec)
 {
     const int n = s->dim;
-    cdpr_real_t *restrict u1 = ros_slot(s, U1);
-    cdpr_real_t *restrict u2 = ros_slot(s, U2);
-    cdpr_real_t *restrict u3 = ros_slot(s, U3);
-    cdpr_real_t *restrict u4 = ros_slot(s, U4);
+    const cdpr_real_t *restrict v1 = ros_slot(s, U1);
+    const cdpr_real_t *restrict v2 = ros_slot(s, U2);
+    const cdpr_real_t *restrict v3 = ros_slot(s, U3);
+    const cdpr_real_t *restrict v4 = ros_slot(s, U4);
+    const cdpr_real_t *restrict y4 = ros_slot(s, YTMP);
+    const cdpr_real_t rtol = s->p.rtol;
+    cdpr_real_t emax = CDPR_R(0.0);
+    cdpr_real_t sum = CDPR_R(0.0);
+    for (int i = 0; i < n; ++i) {
+        const cdpr_real_t ay = CDPR_FABS(y[i]);
+        const cdpr_real_t yn = y4[i] + gh * v4[i];
+        const cdpr_real_t e =
+            CDPR_FABS(ge[0] * v1[i] + ge[1] * v2[i] + ge[2] * v3[i] + ge[3] * v4[i]);
+        const cdpr_real_t an = CDPR_FABS(yn);
+        const cdpr_real_t sc = atol[i * vec] + rtol * ((ay > an) ? ay : an);
+        const cdpr_real_t r = e / sc;
+        emax = (r <= emax) ? emax : r; /* also propagates NaN */
+        sum += an;
+        y_out[i] = yn;
+    }
+    return (isfinite(sum) && isfinite(emax)) ? emax : (cdpr_real_t)INFINITY;
+}
+
+/* One trial; `have_f1` says slot F1 already holds f(t, y). The slots never alias each other,
+ * y or y_out; y_out may be y itself (the new state is written in place, each component after
+ * its last read).
+ *
+ * The stages are solved scaled: v_i = u_i / (gamma h) of the (a, c, m) form above, i.e.
+ *   W v_i = f(t + alpha_i h, y + h gamma sum_j a_ij v_j) + sum_j (gamma c_ij) v_j,
+ *   y_new = y + h gamma sum_i m_i v_i,  err = h gamma sum_i e_i v_i,
+ * the same method (W is linear) with the factor gamma h moved from every component into the
+ * few scalar coefficients: stage 1 solves f(t, y) as it stands and no stage scales its
+ * right-hand side (docs/performance.md "One substep"). */
+static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
+                             const cdpr_real_t *y, cdpr_real_t h, cdpr_real_t *y_out,
+                             cdpr_real_t *err, int have_f1)
+{
+    const int n = s->dim;
+    cdpr_real_t *restrict v1 = ros_slot(s, U1);
+    cdpr_real_t *restrict v2 = ros_slot(s, U2);
+    cdpr_real_t *restrict v3 = ros_slot(s, U3);
+    cdpr_real_t *restrict v4 = ros_slot(s, U4);
     cdpr_real_t *restrict yt = ros_slot(s, YTMP);
     cdpr_real_t *restrict f1 = ros_slot(s, F1);
     cdpr_real_t *restrict ft = ros_slot(s, FT);
+    const cdpr_real_t *restrict y0 = y; /* not written before the last pass */
     const cdpr_real_t gh = GAMMA * h;
 
     if (have_f1 == 0) {
         CDPR_TRY(ros_eval(s, pb, t, y, f1));
     }
     CDPR_TRY(ros_prepare_w(s, pb, t, y, gh));
-    /* Stage 1: W u1 = gamma h f(t, y). */
-    for (int i = 0; i < n; ++i) {
-        ft[i] = gh * f1[i];
-    }
-    CDPR_TRY(ros_solve(s, pb, ft, u1));
+    /* Stage 1: W v1 = f(t, y). */
+    CDPR_TRY(ros_solve(s, pb, f1, v1));
     /* Stage 2. */
+    const cdpr_real_t a21 = gh * A21;
     for (int i = 0; i < n; ++i) {
-        yt[i] = y[i] + A21 * u1[i];
+        yt[i] = y0[i] + a21 * v1[i];
     }
     CDPR_TRY(ros_eval(s, pb, t + ALPHA2 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
-        ft[i] = gh * ft[i] + GAMMA * (C21 * u1[i]);
+        ft[i] = ft[i] + GC21 * v1[i];
     }
-    CDPR_TRY(ros_solve(s, pb, ft, u2));
+    CDPR_TRY(ros_solve(s, pb, ft, v2));
     /* Stage 3. */
+    const cdpr_real_t a31 = gh * A31;
+    const cdpr_real_t a32 = gh * A32;
     for (int i = 0; i < n; ++i) {
-        yt[i] = y[i] + (A31 * u1[i] + A32 * u2[i]);
+        yt[i] = y0[i] + a31 * v1[i] + a32 * v2[i];
     }
     CDPR_TRY(ros_eval(s, pb, t + ALPHA3 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
-        ft[i] = gh * ft[i] + GAMMA * (C31 * u1[i] + C32 * u2[i]);
+        ft[i] = ft[i] + GC31 * v1[i] + GC32 * v2[i];
     }
-    CDPR_TRY(ros_solve(s, pb, ft, u3));
+    CDPR_TRY(ros_solve(s, pb, ft, v3));
     /* Stage 4. */
+    const cdpr_real_t a41 = gh * A41;
+    const cdpr_real_t a42 = gh * A42;
+    const cdpr_real_t a43 = gh * A43;
     for (int i = 0; i < n; ++i) {
-        yt[i] = y[i] + (A41 * u1[i] + A42 * u2[i] + A43 * u3[i]);
+        yt[i] = y0[i] + a41 * v1[i] + a42 * v2[i] + a43 * v3[i];
     }
     CDPR_TRY(ros_eval(s, pb, t + ALPHA4 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
-        ft[i] = gh * ft[i] + GAMMA * (C41 * u1[i] + C42 * u2[i] + C43 * u3[i]);
+        ft[i] = ft[i] + GC41 * v1[i] + GC42 * v2[i] + GC43 * v3[i];
     }
-    CDPR_TRY(ros_solve(s, pb, ft, u4));
+    CDPR_TRY(ros_solve(s, pb, ft, v4));
 
-    /* New state, error estimate, weighted max-norm and finiteness in one pass. */
-    const cdpr_real_t rtol = s->p.rtol;
+    /* Stiffly accurate (m_i = a_4i, m_4 = 1): y_new = (stage 4's state) + gamma h v4. */
+    const cdpr_real_t ge[4] = {gh * E1, gh * E2, gh * E3, gh * E4};
     const cdpr_real_t *av = s->p.atol_vec;
-    const cdpr_real_t atol = s->p.atol;
-    cdpr_real_t emax = CDPR_R(0.0);
-    int bad = 0;
-    for (int i = 0; i < n; ++i) {
-        const cdpr_real_t yn = y[i] + (M1 * u1[i] + M2 * u2[i] + M3 * u3[i] + M4 * u4[i]);
-        const cdpr_real_t e = E1 * u1[i] + E2 * u2[i] + E3 * u3[i] + E4 * u4[i];
-        const cdpr_real_t ay = CDPR_FABS(y[i]);
-        const cdpr_real_t an = CDPR_FABS(yn);
-        const cdpr_real_t sc = ((av != NULL) ? av[i] : atol) + rtol * ((ay > an) ? ay : an);
-        const cdpr_real_t r = CDPR_FABS(e) / sc;
-        bad |= !isfinite(yn);
-        if (!(r <= emax)) {
-            emax = r; /* also propagates NaN */
-        }
-        y_out[i] = yn;
-    }
-    if (bad != 0 || !isfinite(emax)) {
-        emax = (cdpr_real_t)INFINITY;
-    }
+    const cdpr_real_t emax = (av != NULL) ? ros_finish(s, y, y_out, gh, ge, av, 1)
+                                          : ros_finish(s, y, y_out, gh, ge, &s->p.atol, 0);
     s->last_err = emax;
     if (err != NULL) {
         *err = emax;
@@ -558,7 +585,6 @@ cdpr_status_t cdpr_ros_fixed(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     if (in != CDPR_OK) {
         return in;
     }
-    cdpr_real_t *yn = ros_slot(s, YNEW);
     cdpr_real_t *yb = ros_slot(s, YBAK);
     const cdpr_real_t t0 = *t;
     const cdpr_real_t h = dt / (cdpr_real_t)n;
@@ -567,14 +593,17 @@ cdpr_status_t cdpr_ros_fixed(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     cdpr_status_t st = CDPR_OK;
     for (int i = 0; i < n && st == CDPR_OK; ++i) {
         cdpr_real_t err = CDPR_R(0.0);
-        s->w_valid = 0; /* a new W every step: the same work in every call */
-        st = ros_try(s, pb, t0 + (cdpr_real_t)i * h, y, h, yn, &err, 0);
+        /* A new W every step: the same work in every call, and the stability margin of the
+         * derived n was measured so (one W per call is cheaper but loses margin at 6 x 64:
+         * docs/performance.md "One substep, cheaper"). */
+        s->w_valid = 0;
+        /* In place: a refused substep is undone from the copy taken on entry. */
+        st = ros_try(s, pb, t0 + (cdpr_real_t)i * h, y, h, y, &err, 0);
         if (st == CDPR_OK && !isfinite(err)) {
             s->stats.nonfinite_rejected++;
             st = CDPR_E_STATE_NOT_FINITE;
         }
         if (st == CDPR_OK) {
-            ros_copy(y, yn, s->dim);
             s->stats.steps_accepted++;
             emax = (err > emax) ? err : emax;
         }

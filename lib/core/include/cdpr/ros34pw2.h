@@ -158,8 +158,8 @@ void cdpr_ros_invalidate(cdpr_ros_t *s);
 /// y_out and returns the weighted error norm in *err (may be NULL; +Inf when the new state or
 /// the norm is not finite), also kept in s->last_err. For tests and benchmarks. 1
 /// factorisation (none when one is reused, jac_reuse_max), 4 solves, 4 calls of f plus O(dim);
-/// no argument checks. y is not modified;
-/// y, y_out and the workspace must not overlap. Returns CDPR_OK, CDPR_E_RHS (f refused) or
+/// no argument checks. y is not modified unless y_out is y (allowed: the new state is then
+/// written in place); neither may overlap the workspace. Returns CDPR_OK, CDPR_E_RHS (f refused) or
 /// CDPR_E_SINGULAR (factor or solve refused); on error y_out and *err are not written.
 /// Counts its calls in stats; the step-size state is not touched.
 cdpr_status_t cdpr_ros_trial(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t t,
