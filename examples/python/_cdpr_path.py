@@ -4,7 +4,8 @@
 Both are found through PYTHONPATH when set. As a fallback for running the examples from a
 source tree, this adds the places scripts/setup.sh and the build put them:
   $CDPR_LCM_PYTHON, else ~/.cache/cdpr/lcm-python     (the lcm module, built at set-up)
-  $CDPR_LCMTYPES_PYTHON, else build/debug/lcmtypes/python  (the cdpr package, lcm-gen -p)
+  $CDPR_LCMTYPES_PYTHON, else the first of build/release/lcmtypes/python (the README's
+  build) and build/debug/lcmtypes/python that exists   (the cdpr package, lcm-gen -p)
 """
 import os
 import sys
@@ -17,5 +18,10 @@ def _add(path):
 
 _here = os.path.dirname(os.path.abspath(__file__))
 _add(os.environ.get("CDPR_LCM_PYTHON") or os.path.expanduser("~/.cache/cdpr/lcm-python"))
-_add(os.environ.get("CDPR_LCMTYPES_PYTHON") or
-     os.path.join(_here, "..", "..", "build", "debug", "lcmtypes", "python"))
+_types = os.environ.get("CDPR_LCMTYPES_PYTHON")
+if not _types:
+    for _tree in ("release", "debug"):
+        _types = os.path.join(_here, "..", "..", "build", _tree, "lcmtypes", "python")
+        if os.path.isdir(os.path.join(_types, "cdpr")):
+            break
+_add(_types)

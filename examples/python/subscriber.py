@@ -9,7 +9,9 @@ package). docs/realtime.md, "Python", says where both are and how to set PYTHONP
   examples/python/subscriber.py [--lcm-url URL] [--prefix CDPR_] [--count N] [--timeout S]
                                 [--every N]
 
---count N stops once N states and N tension messages came; --every N prints every Nth state.
+Each state is printed with the tensions of the same period (the plant sends them just after
+it; "(no tensions)" when they never came). --count N stops once N states and N tension
+messages came; --every N prints every Nth state.
 
 Exit status: 0 when at least one state (with --count: N states) was decoded, 1 otherwise.
 """
@@ -32,26 +34,43 @@ def main():
     a = ap.parse_args()
 
     lc = lcm.LCM(a.lcm_url) if a.lcm_url else lcm.LCM()
+    n = {"states": 0, "tensions": 0, "shown": 0}
+    # The plant publishes a period's state, then its tensions (same seq): a state waits here
+    # for its tensions; tensions that come first (another transport's order) wait too.
+    states = {}
     tensions = {}
-    n = {"states": 0, "tensions": 0}
+
+    def show(s, t):
+        if n["shown"] % max(a.every, 1) == 0:
+            tt = (" T=[" + " ".join("%7.1f" % x for x in t.tension_cabin_N[:t.n_cables]) + "] N"
+                  if t is not None else " (no tensions)")
+            print("t=%8.3f s seq=%6d p=(%8.4f %8.4f %8.4f) m flags=%d%s"
+                  % (s.utime_us * 1e-6, s.seq, s.position_m[0], s.position_m[1],
+                     s.position_m[2], s.flags, tt), flush=True)
+        n["shown"] += 1
 
     def on_tensions(channel, data):
         m = cable_tensions_t.decode(data)
-        tensions[m.seq] = m
         n["tensions"] += 1
+        s = states.pop(m.seq, None)
+        if s is not None:
+            show(s, m)
+            return
+        tensions[m.seq] = m
         for old in [k for k in tensions if k < m.seq - 100]:
             del tensions[old]
 
     def on_state(channel, data):
         s = cabin_state_t.decode(data)
         n["states"] += 1
-        if (n["states"] - 1) % max(a.every, 1) == 0:
-            t = tensions.get(s.seq)
-            tt = (" T=[" + " ".join("%7.1f" % x for x in t.tension_cabin_N[:t.n_cables]) + "] N"
-                  if t is not None else "")
-            print("t=%8.3f s seq=%6d p=(%8.4f %8.4f %8.4f) m flags=%d%s"
-                  % (s.utime_us * 1e-6, s.seq, s.position_m[0], s.position_m[1],
-                     s.position_m[2], s.flags, tt), flush=True)
+        # An earlier state whose tensions never came: shown without them, in order.
+        for k in sorted(k for k in states if k < s.seq):
+            show(states.pop(k), None)
+        t = tensions.pop(s.seq, None)
+        if t is not None:
+            show(s, t)
+        else:
+            states[s.seq] = s
 
     lc.subscribe(a.prefix + "CABLE_TENSIONS", on_tensions)
     lc.subscribe(a.prefix + "CABIN_STATE", on_state)
@@ -62,6 +81,8 @@ def main():
                 break
     except KeyboardInterrupt:
         pass
+    for k in sorted(states):
+        show(states.pop(k), None)
     print("subscriber: %d states and %d tension messages decoded" % (n["states"], n["tensions"]))
     want = a.count if a.count > 0 else 1
     return 0 if n["states"] >= want else 1

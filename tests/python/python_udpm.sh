@@ -5,7 +5,9 @@
 #  1. lockstep: the Python controller answers every state, so the plant steps all 100 periods
 #     on its commands (0 lockstep timeouts, none on hold) and accepts them (>= 100 accepted,
 #     0 ignored; the answer to the final state 100 may come after the plant's end), while the
-#     subscriber decodes all 101 states and tension messages;
+#     subscriber decodes all 101 states and tension messages and prints each shown state with
+#     its own period's tensions, equal (to the 0.1 N printed) to what lcm-logger recorded on the
+#     wire for that seq;
 #  2. free-running: the plant does not wait; it must still accept the controller's commands
 #     (some accepted, none ignored: how many periods a free-running controller answers in time
 #     depends on the machine's load, so no share is asserted; lockstep above counts them all).
@@ -32,6 +34,9 @@ fail() {
 }
 
 # 1. Lockstep.
+lcm-logger --lcm-url="$url" -c '^CDPR_CABLE_TENSIONS$' -f "$w/tensions.lcmlog" \
+    > "$w/logger.txt" 2>&1 &
+logger=$!
 "$py" "$src/examples/python/subscriber.py" --lcm-url "$url" --count 101 --timeout 20 \
     --every 20 > "$w/sub.txt" 2>&1 &
 sub=$!
@@ -44,6 +49,9 @@ sleep 1
 status=0
 wait "$ctl" || status=$?
 wait "$sub" || status=$?
+sleep 0.5 # lcm-logger flushes every 100 ms
+kill -INT "$logger" 2> /dev/null || true
+wait "$logger" || true
 cat "$w/rt.txt" "$w/ctl.txt" "$w/sub.txt"
 [ "$status" -eq 0 ] || fail "a Python example exited with an error"
 grep -q "0 timeouts" "$w/rt.txt" || fail "lockstep timeouts"
@@ -55,6 +63,35 @@ ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p'
     fail "lockstep: ${accepted:-?} commands accepted, ${ignored:-?} ignored"
 grep -q "answered 101 states (last state seq 100)" "$w/ctl.txt" || fail "controller count"
 grep -q "101 states and 101 tension messages decoded" "$w/sub.txt" || fail "subscriber count"
+# Every shown state carries its period's tensions, as the plant sent them (lcm-logger's record).
+"$py" - "$w/sub.txt" "$w/tensions.lcmlog" << 'EOF' || fail "subscriber tensions"
+import re
+import sys
+
+import lcm
+from cdpr import cable_tensions_t
+
+wire = {}
+for ev in lcm.EventLog(sys.argv[2], "r"):
+    m = cable_tensions_t.decode(ev.data)
+    wire[m.seq] = ["%7.1f" % x for x in m.tension_cabin_N[:m.n_cables]]
+shown = 0
+for line in open(sys.argv[1]):
+    g = re.match(r"t=.* seq= *(\d+) .*(no tensions|T=\[(.*)\] N)$", line.rstrip())
+    if not g:
+        continue
+    seq = int(g.group(1))
+    if g.group(3) is None:
+        sys.exit("seq %d shown without tensions" % seq)
+    printed = [x for x in g.group(3).split(" ") if x]
+    want = [x.strip() for x in wire.get(seq, [])]
+    if printed != want:
+        sys.exit("seq %d: printed %s, on the wire %s" % (seq, printed, want))
+    shown += 1
+if shown < 5:
+    sys.exit("only %d states shown with tensions" % shown)
+print("subscriber tensions: %d shown states match the wire (%d logged)" % (shown, len(wire)))
+EOF
 echo "PASS: lockstep, $accepted Python commands accepted, 101 states decoded"
 
 # 2. Free-running.
