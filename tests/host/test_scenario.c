@@ -245,7 +245,7 @@ static void test_omitted_keys_take_the_preset(void)
     TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.damping_N_s_per_m);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.damping_rot_N_m_s);
     TEST_ASSERT_EQUAL_DOUBLE(1e-6, sc.integrator.rtol);
-    TEST_ASSERT_EQUAL_INT(100, sc.integrator.max_trials);
+    TEST_ASSERT_EQUAL_INT(2000, sc.integrator.max_trials);
     TEST_ASSERT_EQUAL_INT(1, (int)cdpr_scenario_output_every(&sc));
     /* Initial pose: the circle's start, (0, -2 + 2, 9.135). */
     double pose[6];

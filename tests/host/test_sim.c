@@ -389,6 +389,52 @@ static void test_summary_real_time_block_round_trip(void)
     TEST_ASSERT_EQUAL_INT(0, back.rt.known);
 }
 
+/* One run of paper-line with integrator.max_trials = `trials`, 0.1 s: cdpr_sim_run's status
+ * and the summary. */
+static cdpr_status_t run_line_trials(int trials, cdpr_sim_summary_t *sum)
+{
+    char scenario[600];
+    char out[600];
+    snprintf(scenario, sizeof scenario, "%s/scenarios/paper-line.yaml", CDPR_SOURCE_DIR);
+    snprintf(out, sizeof out, "%s/trials%d", CDPR_TEST_TMP, trials);
+    mkdir(CDPR_TEST_TMP, 0775);
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(scenario, &sc, &err), err.msg);
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    ov.duration_s = 0.1;
+    ov.max_trials = (double)trials; /* cdpr-sim --max-trials */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_override(&sc, &ov, "test", NULL, &err),
+                                  err.msg);
+    cdpr_sim_opts_t o;
+    cdpr_sim_opts_default(&o);
+    o.out_dir = out;
+    return cdpr_sim_run(&sc, &o, sum, &err);
+}
+
+/* A period that does not fit in its trial budget stops the run with a message that names
+ * integrator.max_trials, its value, and a number of steps per period; that number as the
+ * budget runs the same case through. */
+static void test_substep_limit_names_the_key_and_a_budget_that_works(void)
+{
+    static cdpr_sim_summary_t sum;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT, run_line_trials(3, &sum));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_SIM_FAILED, sum.status, sum.message);
+    TEST_MESSAGE(sum.message);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(sum.message, "CDPR_E_SUBSTEP_LIMIT"), sum.message);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(sum.message, "integrator.max_trials = 3 trials"),
+                                 sum.message);
+    const char *up = strstr(sum.message, "a period is up to ");
+    TEST_ASSERT_NOT_NULL_MESSAGE(up, sum.message);
+    char *end = NULL;
+    const long need = strtol(up + strlen("a period is up to "), &end, 10);
+    TEST_ASSERT_TRUE_MESSAGE(end != NULL && *end == ' ' && need > 3 && need <= 100000, sum.message);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, run_line_trials((int)need, &sum));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_SIM_OK, sum.status, sum.message);
+    TEST_ASSERT_EQUAL_INT(10, sum.periods);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -397,5 +443,6 @@ int main(void)
     RUN_TEST(test_paper_line_regression_and_rerun);
     RUN_TEST(test_deploy_retrieve_node_events);
     RUN_TEST(test_summary_real_time_block_round_trip);
+    RUN_TEST(test_substep_limit_names_the_key_and_a_budget_that_works);
     return UNITY_END() ? 1 : 0;
 }

@@ -456,7 +456,7 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->integrator.atol_quaternion = 1e-8;
     sc->integrator.atol_rate_rad_per_s = 1e-6;
     sc->integrator.h_max_s = 0.01;
-    sc->integrator.max_trials = 100;
+    sc->integrator.max_trials = 2000; /* what every shipped scenario sets */
     sc->integrator.max_attempts = 1;
     sc->integrator.substeps = 0;
     sc->integrator.method = CDPR_PLANT_RKF45;

@@ -240,6 +240,24 @@ static void note(cdpr_sim_summary_t *sum, const char *what)
     }
 }
 
+/* Why the plant stopped, in the words of the scenario. A period that did not fit in its trial
+ * budget names the key that bounds it and the trials the step size the integrator had shrunk
+ * to would take (the step size it keeps after the refused period). */
+static void failure_message(const cdpr_plant_t *p, double t, cdpr_status_t st, char *msg, size_t n)
+{
+    if (st != CDPR_E_SUBSTEP_LIMIT || p->pp.integrator == CDPR_PLANT_ROS34PW2_FIXED) {
+        snprintf(msg, n, "integrator failed at t = %.6g s: %s", t, cdpr_status_str(st));
+        return;
+    }
+    const double h = (p->pp.integrator == CDPR_PLANT_RKF45) ? p->rk.h_s : p->ros.h_s;
+    const double need = (h > 0.0) ? ceil((double)p->pp.period_s / h) : 0.0;
+    snprintf(msg, n,
+             "integrator failed at t = %.6g s: %s: a period took more than integrator.max_trials "
+             "= %d trials (x max_attempts %d); at the step size reached (%.3g s) a period is up "
+             "to %.0f steps: raise integrator.max_trials",
+             t, cdpr_status_str(st), p->pp.max_trials, p->pp.max_attempts, h, need);
+}
+
 static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum);
 
 /* The control loop. Returns CDPR_OK (reached the end) or the error that stopped it (a signal:
@@ -312,8 +330,7 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
         }
         const cdpr_status_t as = cdpr_plant_advance(p, &flags);
         if (as < 0) {
-            snprintf(sum->message, sizeof sum->message, "integrator failed at t = %.6g s: %s", t,
-                     cdpr_status_str(as));
+            failure_message(p, t, as, sum->message, sizeof sum->message);
             rc = as;
             break;
         }
