@@ -79,6 +79,25 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
     return CDPR_OK;
 }
 
+/* The cable whose stiffest axial mode is highest: largest EA / (rho Delta^2), Delta = length /
+ * segments (the lengths the model was given; EA / rho alone where a length is not set). */
+static int stiffest_cable(const cdpr_robot_params_t *r)
+{
+    int best = 0;
+    double best_k = -1.0;
+    for (int j = 0; j < r->n_cables; ++j) {
+        const cdpr_robot_cable_params_t *c = &r->cables[j];
+        const double delta =
+            (c->length_m > 0.0 && c->n_segments > 0) ? (double)c->length_m / c->n_segments : 1.0;
+        const double k = (double)c->cable.ea_N / ((double)c->cable.rho_kg_per_m * delta * delta);
+        if (k > best_k) {
+            best_k = k;
+            best = j;
+        }
+    }
+    return best;
+}
+
 /* The error of a failed cdpr_plant_init_model / cdpr_plant_init, named by scenario key. */
 static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc,
                                 const cdpr_diag_t *d, cdpr_scenario_error_t *err)
@@ -100,17 +119,32 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
     }
     if (strcmp(f, "settle") == 0) {
         if (d->status == CDPR_E_NO_CONVERGENCE) {
+            /* The stiffest axial mode sets how slowly the chain settles (more damping does
+             * not help it: a stiffer damper settles such a rope no faster). */
+            const int j = stiffest_cable(&p->pp.robot);
+            const cdpr_robot_cable_params_t *c = &p->pp.robot.cables[j];
+            char advice[256];
+            if (sc->robot_source == CDPR_ROBOT_FROM_PRESET) {
+                snprintf(advice, sizeof advice,
+                         "lower robot.cable.ea_N (%g N) or robot.segments (%d)",
+                         (double)c->cable.ea_N, c->n_segments);
+            } else {
+                snprintf(advice, sizeof advice,
+                         "lower cable %d's rope.ea_N (%g N) or its segments (%d) in %.160s", j + 1,
+                         (double)c->cable.ea_N, c->n_segments, sc->rig.name);
+            }
             snprintf(what, sizeof what,
                      "the initial state did not settle to rest: gave up after %ld steps (the "
-                     "bound; residual %g m/s^2 > %g): stiff or lightly damped cables settle "
-                     "slowly: lower robot.cable.ea_N or raise robot.cable.damping_ratio",
-                     p->settle.steps, p->settle.max_acc_m_per_s2, p->pp.settle.acc_tol_m_per_s2);
-        } else {
-            snprintf(what, sizeof what,
-                     "the initial state did not settle to rest (%s after %ld steps, "
-                     "residual %g m/s^2)",
-                     cdpr_status_str(d->status), p->settle.steps, p->settle.max_acc_m_per_s2);
+                     "bound; residual %g m/s^2 > %g): the stiffest axial mode settles slowly: %s",
+                     p->settle.steps, p->settle.max_acc_m_per_s2, p->pp.settle.acc_tol_m_per_s2,
+                     advice);
+            cdpr_scenario_error(sc, "robot", what, err);
+            return CDPR_E_NO_CONVERGENCE;
         }
+        snprintf(what, sizeof what,
+                 "the initial state did not settle to rest (%s after %ld steps, "
+                 "residual %g m/s^2)",
+                 cdpr_status_str(d->status), p->settle.steps, p->settle.max_acc_m_per_s2);
         cdpr_scenario_error(sc, initial_key(sc), what, err);
         /* The scenario cannot start, whatever stopped the settling (the message says which). */
         return CDPR_E_NO_CONVERGENCE;
