@@ -132,6 +132,18 @@ sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 12.0/; s/duration_s: 12.6 .*/duratio
 refused l9_infeasible_circle l9d.yaml \
     "l9d.yaml:48: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad) is not reachable" \
     "cable 3 would need a tension of -2615 N (pushing; straight-cable estimate): CDPR_E_INFEASIBLE"
+# A circle just fast enough that the load leaves cables (nearly) slack at the start: the sag-aware
+# equilibrium has a cable hanging in a loop, reported with the straight-cable tensions (before:
+# "controller: field 'trajectory': CDPR_E_INFEASIBLE" from the controller's first feed-forward).
+sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 2.2/; s/duration_s: 12.6 .*/duration_s: 0.1/' \
+    "$src/scenarios/paper-circle.yaml" >l9e.yaml
+refused l9_loop_at_start l9e.yaml \
+    "l9e.yaml:48: trajectory.circle: desired pose at t = 0 s: cable 2 would hang in a loop, 555.556 m long for a chord of 31.541 m" \
+    "its straight-cable tension under the weight and the feed-forward's inertial load is 5.37 N, the cabin's weight 392 N"
+sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 2.25/; s/duration_s: 12.6 .*/duration_s: 0.1/' \
+    "$src/scenarios/paper-circle.yaml" >l9f.yaml
+refused l9_slack_at_start l9f.yaml \
+    "l9f.yaml:48: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad): the weight and the feed-forward's inertial load leave cables 2 (1.18 N), 3 (1.18 N) slack"
 
 # The controller's design, checked at load (lib/design, docs/validation.md §8 "Feedback design":
 # the same linearisation and margins as cdpr-design + scripts/feedback_design.py, held at the

@@ -119,22 +119,88 @@ static void infeasible_reason(const cdpr_robot_t *r, const cdpr_traj_sample_t *d
     }
 }
 
-/* Unstretched lengths of an IK result within the winch and length-command limits. */
-static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_statics_result_t *res,
-                                   const cdpr_winch_params_t *w, double t,
-                                   cdpr_scenario_error_t *err)
+/* The cables the load leaves (nearly) slack: straight-cable tension at most 1 % of the cabin's
+ * weight. Appends "cables 4 (-12 N), 5 (3.1 N)" to `what`; returns how many (0 when the
+ * chord statics cannot say: more or fewer than 6 cables, or a singular layout). */
+static int slack_cables(const cdpr_robot_t *r, const cdpr_traj_sample_t *ds, cdpr_vec3_t f,
+                        cdpr_vec3_t tau, char *what, size_t cap)
+{
+    double T[6];
+    if (r->p.n_cables != 6 || straight_tensions(r, &ds->motion, f, tau, T) == 0) {
+        return 0;
+    }
+    const double small = 0.01 * r->p.cabin.mass_kg * r->p.g_m_per_s2;
+    int k = 0;
+    size_t used = strlen(what);
+    for (int j = 0; j < 6; ++j) {
+        if (T[j] <= small && used < cap) {
+            const int n = snprintf(what + used, cap - used, "%s%d (%.3g N)", (k > 0) ? ", " : "",
+                                   j + 1, T[j]);
+            used += (n > 0) ? (size_t)n : 0U;
+            ++k;
+        }
+    }
+    return k;
+}
+
+/* Unstretched lengths of an IK result within the winch and length-command limits, and at the
+ * start no cable hanging in a loop (longer than CDPR_TRACKER_MAX_LENGTH_PER_CHORD chords: an
+ * equilibrium of the catenaries the controller refuses to command). A cable that comes out that
+ * long because the load (the weight plus the feed-forward's inertial load) leaves cables slack is
+ * reported as such, with the straight-cable tensions of the slack ones. */
+static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_robot_t *model,
+                                   const cdpr_traj_sample_t *ds, cdpr_vec3_t f, cdpr_vec3_t tau,
+                                   const cdpr_statics_result_t *res, const cdpr_winch_params_t *w,
+                                   double t, int start, cdpr_scenario_error_t *err)
 {
     for (int j = 0; j < res->n_cables; ++j) {
         const double L = res->cable[j].length_m;
-        if (L > CDPR_SIM_MAX_LENGTH_M || L < w[j].min_length_m) {
-            char what[512];
-            snprintf(what, sizeof what,
-                     "cable %d would be %.6g m long at t = %g s: outside [%g, %g] m (the winch's "
-                     "min_length_m, the longest length command)",
-                     j + 1, L, t, w[j].min_length_m, CDPR_SIM_MAX_LENGTH_M);
-            cdpr_scenario_error(sc, traj_key(sc), what, err);
-            return CDPR_E_OUT_OF_RANGE;
+        const double chord = cdpr_v3_norm(
+            cdpr_v3_sub(model->p.cables[j].exit_point_m, res->cable[j].attach_world_m));
+        /* The loop: at the start only, where the controller's first feed-forward refuses it
+         * (later, the controller counts a failed feed-forward and falls back, docs/scenarios.md).
+         */
+        const int in_loop =
+            (start != 0 && !(L <= CDPR_TRACKER_MAX_LENGTH_PER_CHORD * chord)) ? 1 : 0;
+        const int too_long = (L > CDPR_SIM_MAX_LENGTH_M || in_loop != 0) ? 1 : 0;
+        if (too_long == 0 && L >= w[j].min_length_m) {
+            continue;
         }
+        char slack[256] = "";
+        char what[768];
+        if (too_long != 0 && slack_cables(model, ds, f, tau, slack, sizeof slack) > 0) {
+            snprintf(what, sizeof what,
+                     "desired pose at t = %g s (%g, %g, %g m, %g, %g, %g rad): the weight and "
+                     "the feed-forward's inertial load leave cables %s slack (straight-cable "
+                     "tensions; at most 1 %% of the cabin's weight): the equilibrium has cable %d "
+                     "%.6g m long for a chord of %.6g m",
+                     t, ds->pose[0], ds->pose[1], ds->pose[2], ds->pose[3], ds->pose[4],
+                     ds->pose[5], slack, j + 1, L, chord);
+        } else if (too_long != 0 && L <= CDPR_SIM_MAX_LENGTH_M) {
+            double T[6];
+            const int solved =
+                (model->p.n_cables == 6 && straight_tensions(model, &ds->motion, f, tau, T) != 0)
+                    ? 1
+                    : 0;
+            const int n = snprintf(what, sizeof what,
+                                   "desired pose at t = %g s: cable %d would hang in a loop, "
+                                   "%.6g m long for a chord of %.6g m (more than %g chords: no "
+                                   "length to command)",
+                                   t, j + 1, L, chord, CDPR_TRACKER_MAX_LENGTH_PER_CHORD);
+            if (solved != 0 && n > 0 && (size_t)n < sizeof what) {
+                snprintf(what + n, sizeof what - (size_t)n,
+                         "; its straight-cable tension under the weight and the feed-forward's "
+                         "inertial load is %.3g N, the cabin's weight %.3g N",
+                         T[j], model->p.cabin.mass_kg * model->p.g_m_per_s2);
+            }
+        } else {
+            snprintf(what, sizeof what,
+                     "cable %d would be %.6g m long at t = %g s: outside [%g, %g] m (the "
+                     "winch's min_length_m, the longest length command)",
+                     j + 1, L, t, w[j].min_length_m, CDPR_SIM_MAX_LENGTH_M);
+        }
+        cdpr_scenario_error(sc, traj_key(sc), what, err);
+        return CDPR_E_OUT_OF_RANGE;
     }
     return CDPR_OK;
 }
@@ -175,7 +241,8 @@ cdpr_status_t cdpr_sim_check_trajectory(const cdpr_scenario_t *sc, double durati
             cdpr_scenario_error(sc, traj_key(sc), what, err);
             return st;
         }
-        const cdpr_status_t ls = check_lengths(sc, &res, w, t, err);
+        const cdpr_status_t ls =
+            check_lengths(sc, model, &ds, f, tau, &res, w, t, (k == 0) ? 1 : 0, err);
         if (ls != CDPR_OK) {
             return ls;
         }
