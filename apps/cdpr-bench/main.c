@@ -435,6 +435,32 @@ static double bench_ros_trial(void *ctx, long reps)
     return (double)reps;
 }
 
+/* The 6-cable benchmark robot with `segs` segments per cable, a ROS34PW2 solver on its W and
+ * W factored for the 1 ms step at the benchmark state: 0, or -1 after saying why. */
+static int ros_setup(ros_ctx_t *c, int segs)
+{
+    if (make_robot(6, segs) != 0) {
+        return -1;
+    }
+    cdpr_ros_params_t p;
+    cdpr_ros_params_default(&p);
+    cdpr_diag_t diag;
+    if (cdpr_ros_init(&c->ros, &p, work, (int)(sizeof work / sizeof work[0]), CDPR_ROBOT_STATE_MAX,
+                      robot.dim, &diag) != CDPR_OK ||
+        cdpr_robot_w_init(&c->w, &robot) != CDPR_OK ||
+        cdpr_robot_w_factor(&c->w, 0.0, y0s, 0.435866521508459e-3) != CDPR_OK) {
+        fprintf(stderr, "cdpr-bench: implicit integrator init failed\n");
+        return -1;
+    }
+    c->pb.f = cdpr_robot_rhs;
+    c->pb.f_ctx = &robot;
+    c->pb.factor = cdpr_robot_w_factor;
+    c->pb.solve = cdpr_robot_w_solve;
+    c->pb.lin_ctx = &c->w;
+    c->h_s = 1e-3;
+    return 0;
+}
+
 static int table_ros(const options_t *o)
 {
     static const int segs[3] = {16, 32, 64};
@@ -444,25 +470,9 @@ static int table_ros(const options_t *o)
     printf("    %6s %10s %8s %9s %11s %8s %10s %8s %10s %8s\n", "cables", "segs/cable", "dim",
            "RHS us", "factor us", "RHS-eq", "solve us", "RHS-eq", "trial us", "RHS-eq");
     for (int b = 0; b < 3; ++b) {
-        if (make_robot(6, segs[b]) != 0) {
+        if (ros_setup(&c, segs[b]) != 0) {
             return -1;
         }
-        cdpr_ros_params_t p;
-        cdpr_ros_params_default(&p);
-        cdpr_diag_t diag;
-        if (cdpr_ros_init(&c.ros, &p, work, (int)(sizeof work / sizeof work[0]),
-                          CDPR_ROBOT_STATE_MAX, robot.dim, &diag) != CDPR_OK ||
-            cdpr_robot_w_init(&c.w, &robot) != CDPR_OK ||
-            cdpr_robot_w_factor(&c.w, 0.0, y0s, 0.435866521508459e-3) != CDPR_OK) {
-            fprintf(stderr, "cdpr-bench: implicit integrator init failed\n");
-            return -1;
-        }
-        c.pb.f = cdpr_robot_rhs;
-        c.pb.f_ctx = &robot;
-        c.pb.factor = cdpr_robot_w_factor;
-        c.pb.solve = cdpr_robot_w_solve;
-        c.pb.lin_ctx = &c.w;
-        c.h_s = 1e-3;
         (void)cdpr_robot_rhs(0.0, y0s, dydt, &robot);
         const timing_t tr = measure(bench_rhs, NULL, o);
         const timing_t tf = measure(bench_w_factor, &c, o);
@@ -505,28 +515,14 @@ static int table_fixed(const options_t *o)
     static const int segs[3] = {16, 32, 64};
     static const int subs[3] = {2, 3, 6};
     static ros_ctx_t c;
-    printf("(e) one period of the fixed-cost mode (cdpr_ros_fixed, 1 ms in n substeps: 1\n"
-           "    factorisation, 4n solves, 4n RHS), same state; RHS-eq as in (d)\n");
+    printf("(e) one period of the fixed-cost mode (cdpr_ros_fixed, 1 ms in n substeps: n\n"
+           "    factorisations, 4n solves, 4n RHS), same state; RHS-eq as in (d)\n");
     printf("    %6s %10s %8s %3s %11s %8s\n", "cables", "segs/cable", "dim", "n", "period us",
            "RHS-eq");
     for (int b = 0; b < 3; ++b) {
-        if (make_robot(6, segs[b]) != 0) {
+        if (ros_setup(&c, segs[b]) != 0) {
             return -1;
         }
-        cdpr_ros_params_t p;
-        cdpr_ros_params_default(&p);
-        cdpr_diag_t diag;
-        if (cdpr_ros_init(&c.ros, &p, work, (int)(sizeof work / sizeof work[0]),
-                          CDPR_ROBOT_STATE_MAX, robot.dim, &diag) != CDPR_OK ||
-            cdpr_robot_w_init(&c.w, &robot) != CDPR_OK) {
-            fprintf(stderr, "cdpr-bench: implicit integrator init failed\n");
-            return -1;
-        }
-        c.pb.f = cdpr_robot_rhs;
-        c.pb.f_ctx = &robot;
-        c.pb.factor = cdpr_robot_w_factor;
-        c.pb.solve = cdpr_robot_w_solve;
-        c.pb.lin_ctx = &c.w;
         fixed_ctx_t f = {&c, subs[b]};
         const timing_t tr = measure(bench_rhs, NULL, o);
         const timing_t tp = measure(bench_ros_fixed, &f, o);

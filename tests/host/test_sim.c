@@ -23,7 +23,10 @@
 void setUp(void) {}
 void tearDown(void) {}
 
-static void run(const char *scenario, double duration, const char *out, cdpr_sim_summary_t *sum)
+/* cdpr-sim SCENARIO --duration D [--max-trials N] --out OUT (max_trials 0: the file's):
+ * cdpr_sim_run's status and the summary. */
+static cdpr_status_t run_status(const char *scenario, double duration, int max_trials,
+                                const char *out, cdpr_sim_summary_t *sum)
 {
     mkdir(CDPR_TEST_TMP, 0775);
     cdpr_scenario_t sc;
@@ -32,12 +35,21 @@ static void run(const char *scenario, double duration, const char *out, cdpr_sim
     cdpr_scenario_overrides_t ov;
     cdpr_scenario_overrides_none(&ov);
     ov.duration_s = duration; /* cdpr-sim --duration */
+    if (max_trials > 0) {
+        ov.max_trials = (double)max_trials; /* cdpr-sim --max-trials */
+    }
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_override(&sc, &ov, "test", NULL, &err),
                                   err.msg);
     cdpr_sim_opts_t o;
     cdpr_sim_opts_default(&o);
     o.out_dir = out;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_run(&sc, &o, sum, &err), err.msg);
+    return cdpr_sim_run(&sc, &o, sum, &err);
+}
+
+static void run(const char *scenario, double duration, const char *out, cdpr_sim_summary_t *sum)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, run_status(scenario, duration, 0, out, sum),
+                                  sum->message);
 }
 
 static long file_bytes(const char *path, char **buf)
@@ -389,28 +401,14 @@ static void test_summary_real_time_block_round_trip(void)
     TEST_ASSERT_EQUAL_INT(0, back.rt.known);
 }
 
-/* One run of paper-line with integrator.max_trials = `trials`, 0.1 s: cdpr_sim_run's status
- * and the summary. */
+/* paper-line with integrator.max_trials = `trials`, 0.1 s: cdpr_sim_run's status, summary. */
 static cdpr_status_t run_line_trials(int trials, cdpr_sim_summary_t *sum)
 {
     char scenario[600];
     char out[600];
     snprintf(scenario, sizeof scenario, "%s/scenarios/paper-line.yaml", CDPR_SOURCE_DIR);
     snprintf(out, sizeof out, "%s/trials%d", CDPR_TEST_TMP, trials);
-    mkdir(CDPR_TEST_TMP, 0775);
-    cdpr_scenario_t sc;
-    cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(scenario, &sc, &err), err.msg);
-    cdpr_scenario_overrides_t ov;
-    cdpr_scenario_overrides_none(&ov);
-    ov.duration_s = 0.1;
-    ov.max_trials = (double)trials; /* cdpr-sim --max-trials */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_override(&sc, &ov, "test", NULL, &err),
-                                  err.msg);
-    cdpr_sim_opts_t o;
-    cdpr_sim_opts_default(&o);
-    o.out_dir = out;
-    return cdpr_sim_run(&sc, &o, sum, &err);
+    return run_status(scenario, 0.1, trials, out, sum);
 }
 
 /* A period that does not fit in its trial budget stops the run with a message that names
