@@ -5,9 +5,9 @@
 /// A file has the sections `robot` (a preset name plus optional overrides of every value of
 /// presets.h; or a robot file, `file:` relative to the scenario file; or an embedded robot
 /// description, rig.h), `initial` (optional pose and offset), `trajectory` (type circle | line |
-/// hold and the matching block), `controller` (gains), `integrator` (optional tolerances and
-/// substep bound) and `run` (duration, control period, output rate). docs/scenarios.md lists every
-/// key with its unit and range; scenarios/ holds examples.
+/// cyclic | hold and the matching block), `controller` (gains), `integrator` (optional tolerances
+/// and substep bound) and `run` (duration, control period, output rate). docs/scenarios.md lists
+/// every key with its unit and range; scenarios/ holds examples.
 ///
 /// Errors name the file, the line (when known) and the key path, e.g.
 ///   scenarios/x.yaml:12: robot.cable.ea_N: not a finite number (nan)

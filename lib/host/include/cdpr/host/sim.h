@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /// @file sim.h
-/// Batch simulation of a scenario: the plant (lumped-mass robot, RKF45, winches, node events)
-/// closed by the tracking controller (tracker.h), with a CSV time series and a summary.
+/// Batch simulation of a scenario: the plant (lumped-mass robot, its integrator -- RKF45,
+/// ROS34PW2 or the fixed-cost mode, integrator.method -- winches, node events) closed by the
+/// tracking controller (tracker.h), with a CSV time series and a summary.
 ///
 /// Initialisation: sag-aware IK at the initial pose (start pose + initial offset) gives the
 /// unstretched lengths; the robot is built with them, its nodes placed on the catenaries

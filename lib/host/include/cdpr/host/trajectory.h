@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /// @file trajectory.h
 /// Desired cabin trajectories of the scenarios (docs/validation.md §8): the paper's circle and
-/// line, and a hold. Poses are (x, y, z [m], α, β, γ [rad]) with R = Rz(γ) Ry(β) Rx(α).
+/// line, a hold, and the cyclic deploy-and-retrieve move. Poses are (x, y, z [m], α, β, γ [rad])
+/// with R = Rz(γ) Ry(β) Rx(α).
 ///
 /// - hold:   a fixed pose.
 /// - circle: horizontal circle, centre c, radius r, constant attitude; the path length
@@ -9,6 +10,7 @@
 ///           angle θ(t) = θ0 + dir s(t)/r, dir = +1 counter-clockwise seen from above (+z).
 /// - line:   every coordinate linear in time from `from` to `to` over duration_s, then held;
 ///           optionally back to `from` after pause_s (deployment and retrieval).
+/// - cyclic: `from` -> `to` -> `from`, repeated (CDPR_TRAJ_CYCLIC, below).
 ///
 /// Pure functions of t; no allocation.
 #ifndef CDPR_HOST_TRAJECTORY_H
