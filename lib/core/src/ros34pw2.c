@@ -231,7 +231,8 @@ static inline cdpr_real_t ros_finish(const cdpr_ros_t *s, const cdpr_real_t *y, 
 
 /* One trial; `have_f1` says slot F1 already holds f(t, y). The slots never alias each other,
  * y or y_out; y_out may be y itself (the new state is written in place, each component after
- * its last read).
+ * its last read), so y and y_out are not `restrict`: the stage loops' written slots are, which
+ * is what lets the compiler vectorise them.
  *
  * The stages are solved scaled: v_i = u_i / (gamma h) of the (a, c, m) form above, i.e.
  *   W v_i = f(t + alpha_i h, y + h gamma sum_j a_ij v_j) + sum_j (gamma c_ij) v_j,
@@ -251,7 +252,6 @@ static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     cdpr_real_t *restrict yt = ros_slot(s, YTMP);
     cdpr_real_t *restrict f1 = ros_slot(s, F1);
     cdpr_real_t *restrict ft = ros_slot(s, FT);
-    const cdpr_real_t *restrict y0 = y; /* not written before the last pass */
     const cdpr_real_t gh = GAMMA * h;
 
     if (have_f1 == 0) {
@@ -263,7 +263,7 @@ static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     /* Stage 2. */
     const cdpr_real_t a21 = gh * A21;
     for (int i = 0; i < n; ++i) {
-        yt[i] = y0[i] + a21 * v1[i];
+        yt[i] = y[i] + a21 * v1[i];
     }
     CDPR_TRY(ros_eval(s, pb, t + ALPHA2 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
@@ -274,7 +274,7 @@ static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     const cdpr_real_t a31 = gh * A31;
     const cdpr_real_t a32 = gh * A32;
     for (int i = 0; i < n; ++i) {
-        yt[i] = y0[i] + a31 * v1[i] + a32 * v2[i];
+        yt[i] = y[i] + a31 * v1[i] + a32 * v2[i];
     }
     CDPR_TRY(ros_eval(s, pb, t + ALPHA3 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
@@ -286,7 +286,7 @@ static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     const cdpr_real_t a42 = gh * A42;
     const cdpr_real_t a43 = gh * A43;
     for (int i = 0; i < n; ++i) {
-        yt[i] = y0[i] + a41 * v1[i] + a42 * v2[i] + a43 * v3[i];
+        yt[i] = y[i] + a41 * v1[i] + a42 * v2[i] + a43 * v3[i];
     }
     CDPR_TRY(ros_eval(s, pb, t + ALPHA4 * h, yt, ft));
     for (int i = 0; i < n; ++i) {
