@@ -119,22 +119,17 @@ static void infeasible_reason(const cdpr_robot_t *r, const cdpr_traj_sample_t *d
     }
 }
 
-/* The cables the load leaves (nearly) slack: straight-cable tension at most 1 % of the cabin's
- * weight. Appends "cables 4 (-12 N), 5 (3.1 N)" to `what`; returns how many (0 when the
- * chord statics cannot say: more or fewer than 6 cables, or a singular layout). */
-static int slack_cables(const cdpr_robot_t *r, const cdpr_traj_sample_t *ds, cdpr_vec3_t f,
-                        cdpr_vec3_t tau, char *what, size_t cap)
+/* The cables a load leaves (nearly) slack, from their straight-cable tensions T: at most 1 % of
+ * the cabin's weight. Writes "2 (1.18 N), 3 (1.18 N)" into `list`; returns how many. */
+static int slack_cables(const cdpr_robot_t *r, const double T[6], char *list, size_t cap)
 {
-    double T[6];
-    if (r->p.n_cables != 6 || straight_tensions(r, &ds->motion, f, tau, T) == 0) {
-        return 0;
-    }
     const double small = 0.01 * r->p.cabin.mass_kg * r->p.g_m_per_s2;
     int k = 0;
-    size_t used = strlen(what);
+    size_t used = 0;
+    list[0] = '\0';
     for (int j = 0; j < 6; ++j) {
         if (T[j] <= small && used < cap) {
-            const int n = snprintf(what + used, cap - used, "%s%d (%.3g N)", (k > 0) ? ", " : "",
+            const int n = snprintf(list + used, cap - used, "%s%d (%.3g N)", (k > 0) ? ", " : "",
                                    j + 1, T[j]);
             used += (n > 0) ? (size_t)n : 0U;
             ++k;
@@ -146,8 +141,8 @@ static int slack_cables(const cdpr_robot_t *r, const cdpr_traj_sample_t *ds, cdp
 /* Unstretched lengths of an IK result within the winch and length-command limits, and at the
  * start no cable hanging in a loop (longer than CDPR_TRACKER_MAX_LENGTH_PER_CHORD chords: an
  * equilibrium of the catenaries the controller refuses to command). A cable that comes out that
- * long because the load (the weight plus the feed-forward's inertial load) leaves cables slack is
- * reported as such, with the straight-cable tensions of the slack ones. */
+ * long is reported with the straight-cable tensions of the load (the weight plus the
+ * feed-forward's inertial load): the cables it leaves slack, or the long cable's own. */
 static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_robot_t *model,
                                    const cdpr_traj_sample_t *ds, cdpr_vec3_t f, cdpr_vec3_t tau,
                                    const cdpr_statics_result_t *res, const cdpr_winch_params_t *w,
@@ -166,9 +161,14 @@ static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_robot_t
         if (too_long == 0 && L >= w[j].min_length_m) {
             continue;
         }
-        char slack[256] = "";
+        double T[6];
+        const int solved = (too_long != 0 && model->p.n_cables == 6 &&
+                            straight_tensions(model, &ds->motion, f, tau, T) != 0)
+                               ? 1
+                               : 0;
+        char slack[256];
         char what[768];
-        if (too_long != 0 && slack_cables(model, ds, f, tau, slack, sizeof slack) > 0) {
+        if (solved != 0 && slack_cables(model, T, slack, sizeof slack) > 0) {
             snprintf(what, sizeof what,
                      "desired pose at t = %g s (%g, %g, %g m, %g, %g, %g rad): the weight and "
                      "the feed-forward's inertial load leave cables %s slack (straight-cable "
@@ -176,12 +176,7 @@ static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_robot_t
                      "%.6g m long for a chord of %.6g m",
                      t, ds->pose[0], ds->pose[1], ds->pose[2], ds->pose[3], ds->pose[4],
                      ds->pose[5], slack, j + 1, L, chord);
-        } else if (too_long != 0 && L <= CDPR_SIM_MAX_LENGTH_M) {
-            double T[6];
-            const int solved =
-                (model->p.n_cables == 6 && straight_tensions(model, &ds->motion, f, tau, T) != 0)
-                    ? 1
-                    : 0;
+        } else if (in_loop != 0 && L <= CDPR_SIM_MAX_LENGTH_M) {
             const int n = snprintf(what, sizeof what,
                                    "desired pose at t = %g s: cable %d would hang in a loop, "
                                    "%.6g m long for a chord of %.6g m (more than %g chords: no "
@@ -317,7 +312,16 @@ static void failure_message(const cdpr_plant_t *p, double t, cdpr_status_t st, c
         return;
     }
     const double h = (p->pp.integrator == CDPR_PLANT_RKF45) ? p->rk.h_s : p->ros.h_s;
-    const double need = (h > 0.0) ? ceil((double)p->pp.period_s / h) : 0.0;
+    const double need = (h > 0.0) ? ceil((double)p->pp.period_s / h) : (double)INFINITY;
+    if (!(need <= (double)CDPR_SCENARIO_MAX_TRIALS)) {
+        snprintf(msg, n,
+                 "integrator failed at t = %.6g s: %s: a period took more than "
+                 "integrator.max_trials = %d trials; at the step size reached (%.3g s) a period "
+                 "is more than the largest budget (%d): loosen the tolerances or shorten "
+                 "run.period_s",
+                 t, cdpr_status_str(st), p->pp.max_trials, h, CDPR_SCENARIO_MAX_TRIALS);
+        return;
+    }
     snprintf(msg, n,
              "integrator failed at t = %.6g s: %s: a period took more than integrator.max_trials "
              "= %d trials (x max_attempts %d); at the step size reached (%.3g s) a period is up "
