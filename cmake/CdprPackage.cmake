@@ -2,7 +2,7 @@
 # The installed package (included by the top-level CMakeLists.txt after every library):
 #  - <libdir>/cmake/cdpr/: cdprConfig.cmake, cdprConfigVersion.cmake (SameMajorVersion) and
 #    one export file per component, cdpr-<component>-targets.cmake (targets cdpr::core,
-#    cdpr::gsl, cdpr::host, cdpr::design, cdpr::lcm + cdpr::lcmtypes, cdpr::rt);
+#    cdpr::control, cdpr::gsl, cdpr::host, cdpr::design, cdpr::lcm + cdpr::lcmtypes, cdpr::rt);
 #  - <libdir>/pkgconfig/cdpr-<component>.pc (relocatable: paths from ${pcfiledir});
 #  - <datadir>/cdpr/{scenarios,scripts,lcmtypes} (host builds) and <docdir>: LICENSE,
 #    README.md, CHANGELOG.md.
@@ -71,13 +71,17 @@ if(core IN_LIST CDPR_COMPONENTS)
     _cdpr_pkgconfig(core "cdpr core: cable-robot model, integrator and plant (C99, libm only)"
         "" "" "-lcdpr_core" "-lm")
 endif()
+if(control IN_LIST CDPR_COMPONENTS)
+    _cdpr_pkgconfig(control "cdpr example controller: trajectories and the tracker (C99, libm only)"
+        "cdpr-core" "" "-lcdpr_control" "-lm")
+endif()
 if(gsl IN_LIST CDPR_COMPONENTS)
     _cdpr_pkgconfig(gsl "cdpr GSL reference solvers (links GSL: GPL-3)"
         "cdpr-core gsl" "" "-lcdpr_gsl" "")
 endif()
 if(host IN_LIST CDPR_COMPONENTS)
     _cdpr_pkgconfig(host "cdpr host layer: presets, scenario files, controller, batch runner"
-        "cdpr-core" "libcyaml yaml-0.1" "-lcdpr_host" "-lm")
+        "cdpr-core cdpr-control" "libcyaml yaml-0.1" "-lcdpr_host" "-lm")
 endif()
 if(design IN_LIST CDPR_COMPONENTS)
     _cdpr_pkgconfig(design "cdpr linear design: the loop's linearisation and margins (LAPACK)"

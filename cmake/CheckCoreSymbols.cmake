@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Fails if the core library references a symbol it must never need: heap allocation, stdio,
+# Fails if the core library (or lib/control, which keeps the same rules) references a symbol it must never need: heap allocation, stdio,
 # GSL (GPL-3, host only), LCM or threads. The core must stay allocation-free and portable to
 # bare-metal firmware, and this catches a stray call before it reaches a target.
 #
@@ -35,6 +35,8 @@ endforeach()
 if(bad)
     list(REMOVE_DUPLICATES bad)
     list(JOIN bad ", " bad_text)
-    message(FATAL_ERROR "cdpr_core references forbidden symbols: ${bad_text}")
+    get_filename_component(_name "${LIB}" NAME)
+    message(FATAL_ERROR "${_name} references forbidden symbols: ${bad_text}")
 endif()
-message(STATUS "cdpr_core: no forbidden undefined symbols")
+get_filename_component(_name "${LIB}" NAME)
+message(STATUS "${_name}: no forbidden undefined symbols")

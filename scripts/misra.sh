@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# MISRA C:2012 check of the firmware code (lib/core) with cppcheck's misra addon.
+# MISRA C:2012 check of the firmware code (lib/core and lib/control) with cppcheck's misra addon.
 #
 #   scripts/misra.sh            check: non-zero when a rule not in the deviation table of
 #                               docs/misra.md is violated, or a deviated rule's count grew
@@ -12,7 +12,7 @@
 # (per rule: found, allowed, verdict; also printed). The addon ships without the licensed rule
 # texts, so findings name the rule number only. The configuration checked is the double build
 # of the Cortex-M7 (CDPR_REAL_IS_FLOAT undefined, default capacities) on a 32-bit platform,
-# C99, the headers in lib/core/include and lib/core/src.
+# C99, the headers in lib/core/include, lib/core/src and lib/control/include.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -37,8 +37,8 @@ trap 'rm -rf "$work"' EXIT
 python=/usr/bin/python3
 [[ -x $python ]] || python=python3
 
-# The same file set as lib/core/CMakeLists.txt (a glob of src/*.c).
-sources=(lib/core/src/*.c)
+# The same file sets as lib/core/ and lib/control/CMakeLists.txt (globs of src/*.c).
+sources=(lib/core/src/*.c lib/control/src/*.c)
 # One invocation for all sources: the rules about the whole program (8.7, 5.7, 2.5 ...) need
 # every translation unit. cppcheck prints findings on stderr; without --error-exitcode it
 # exits 0 on findings and non-zero only when it could not run.
@@ -49,7 +49,7 @@ sed -e 's/@CDPR_VERSION_MAJOR@/0/; s/@CDPR_VERSION_MINOR@/0/; s/@CDPR_VERSION_PA
     -e 's/@CDPR_VERSION@/0.0.0/; s/@CDPR_GIT_DESCRIBE@/misra/' cmake/version.h.in \
     >"$work/gen/cdpr/version.h"
 cppcheck --addon=misra --addon-python="$python" --std=c99 --language=c --platform=unix32 \
-    -UCDPR_REAL_IS_FLOAT -I lib/core/include -I lib/core/src -I "$work/gen" \
+    -UCDPR_REAL_IS_FLOAT -I lib/core/include -I lib/core/src -I lib/control/include -I "$work/gen" \
     --cppcheck-build-dir="$work" --quiet \
     --template='{file}:{line}:{column}: {severity}: {id}: {message}' \
     "${sources[@]}" 2>"$out/report.txt"

@@ -54,7 +54,7 @@ stage "footprint (docs/firmware.md)" scripts/footprint.sh
 # Static analysis of the library and app sources (tests are exercised dynamically instead).
 mapfile -t cdpr_sources < <(git ls-files 'lib/*.c' 'apps/*.c')
 stage "cppcheck" cppcheck --enable=warning,style,portability,performance --std=c99 \
-    --error-exitcode=1 --inline-suppr --quiet -I lib/core/include -I lib/gsl/include \
+    --error-exitcode=1 --inline-suppr --quiet -I lib/core/include -I lib/control/include -I lib/gsl/include \
     "${cdpr_sources[@]}"
 # .clang-tidy holds the check set and the reasons for each exclusion. The firmware example is
 # a cross-only source (no entry in the host compile database): the cortex builds compile it
@@ -79,7 +79,7 @@ fuzz_lcm() {
 stage "fuzz: LCM command decoder + validator, libFuzzer 60 s (clang)" fuzz_lcm
 # MISRA C:2012 screening of the firmware code (cppcheck's misra addon; rule numbers only):
 # fails on a rule, or a count, beyond the deviations documented in docs/misra.md.
-stage "misra (lib/core; deviations in docs/misra.md)" scripts/misra.sh
+stage "misra (lib/core, lib/control; deviations in docs/misra.md)" scripts/misra.sh
 
 # Line and branch coverage of the libraries (gcovr) from the coverage preset: one more full,
 # instrumented build and ctest run, counters zeroed first so that a rerun measures one run.
@@ -101,7 +101,7 @@ coverage() {
     cat "$dir/core-branches.txt" >>"$dir/core.txt"
     printf '%s\n' "lib/core (the stage fails below 90 % of lines):" "$summary" >>"$dir/core.txt"
     cat "$dir/core.txt"
-    for lib in host lcm rt; do
+    for lib in control host lcm rt; do
         if [[ -d lib/$lib ]]; then
             echo "lib/$lib:"
             gcovr "${opts[@]}" --filter "lib/$lib/" --txt "$dir/$lib.txt" --print-summary || st=1

@@ -46,8 +46,8 @@
 #include "cdpr/host/fs.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
-#include "cdpr/host/tracker.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/tracker.h"
+#include "cdpr/control/trajectory.h"
 #include "cdpr/vec3.h"
 
 #define NZ CDPR_DESIGN_NZ

@@ -20,7 +20,7 @@
 #include "cdpr/host/plot.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sim.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/trajectory.h"
 
 typedef struct {
     const char *scenario;

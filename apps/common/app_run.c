@@ -14,7 +14,7 @@
 #include "cdpr/host/cli.h"
 #include "cdpr/host/fs.h"
 #include "cdpr/host/plot.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/trajectory.h"
 
 int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov)
 {

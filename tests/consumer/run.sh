@@ -5,17 +5,19 @@
 #
 #  host (release preset, installed to a temporary prefix):
 #   0. the installed apps find their data files when the prefix is moved (tests/apps/relocate.sh);
-#   1. find_package(cdpr 0.1 REQUIRED COMPONENTS core host) -- tests/consumer/package; also
+#   1. find_package(cdpr 0.1 REQUIRED COMPONENTS core control host) -- tests/consumer/package
+#      (state_bits.c plain, with the host preset, and closed by lib/control's tracker); also
 #      every other component linked once (CDPR_CONSUMER_ALL) and the docs' example
 #      examples/quickstart.c built and run against the package;
-#   2. pkg-config cdpr-core: cc $(pkg-config --cflags) state_bits.c $(pkg-config --libs);
+#   2. pkg-config cdpr-core, cdpr-control, cdpr-host: cc $(pkg-config --cflags) state_bits.c
+#      $(pkg-config --libs);
 #      every .pc file validated and resolved;
 #   3. the libraries built shared (CDPR_SHARED=ON): SONAMEs, only cdpr_* exported, and 1.'s
 #      consumer linked against them;
 #   each prints the state bits of state_bits.c, byte-identical to build/release's
 #   tests/consumer/cdpr-consumer-{host,core}.
 #  Cortex-M7 (cortex-m7 preset, installed to its own prefix), tests/consumer/firmware, Release:
-#   4. the installed package;  5. add_subdirectory(<src>/lib/core <binary-dir>);
+#   4. the installed package;  5. add_subdirectory(<src>/lib/core and lib/control);
 #   each: 0 FMA instructions (vfma/vfms/vfnma/vfnms) in the libcdpr_core.a it links, and the
 #   output under QEMU mps2-an500 byte-identical to build/cortex-m7's cdpr-consumer-core.
 #
@@ -69,6 +71,7 @@ quiet cmake --build --preset release -j "$jobs"
 quiet cmake --install build/release --prefix "$host"
 build/release/tests/consumer/cdpr-consumer-host >"$work/ref-host.txt"
 build/release/tests/consumer/cdpr-consumer-core >"$work/ref-core.txt"
+build/release/tests/consumer/cdpr-consumer-control >"$work/ref-control.txt"
 
 # 0. the installed apps find their data relative to themselves: the release build installed to
 #    a prefix that is then moved; the moved cdpr-sim plots with the moved plot_sim.gp
@@ -96,6 +99,10 @@ if quiet cmake -S tests/consumer/package -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Rel
     "$b/cdpr-consumer-host" >"$work/package.txt" || bad "find_package consumer exited $?"
     same "find_package(cdpr COMPONENTS core host) consumer == in-project cdpr-consumer-host" \
         "$work/ref-host.txt" "$work/package.txt"
+    "$b/cdpr-consumer-control" >"$work/package-control.txt" ||
+        bad "find_package control consumer exited $?"
+    same "find_package(cdpr COMPONENTS control) consumer == in-project cdpr-consumer-control" \
+        "$work/ref-control.txt" "$work/package-control.txt"
     if "$b/cdpr-quickstart" >"$work/quickstart.txt"; then
         ok "the docs' example (examples/quickstart.c) builds against the package and runs"
     else
@@ -121,13 +128,13 @@ fi
 pc_dir=$(dirname "$(find "$host" -name cdpr-core.pc | head -n 1)")
 export PKG_CONFIG_PATH=$pc_dir
 pc_ok=1
-for m in cdpr-core cdpr-host cdpr-design cdpr-lcm cdpr-rt cdpr-gsl; do
+for m in cdpr-core cdpr-control cdpr-host cdpr-design cdpr-lcm cdpr-rt cdpr-gsl; do
     if ! pkg-config --validate "$m" || ! pkg-config --exists --print-errors "$m"; then
         bad "pkg-config $m does not validate or resolve"
         pc_ok=0
     fi
 done
-[[ $pc_ok == 1 ]] && ok "pkg-config: cdpr-core cdpr-host cdpr-design cdpr-lcm cdpr-rt cdpr-gsl validate and resolve"
+[[ $pc_ok == 1 ]] && ok "pkg-config: cdpr-core cdpr-control cdpr-host cdpr-design cdpr-lcm cdpr-rt cdpr-gsl validate and resolve"
 read -r -a pc_cflags <<<"$(pkg-config --cflags cdpr-core)"
 read -r -a pc_libs <<<"$(pkg-config --libs cdpr-core)"
 if cc -O2 -Wall -Wextra -Werror "${pc_cflags[@]}" tests/consumer/state_bits.c "${pc_libs[@]}" \
@@ -137,6 +144,17 @@ if cc -O2 -Wall -Wextra -Werror "${pc_cflags[@]}" tests/consumer/state_bits.c "$
         "$work/ref-core.txt" "$work/pkgconfig.txt"
 else
     bad "pkg-config consumer: compile or link failed"
+fi
+read -r -a pc_cflags <<<"$(pkg-config --cflags cdpr-control)"
+read -r -a pc_libs <<<"$(pkg-config --libs cdpr-control)"
+if cc -O2 -Wall -Wextra -Werror -DCDPR_CONSUMER_CONTROL "${pc_cflags[@]}" \
+    tests/consumer/state_bits.c "${pc_libs[@]}" -o "$work/pkgconfig-control"; then
+    "$work/pkgconfig-control" >"$work/pkgconfig-control.txt" ||
+        bad "pkg-config control consumer exited $?"
+    same "pkg-config cdpr-control consumer == in-project cdpr-consumer-control" \
+        "$work/ref-control.txt" "$work/pkgconfig-control.txt"
+else
+    bad "pkg-config cdpr-control consumer: compile or link failed"
 fi
 read -r -a pc_cflags <<<"$(pkg-config --cflags cdpr-host)"
 read -r -a pc_libs <<<"$(pkg-config --libs cdpr-host)"
@@ -158,7 +176,7 @@ if quiet cmake -S . -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS_
     -DCDPR_SHARED=ON -DCDPR_BUILD_TESTS=OFF -DCDPR_BUILD_APPS=OFF -DCDPR_WERROR=ON &&
     quiet cmake --build "$b" -j "$jobs" && quiet cmake --install "$b" --prefix "$shared"; then
     so_ok=1
-    for lib in core gsl host lcm lcmtypes rt; do
+    for lib in core control gsl host lcm lcmtypes rt; do
         so=$(find "$shared" -name "libcdpr_$lib.so.0" | head -n 1)
         if [[ -z $so ]]; then
             bad "shared: libcdpr_$lib.so.0 not installed"
@@ -172,7 +190,7 @@ if quiet cmake -S . -B "$b" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS_
             so_ok=0
         fi
     done
-    [[ $so_ok == 1 ]] && ok "shared: libcdpr_{core,gsl,host,lcm,lcmtypes,rt}.so.0, only cdpr_* exported"
+    [[ $so_ok == 1 ]] && ok "shared: libcdpr_{core,control,gsl,host,lcm,lcmtypes,rt}.so.0, only cdpr_* exported"
     bs=$work/package-shared
     if quiet cmake -S tests/consumer/package -B "$bs" -G Ninja -DCMAKE_BUILD_TYPE=Release \
         -DCMAKE_PREFIX_PATH="$shared" && quiet cmake --build "$bs" -j "$jobs"; then
@@ -196,6 +214,7 @@ quiet cmake --preset cortex-m7
 quiet cmake --build --preset cortex-m7 -j "$jobs"
 quiet cmake --install build/cortex-m7 --prefix "$m7"
 qemu_m7 build/cortex-m7/tests/consumer/cdpr-consumer-core >"$work/ref-m7.txt"
+qemu_m7 build/cortex-m7/tests/consumer/cdpr-consumer-control >"$work/ref-m7-control.txt"
 n=$(fma_count build/cortex-m7/lib/core/libcdpr_core.a)
 echo "consumers: the cortex-m7 preset's own libcdpr_core.a: $n FMA instructions"
 
@@ -221,6 +240,12 @@ for route in package subdirectory; do
             "$work/ref-m7.txt" "$work/m7-$route.txt"
     else
         bad "Cortex-M7 $route consumer failed under QEMU"
+    fi
+    if qemu_m7 "$b/control_bits.elf" >"$work/m7-$route-control.txt"; then
+        same "Cortex-M7 $route consumer with lib/control == the preset's cdpr-consumer-control" \
+            "$work/ref-m7-control.txt" "$work/m7-$route-control.txt"
+    else
+        bad "Cortex-M7 $route consumer with lib/control failed under QEMU"
     fi
 done
 

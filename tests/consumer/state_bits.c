@@ -12,7 +12,10 @@
 /// Only literal parameters and the library's own arithmetic: the program computes nothing
 /// itself, so its output depends on how the library was built, not on the consumer's flags.
 /// With CDPR_CONSUMER_HOST the robot comes from lib/host's preset (cdpr/host/presets.h)
-/// instead of the literal table. Exit status 0 when every period succeeded.
+/// instead of the literal table. With CDPR_CONSUMER_CONTROL the winch commands come from the
+/// example controller (lib/control: cdpr/control/tracker.h) holding the home pose with winch
+/// tension feedback, closed on the plant each period, and its last commands are printed too.
+/// Exit status 0 when every period succeeded.
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -23,6 +26,9 @@
 #ifdef CDPR_CONSUMER_HOST
 #include "cdpr/host/presets.h"
 #endif
+#ifdef CDPR_CONSUMER_CONTROL
+#include "cdpr/control/tracker.h"
+#endif
 
 #define N_CABLES   6
 #define N_SEGMENTS 8
@@ -30,6 +36,10 @@
 
 static cdpr_plant_t plant;
 static cdpr_plant_params_t pp;
+#ifdef CDPR_CONSUMER_CONTROL
+static cdpr_tracker_t tracker;
+static cdpr_tracker_cmd_t cmd;
+#endif
 
 #ifndef CDPR_CONSUMER_HOST
 /* The paper's 50 m robot (docs/robots.md), as apps/firmware-example/main.c writes it. */
@@ -49,8 +59,10 @@ static const cdpr_real_t ATTACH_M[N_CABLES][3] = {
 #endif
 static const cdpr_real_t HOME[6] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(9.135),
                                     CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
+#ifndef CDPR_CONSUMER_CONTROL
 static const cdpr_real_t RATE_M_PER_S[N_CABLES] = {CDPR_R(0.02), CDPR_R(0.0), CDPR_R(-0.02),
                                                    CDPR_R(0.02), CDPR_R(0.0), CDPR_R(-0.02)};
+#endif
 
 /* "<label> <hex of the bits>\n", most significant nibble first (any endianness). */
 static void put_bits(const char *label, int index, cdpr_real_t x)
@@ -119,9 +131,40 @@ int main(void)
         printf("plant init: %s at %s[%d]\n", cdpr_status_str(st), d.field, d.index);
         return 1;
     }
+#ifdef CDPR_CONSUMER_CONTROL
+    cdpr_traj_t traj;
+    memset(&traj, 0, sizeof traj);
+    traj.type = CDPR_TRAJ_HOLD;
+    for (int i = 0; i < 6; ++i) {
+        traj.hold_pose[i] = HOME[i];
+    }
+    cdpr_tracker_gains_t g;
+    memset(&g, 0, sizeof g);
+    g.k_length_per_s = CDPR_R(5.0);
+    g.filter_s = CDPR_R(0.1);
+    g.inertial_ff = CDPR_R(1.0);
+    g.tension_gain_m_per_s_per_N = CDPR_R(1e-3);
+    g.tension_filter_s = CDPR_R(0.05);
+    st = cdpr_tracker_init(&tracker, &pp.robot, &traj, &g, pp.period_s, CDPR_R(0.0), &d);
+    if (st != CDPR_OK) {
+        printf("tracker init: %s at %s[%d]\n", cdpr_status_str(st), d.field, d.index);
+        return 1;
+    }
+#endif
     for (int k = 0; k < N_PERIODS; ++k) {
         int flags = 0;
+#ifdef CDPR_CONSUMER_CONTROL
+        cdpr_plant_meas_t m;
+        cdpr_plant_measure(&plant, &m);
+        st = cdpr_tracker_step(&tracker, &m, &cmd);
+        if (st != CDPR_OK) {
+            printf("period %d: tracker %s\n", k, cdpr_status_str(st));
+            return 1;
+        }
+        st = cdpr_plant_step(&plant, CDPR_WINCH_RATE, cmd.rate_m_per_s, &flags);
+#else
         st = cdpr_plant_step(&plant, CDPR_WINCH_RATE, RATE_M_PER_S, &flags);
+#endif
         if (st < 0) {
             printf("period %d: %s\n", k, cdpr_status_str(st));
             return 1;
@@ -139,5 +182,10 @@ int main(void)
     for (int j = 0; j < N_CABLES; ++j) {
         put_bits("tension_winch", j, out.tension_winch_N[j]);
     }
+#ifdef CDPR_CONSUMER_CONTROL
+    for (int j = 0; j < N_CABLES; ++j) {
+        put_bits("rate_cmd", j, cmd.rate_m_per_s[j]);
+    }
+#endif
     return 0;
 }

@@ -20,7 +20,7 @@
 #include "alloc_count.h"
 #include "cdpr/host/presets.h"
 #include "cdpr/host/scenario.h"
-#include "cdpr/host/tracker.h"
+#include "cdpr/control/tracker.h"
 #include "paper_circle.h"
 #include "paper_model.h"
 #include "unity.h"

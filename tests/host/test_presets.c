@@ -8,7 +8,7 @@
 
 #include "cdpr/host/presets.h"
 #include "cdpr/statics.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/trajectory.h"
 #include "test_real.h"
 #include "paper_circle.h"
 #include "unity.h"

@@ -15,8 +15,8 @@
 
 #include "cdpr/host/record.h"
 #include "cdpr/host/scenario.h"
-#include "cdpr/host/tracker.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/tracker.h"
+#include "cdpr/control/trajectory.h"
 #include "paper_circle.h"
 #include "paper_model.h"
 #include "unity.h"

@@ -464,6 +464,90 @@ static void test_ik_wrench_infeasible_and_bad_loads_are_reported(void)
                           cdpr_statics_ik_wrench(&robot, &pose, zero, zero, &o, &res));
 }
 
+/* cdpr_statics_straight_tensions against the equilibrium recomputed here: the chords' unit
+ * vectors from attachment points built with ref_mat3.h's rotation (not the core's quaternion
+ * code), force sum_j t_j u_j - M g z + f_ext and moment about the CoM
+ * sum_j (P_j - c_w) x t_j u_j + tau_ext must vanish; with no external load the tensions are
+ * cdpr_statics_ik_straight's (another code path, through the catenary geometry); outside the
+ * workspace some tension is negative (returned, not refused). */
+static void test_straight_tensions_balance_the_load(void)
+{
+    static const double com[3] = {0.1, -0.05, 0.15};
+    static const double poses[3][6] = {{0.0, 0.0, 9.135, 0.0, 0.0, 0.0},
+                                       {2.0, 1.0, 16.0, 0.0889, -0.1756, -0.03359},
+                                       {30.0, 0.0, 10.0, 0.0, 0.0, 0.0}};
+    static const double fe[3] = {40.0, -20.0, -10.0};
+    static const double te[3] = {-4.0, 6.0, 2.0};
+    init_50m_com(com[0], com[1], com[2]);
+    for (int k = 0; k < 3; ++k) {
+        const double *q = poses[k];
+        const cdpr_cabin_motion_t pose = pose_of(q[0], q[1], q[2], q[3], q[4], q[5]);
+        cdpr_real_t t[6];
+        TEST_ASSERT_EQUAL_INT(
+            CDPR_OK, cdpr_statics_straight_tensions(&robot, &pose, cdpr_v3(fe[0], fe[1], fe[2]),
+                                                    cdpr_v3(te[0], te[1], te[2]), t));
+        const mat_t R = euler_matrix(q[3], q[4], q[5]);
+        double cw[3];
+        double f[3];
+        double m[3];
+        for (int i = 0; i < 3; ++i) {
+            cw[i] = q[i] + R.m[i][0] * com[0] + R.m[i][1] * com[1] + R.m[i][2] * com[2];
+            f[i] = fe[i];
+            m[i] = te[i];
+        }
+        f[2] -= 40.0 * 9.80665;
+        double tmin = 1e300;
+        for (int j = 0; j < 6; ++j) {
+            const cdpr_vec3_t b = robot.p.cables[j].attach_body_m;
+            const cdpr_vec3_t e = robot.p.cables[j].exit_point_m;
+            double P[3];
+            double d[3];
+            for (int i = 0; i < 3; ++i) {
+                P[i] = q[i] + R.m[i][0] * b.x + R.m[i][1] * b.y + R.m[i][2] * b.z;
+            }
+            d[0] = e.x - P[0];
+            d[1] = e.y - P[1];
+            d[2] = e.z - P[2];
+            const double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            const double F[3] = {t[j] * d[0] / l, t[j] * d[1] / l, t[j] * d[2] / l};
+            const double a[3] = {P[0] - cw[0], P[1] - cw[1], P[2] - cw[2]};
+            for (int i = 0; i < 3; ++i) {
+                f[i] += F[i];
+            }
+            m[0] += a[1] * F[2] - a[2] * F[1];
+            m[1] += a[2] * F[0] - a[0] * F[2];
+            m[2] += a[0] * F[1] - a[1] * F[0];
+            tmin = fmin(tmin, (double)t[j]);
+        }
+        /* Tensions up to ~1e3 N (1e4 N outside): a few roundings of the 6x6 solve and of the
+         * sums, 1e-9 N and N m in double; float: u_f times the largest tension times the
+         * condition of the chord matrix (~1e2): 0.5 N. */
+        for (int i = 0; i < 3; ++i) {
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-9, 0.5), 0.0, f[i]);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-9, 0.5), 0.0, m[i]);
+        }
+        TEST_ASSERT_TRUE((k == 2) ? (tmin < 0.0) : (tmin > 0.0));
+    }
+    /* No external load: cdpr_statics_ik_straight's tensions, to rounding. */
+    const cdpr_cabin_motion_t home = pose_of(0.0, 0.0, 9.135, 0.0, 0.0, 0.0);
+    const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
+    cdpr_real_t t[6];
+    cdpr_statics_result_t st;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_straight_tensions(&robot, &home, zero, zero, t));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik_straight(&robot, &home, &st));
+    for (int j = 0; j < 6; ++j) {
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-10, 1e-3) * (double)st.cable[j].tension_winch_N,
+                                  (double)st.cable[j].tension_winch_N, (double)t[j]);
+    }
+    /* Bad input: refused, nothing written. */
+    t[0] = CDPR_R(-7.0);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_statics_straight_tensions(
+                                                 &robot, &home, cdpr_v3(0.0, NAN_R, 0.0), zero, t));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG,
+                          cdpr_statics_straight_tensions(&robot, &home, zero, zero, NULL));
+    TEST_ASSERT_EQUAL_DOUBLE(-7.0, (double)t[0]);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -475,5 +559,6 @@ int main(void)
     RUN_TEST(test_robot_initialised_at_equilibrium_stays_at_rest);
     RUN_TEST(test_ik_wrench_balances_weight_plus_external_load);
     RUN_TEST(test_ik_wrench_infeasible_and_bad_loads_are_reported);
+    RUN_TEST(test_straight_tensions_balance_the_load);
     return UNITY_END() ? 1 : 0;
 }

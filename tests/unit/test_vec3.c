@@ -512,6 +512,29 @@ static void test_diag_set(void)
     TEST_ASSERT_EQUAL_INT(CDPR_E_RHS, cdpr_diag_set(NULL, CDPR_E_RHS, "f", 1));
 }
 
+/* cdpr_quat_to_rotvec against the axis-angle quaternion built here, q = (cos(a/2), sin(a/2) n),
+ * from a tiny angle (the first-order branch) to just below pi; -q is the same rotation. Double:
+ * a few roundings of |θ| <= pi (1e-12); float: atan2f and the norm of sin(a/2) n, a few u_f
+ * of pi (2e-6). */
+static void test_quat_to_rotvec_is_axis_times_angle(void)
+{
+    const double n[3] = {0.36, -0.48, 0.8}; /* unit */
+    const double angles[4] = {1e-9, 0.3, 2.5, PI_D - 1e-3};
+    for (int k = 0; k < 4; ++k) {
+        const double a = angles[k];
+        const cdpr_quat_t q = {(cdpr_real_t)cos(0.5 * a), (cdpr_real_t)(sin(0.5 * a) * n[0]),
+                               (cdpr_real_t)(sin(0.5 * a) * n[1]),
+                               (cdpr_real_t)(sin(0.5 * a) * n[2])};
+        const cdpr_quat_t qn = {-q.w, -q.x, -q.y, -q.z};
+        const cdpr_vec3_t r[2] = {cdpr_quat_to_rotvec(q), cdpr_quat_to_rotvec(qn)};
+        for (int s = 0; s < 2; ++s) {
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 2e-6), a * n[0], (double)r[s].x);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 2e-6), a * n[1], (double)r[s].y);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 2e-6), a * n[2], (double)r[s].z);
+        }
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -534,5 +557,6 @@ int main(void)
     RUN_TEST(test_status_str_never_null_and_distinct);
     RUN_TEST(test_status_sign_convention);
     RUN_TEST(test_diag_set);
+    RUN_TEST(test_quat_to_rotvec_is_axis_times_angle);
     return UNITY_END() ? 1 : 0;
 }

@@ -28,8 +28,9 @@ void cdpr_statics_opts_default(cdpr_statics_opts_t *o)
 }
 
 /* Solve A x = b (n x n, n <= 6) by Gaussian elimination with partial pivoting; A and b are
- * overwritten. Returns -1 if singular. */
-static int solve_linear(int n, cdpr_real_t A[NC][NC], cdpr_real_t b[NC], cdpr_real_t x[NC])
+ * overwritten. Returns -1 if singular: a pivot not above min_pivot in magnitude, or not finite. */
+static int solve_linear(int n, cdpr_real_t A[NC][NC], cdpr_real_t b[NC], cdpr_real_t x[NC],
+                        cdpr_real_t min_pivot)
 {
     for (int k = 0; k < n; ++k) {
         int piv = k;
@@ -38,7 +39,7 @@ static int solve_linear(int n, cdpr_real_t A[NC][NC], cdpr_real_t b[NC], cdpr_re
                 piv = i;
             }
         }
-        if (!(CDPR_FABS(A[piv][k]) > CDPR_R(0.0)) || !isfinite(A[piv][k])) {
+        if (!(CDPR_FABS(A[piv][k]) > min_pivot) || !isfinite(A[piv][k])) {
             return -1;
         }
         if (piv != k) {
@@ -314,7 +315,7 @@ static cdpr_status_t ik_straight_load(const cdpr_robot_t *r, const cdpr_cabin_mo
         set_wrench_column(A, j, u, cdpr_v3_cross(g[j].arm, u));
     }
     cdpr_real_t t[NC];
-    if (solve_linear(NC, A, b, t) != 0) {
+    if (solve_linear(NC, A, b, t, CDPR_R(0.0)) != 0) {
         return CDPR_E_INFEASIBLE; /* singular: the cables cannot span the wrench */
     }
     for (int j = 0; j < NC; ++j) {
@@ -350,6 +351,45 @@ cdpr_status_t cdpr_statics_ik_straight(const cdpr_robot_t *r, const cdpr_cabin_m
     const cdpr_vec3_t zero = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     const load_t ld = make_load(r, zero, zero);
     return ik_straight_load(r, pose, g, &ld, res);
+}
+
+cdpr_status_t cdpr_statics_straight_tensions(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
+                                             cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
+                                             cdpr_real_t *tension_N)
+{
+    if (r == NULL || pose == NULL || tension_N == NULL || r->p.n_cables != NC) {
+        return CDPR_E_INVALID_ARG;
+    }
+    CDPR_TRY(check_pose(pose));
+    if (cdpr_v3_isfinite(f_ext_N) == 0 || cdpr_v3_isfinite(tau_ext_Nm) == 0) {
+        return CDPR_E_NOT_FINITE;
+    }
+    cdpr_mat3_t R;
+    cdpr_quat_to_mat3(cdpr_quat_normalize(pose->q), &R);
+    cdpr_real_t A[NC][NC];
+    cdpr_real_t amax = CDPR_R(0.0);
+    for (int j = 0; j < NC; ++j) {
+        const cdpr_robot_cable_params_t *c = &r->p.cables[j];
+        const cdpr_vec3_t rb = cdpr_m3_mul_v3(&R, c->attach_body_m);
+        const cdpr_vec3_t d = cdpr_v3_sub(c->exit_point_m, cdpr_v3_add(pose->p_m, rb));
+        const cdpr_real_t l = cdpr_v3_norm(d);
+        const cdpr_vec3_t u = (l > CDPR_R(0.0)) ? cdpr_v3_scale(d, CDPR_R(1.0) / l)
+                                                : cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
+        const cdpr_vec3_t arm =
+            cdpr_m3_mul_v3(&R, cdpr_v3_sub(c->attach_body_m, r->p.cabin.com_body_m));
+        set_wrench_column(A, j, u, cdpr_v3_cross(arm, u));
+        for (int i = 0; i < NC; ++i) {
+            amax = (CDPR_FABS(A[i][j]) > amax) ? CDPR_FABS(A[i][j]) : amax;
+        }
+    }
+    /* sum t_j u_j = M g z - f_ext, sum t_j (arm_j x u_j) = -tau_ext. */
+    const cdpr_real_t w = r->p.cabin.mass_kg * r->p.g_m_per_s2;
+    cdpr_real_t b[NC] = {-f_ext_N.x,    -f_ext_N.y,    w - f_ext_N.z,
+                         -tau_ext_Nm.x, -tau_ext_Nm.y, -tau_ext_Nm.z};
+    if (solve_linear(NC, A, b, tension_N, CDPR_R(1e-12) * amax) != 0) {
+        return CDPR_E_INFEASIBLE; /* the chords do not span the wrench */
+    }
+    return CDPR_OK;
 }
 
 static cdpr_status_t check_opts(const cdpr_statics_opts_t *o)
@@ -419,7 +459,7 @@ static int ik_direction(ik_iter_t *s, cdpr_real_t dH[NC], int *wants_push)
     for (int i = 0; i < NC; ++i) {
         b[i] = -s->rv[i];
     }
-    const int singular = solve_linear(NC, s->J, b, dH);
+    const int singular = solve_linear(NC, s->J, b, dH, CDPR_R(0.0));
     if (singular == 0) {
         int push = 0;
         for (int j = 0; j < NC; ++j) {
@@ -679,7 +719,7 @@ static cdpr_status_t fwd_newton(const cdpr_robot_t *r, const cdpr_real_t *length
             b[i] = -s->rv[i];
         }
         cdpr_real_t dx[NC];
-        if (solve_linear(NC, J, b, dx) != 0) {
+        if (solve_linear(NC, J, b, dx, CDPR_R(0.0)) != 0) {
             return CDPR_E_INFEASIBLE; /* no static stiffness in some direction */
         }
         if (fwd_line_search(r, length_m, o, dx, s) == 0) {

@@ -139,3 +139,20 @@ void cdpr_quat_to_euler(cdpr_quat_t q, cdpr_real_t *alpha_rad, cdpr_real_t *beta
     *alpha_rad = CDPR_ATAN2(r.m[2][1], r.m[2][2]);
     *gamma_rad = CDPR_ATAN2(r.m[1][0], r.m[0][0]);
 }
+
+cdpr_vec3_t cdpr_quat_to_rotvec(cdpr_quat_t q)
+{
+    /* Shortest rotation: q and -q are the same rotation; take w >= 0. */
+    if (q.w < CDPR_R(0.0)) {
+        q.w = -q.w;
+        q.x = -q.x;
+        q.y = -q.y;
+        q.z = -q.z;
+    }
+    const cdpr_vec3_t v = cdpr_v3(q.x, q.y, q.z);
+    const cdpr_real_t s = cdpr_v3_norm(v);
+    if (s < CDPR_R(1e-12)) {
+        return cdpr_v3_scale(v, CDPR_R(2.0)); /* angle ~ 2 s, to first order */
+    }
+    return cdpr_v3_scale(v, CDPR_R(2.0) * CDPR_ATAN2(s, q.w) / s);
+}

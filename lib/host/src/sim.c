@@ -35,60 +35,6 @@ static const char *traj_key(const cdpr_scenario_t *sc)
     return keys[(sc->traj.type <= CDPR_TRAJ_CYCLIC) ? sc->traj.type : CDPR_TRAJ_HOLD];
 }
 
-/* Straight-cable tensions T (6) that balance the load the IK is asked to balance (the weight
- * plus the wrench f, tau about the CoM) at pose m: A T = (M g z - f, -tau), columns (u_j,
- * r_j x u_j) with u_j the unit chord attachment -> exit point and r_j the attachment from the
- * CoM. Gaussian elimination with partial pivoting; 0 if singular. */
-static int straight_tensions(const cdpr_robot_t *r, const cdpr_cabin_motion_t *m, cdpr_vec3_t f,
-                             cdpr_vec3_t tau, double T[6])
-{
-    double a[6][7];
-    cdpr_mat3_t R;
-    cdpr_quat_to_mat3(m->q, &R);
-    const cdpr_vec3_t com = cdpr_v3_add(m->p_m, cdpr_m3_mul_v3(&R, r->p.cabin.com_body_m));
-    for (int j = 0; j < 6; ++j) {
-        cdpr_vec3_t at;
-        cdpr_vec3_t vel;
-        cdpr_robot_attachment(r, j, m, &at, &vel);
-        const cdpr_vec3_t chord = cdpr_v3_sub(r->p.cables[j].exit_point_m, at);
-        const cdpr_vec3_t u = cdpr_v3_scale(chord, 1.0 / cdpr_v3_norm(chord));
-        const cdpr_vec3_t t = cdpr_v3_cross(cdpr_v3_sub(at, com), u);
-        const double col[6] = {u.x, u.y, u.z, t.x, t.y, t.z};
-        for (int i = 0; i < 6; ++i) {
-            a[i][j] = col[i];
-        }
-    }
-    const double b[6] = {-f.x,   -f.y,   r->p.cabin.mass_kg * r->p.g_m_per_s2 - f.z,
-                         -tau.x, -tau.y, -tau.z};
-    for (int i = 0; i < 6; ++i) {
-        a[i][6] = b[i];
-    }
-    for (int c = 0; c < 6; ++c) {
-        int piv = c;
-        for (int i = c + 1; i < 6; ++i) {
-            piv = (fabs(a[i][c]) > fabs(a[piv][c])) ? i : piv;
-        }
-        if (!(fabs(a[piv][c]) > 1e-12)) {
-            return 0;
-        }
-        for (int k = 0; k < 7; ++k) {
-            const double tmp = a[c][k];
-            a[c][k] = a[piv][k];
-            a[piv][k] = tmp;
-        }
-        for (int i = 0; i < 6; ++i) {
-            const double q = (i != c) ? a[i][c] / a[c][c] : 0.0;
-            for (int k = c; k < 7; ++k) {
-                a[i][k] -= q * a[c][k];
-            }
-        }
-    }
-    for (int j = 0; j < 6; ++j) {
-        T[j] = a[j][6] / a[j][j];
-    }
-    return 1;
-}
-
 /* Why the IK of the desired motion at t failed, into `what`: the cable whose straight-cable
  * tension is lowest, when it would have to push. */
 static void infeasible_reason(const cdpr_robot_t *r, const cdpr_traj_sample_t *ds, double t,
@@ -97,7 +43,8 @@ static void infeasible_reason(const cdpr_robot_t *r, const cdpr_traj_sample_t *d
 {
     double T[6];
     int worst = 0;
-    const int solved = straight_tensions(r, &ds->motion, f, tau, T);
+    const int solved =
+        (cdpr_statics_straight_tensions(r, &ds->motion, f, tau, T) == CDPR_OK) ? 1 : 0;
     for (int j = 1; j < 6 && solved != 0; ++j) {
         worst = (T[j] < T[worst]) ? j : worst;
     }
@@ -162,10 +109,11 @@ static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_robot_t
             continue;
         }
         double T[6];
-        const int solved = (too_long != 0 && model->p.n_cables == 6 &&
-                            straight_tensions(model, &ds->motion, f, tau, T) != 0)
-                               ? 1
-                               : 0;
+        const int solved =
+            (too_long != 0 && model->p.n_cables == 6 &&
+             cdpr_statics_straight_tensions(model, &ds->motion, f, tau, T) == CDPR_OK)
+                ? 1
+                : 0;
         char slack[256];
         char what[768];
         if (solved != 0 && slack_cables(model, T, slack, sizeof slack) > 0) {

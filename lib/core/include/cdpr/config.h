@@ -12,36 +12,44 @@
 /// build never promotes to double silently (-Wdouble-promotion stays clean).
 #ifdef CDPR_REAL_IS_FLOAT
 typedef float cdpr_real_t;
-#define CDPR_R(x)  (x##f)
-#define CDPR_SQRT  sqrtf
-#define CDPR_FABS  fabsf
-#define CDPR_POW   powf
-#define CDPR_SIN   sinf
-#define CDPR_COS   cosf
-#define CDPR_ATAN2 atan2f
-#define CDPR_ASIN  asinf
-#define CDPR_LOG   logf
-#define CDPR_EXP   expf
-#define CDPR_SINH  sinhf
-#define CDPR_COSH  coshf
-#define CDPR_ASINH asinhf
-#define CDPR_EPS   (1.1920929e-07f)
+#define CDPR_R(x)     (x##f)
+#define CDPR_SQRT     sqrtf
+#define CDPR_FABS     fabsf
+#define CDPR_POW      powf
+#define CDPR_SIN      sinf
+#define CDPR_COS      cosf
+#define CDPR_ATAN2    atan2f
+#define CDPR_ASIN     asinf
+#define CDPR_LOG      logf
+#define CDPR_EXP      expf
+#define CDPR_SINH     sinhf
+#define CDPR_COSH     coshf
+#define CDPR_ASINH    asinhf
+#define CDPR_FLOOR    floorf
+#define CDPR_FMOD     fmodf
+#define CDPR_FMAX     fmaxf
+#define CDPR_COPYSIGN copysignf
+#define CDPR_EPS      (1.1920929e-07f)
 #else
 typedef double cdpr_real_t;
-#define CDPR_R(x)  (x)
-#define CDPR_SQRT  sqrt
-#define CDPR_FABS  fabs
-#define CDPR_POW   pow
-#define CDPR_SIN   sin
-#define CDPR_COS   cos
-#define CDPR_ATAN2 atan2
-#define CDPR_ASIN  asin
-#define CDPR_LOG   log
-#define CDPR_EXP   exp
-#define CDPR_SINH  sinh
-#define CDPR_COSH  cosh
-#define CDPR_ASINH asinh
-#define CDPR_EPS   (2.220446049250313e-16)
+#define CDPR_R(x)     (x)
+#define CDPR_SQRT     sqrt
+#define CDPR_FABS     fabs
+#define CDPR_POW      pow
+#define CDPR_SIN      sin
+#define CDPR_COS      cos
+#define CDPR_ATAN2    atan2
+#define CDPR_ASIN     asin
+#define CDPR_LOG      log
+#define CDPR_EXP      exp
+#define CDPR_SINH     sinh
+#define CDPR_COSH     cosh
+#define CDPR_ASINH    asinh
+#define CDPR_FLOOR    floor
+#define CDPR_FMOD     fmod
+#define CDPR_FMAX     fmax
+#define CDPR_COPYSIGN copysign
+#define CDPR_EPS      (2.220446049250313e-16)
 #endif
 
 /// Maximum number of cables of one robot.

@@ -132,6 +132,23 @@ cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_mot
 cdpr_status_t cdpr_statics_ik_straight(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                                        cdpr_statics_result_t *res);
 
+/// Straight-chord tensions t_j that balance the cabin weight plus an external wrench (f_ext at
+/// the CoM, tau_ext about it, world axes) at `pose`: the massless model with straight chords
+/// from attachment to exit point, sum t_j u_j = M g z - f_ext, sum t_j (R (b_j - c)) x u_j =
+/// -tau_ext. Negative tensions are returned as they are (a cable that would have to push):
+/// this is the diagnostic of a load the cables cannot hold, the tension distribution a
+/// controller reports, and, with f = tau = 0 and every t_j > 0, the tensions of
+/// cdpr_statics_ik_straight. One 6x6 solve (Gaussian elimination, partial pivoting); O(1), no
+/// allocation; `tension_N` (6 values) written only on success. Returns:
+/// - CDPR_E_INVALID_ARG: a NULL pointer, or r->p.n_cables != 6.
+/// - CDPR_E_NOT_FINITE: the pose or the wrench is NaN/Inf.
+/// - CDPR_E_INFEASIBLE: the chords do not span the wrench (a pivot below 1e-12 of the largest
+///   matrix entry: singular).
+/// CDPR_OK otherwise.
+cdpr_status_t cdpr_statics_straight_tensions(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
+                                             cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
+                                             cdpr_real_t *tension_N);
+
 /// Forward statics: the pose at which cables of unstretched lengths `length_m[j]` hold the
 /// cabin in equilibrium, starting the search at `guess`. Newton on the 6 pose coordinates
 /// (position and a rotation vector), Jacobian by central differences; converged when the

@@ -101,4 +101,8 @@ cdpr_quat_t cdpr_quat_from_euler(cdpr_real_t alpha_rad, cdpr_real_t beta_rad,
 void cdpr_quat_to_euler(cdpr_quat_t q, cdpr_real_t *alpha_rad, cdpr_real_t *beta_rad,
                         cdpr_real_t *gamma_rad);
 
+/// Rotation vector θ of the unit quaternion q: axis times angle, |θ| <= π (q and -q give the
+/// same θ). For the error q_d q^-1 of two attitudes it is the error in world axes [rad].
+cdpr_vec3_t cdpr_quat_to_rotvec(cdpr_quat_t q);
+
 #endif /* CDPR_VEC3_H */

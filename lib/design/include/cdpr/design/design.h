@@ -20,7 +20,7 @@
 #include "cdpr/status.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
-#include "cdpr/host/tracker.h"
+#include "cdpr/control/tracker.h"
 
 #define CDPR_DESIGN_NZ            30 ///< filter states of the tracker: err_f1, err_f (12 each), ten_f (6)
 #define CDPR_DESIGN_NU            6    ///< rate commands (payout rates)

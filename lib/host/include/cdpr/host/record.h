@@ -21,8 +21,8 @@
 #include "cdpr/host/csv.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/summary.h"
-#include "cdpr/host/tracker.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/tracker.h"
+#include "cdpr/control/trajectory.h"
 
 /// One period's values for the recorder (inputs; arrays of the robot's cable count).
 typedef struct {

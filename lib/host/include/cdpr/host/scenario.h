@@ -27,8 +27,8 @@
 #include "cdpr/status.h"
 #include "cdpr/host/presets.h"
 #include "cdpr/host/rig.h"
-#include "cdpr/host/tracker.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/tracker.h"
+#include "cdpr/control/trajectory.h"
 
 /// Largest integrator.max_trials a scenario accepts.
 #define CDPR_SCENARIO_MAX_TRIALS 1000000

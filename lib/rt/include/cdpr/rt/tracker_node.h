@@ -70,7 +70,7 @@
 #include <lcm/lcm.h>
 
 #include "cdpr/host/record.h"
-#include "cdpr/host/tracker.h"
+#include "cdpr/control/tracker.h"
 #include "cdpr/winch.h"
 #include "lcmtypes/cdpr_cable_tensions_t.h"
 #include "lcmtypes/cdpr_cabin_state_t.h"

@@ -8,8 +8,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "cdpr/host/tracker.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/tracker.h"
+#include "cdpr/control/trajectory.h"
 #include "paper_circle.h"
 #include "unity.h"
 
@@ -162,26 +162,6 @@ static void test_hold(void)
     for (int i = 0; i < 6; ++i) {
         TEST_ASSERT_EQUAL_DOUBLE(pose[i], s.pose[i]);
         TEST_ASSERT_EQUAL_DOUBLE(0.0, s.rate[i]);
-    }
-}
-
-static void test_rotation_vector(void)
-{
-    /* Axis-angle built directly: q = (cos(a/2), sin(a/2) n). */
-    const double n[3] = {0.36, -0.48, 0.8}; /* unit */
-    const double angles[4] = {1e-9, 0.3, 2.5, PI - 1e-6};
-    for (int k = 0; k < 4; ++k) {
-        const double a = angles[k];
-        const cdpr_quat_t q = {cos(0.5 * a), sin(0.5 * a) * n[0], sin(0.5 * a) * n[1],
-                               sin(0.5 * a) * n[2]};
-        cdpr_vec3_t r = cdpr_quat_to_rotvec(q);
-        TEST_ASSERT_DOUBLE_WITHIN(1e-12, a * n[0], r.x);
-        TEST_ASSERT_DOUBLE_WITHIN(1e-12, a * n[1], r.y);
-        TEST_ASSERT_DOUBLE_WITHIN(1e-12, a * n[2], r.z);
-        /* -q is the same rotation. */
-        const cdpr_quat_t qn = {-q.w, -q.x, -q.y, -q.z};
-        r = cdpr_quat_to_rotvec(qn);
-        TEST_ASSERT_DOUBLE_WITHIN(1e-12, a * n[2], r.z);
     }
 }
 
@@ -422,7 +402,6 @@ int main(void)
     RUN_TEST(test_circle_ramp_and_clockwise);
     RUN_TEST(test_line_end_points_rates_and_return);
     RUN_TEST(test_hold);
-    RUN_TEST(test_rotation_vector);
     RUN_TEST(test_circle_accelerations);
     RUN_TEST(test_line_and_hold_accelerations);
     RUN_TEST(test_cyclic_closed_form_continuity_and_period);

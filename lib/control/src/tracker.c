@@ -2,29 +2,12 @@
 /// @file tracker.c
 /// Sag-aware feed-forward (statics plus the d'Alembert load of the desired motion) plus pose
 /// feedback through the straight-cable Jacobian.
-#include "cdpr/host/tracker.h"
+#include "cdpr/control/tracker.h"
 
 #include <math.h>
 #include <string.h>
 
 #include "cdpr/vec3.h"
-
-cdpr_vec3_t cdpr_quat_to_rotvec(cdpr_quat_t q)
-{
-    /* Shortest rotation: q and -q are the same rotation; take w >= 0. */
-    if (q.w < 0.0) {
-        q.w = -q.w;
-        q.x = -q.x;
-        q.y = -q.y;
-        q.z = -q.z;
-    }
-    const cdpr_vec3_t v = cdpr_v3(q.x, q.y, q.z);
-    const double s = cdpr_v3_norm(v);
-    if (s < 1e-12) {
-        return cdpr_v3_scale(v, 2.0); /* angle ~ 2 s, to first order */
-    }
-    return cdpr_v3_scale(v, 2.0 * atan2(s, q.w) / s);
-}
 
 void cdpr_tracker_jacobian(const cdpr_robot_t *model, int j, const cdpr_cabin_motion_t *m,
                            cdpr_vec3_t *u, cdpr_vec3_t *g)
@@ -33,8 +16,9 @@ void cdpr_tracker_jacobian(const cdpr_robot_t *model, int j, const cdpr_cabin_mo
     cdpr_quat_to_mat3(cdpr_quat_normalize(m->q), &R);
     const cdpr_vec3_t rb = cdpr_m3_mul_v3(&R, model->p.cables[j].attach_body_m);
     const cdpr_vec3_t d = cdpr_v3_sub(model->p.cables[j].exit_point_m, cdpr_v3_add(m->p_m, rb));
-    const double l = cdpr_v3_norm(d);
-    *u = (l > 0.0) ? cdpr_v3_scale(d, 1.0 / l) : cdpr_v3(0.0, 0.0, 0.0);
+    const cdpr_real_t l = cdpr_v3_norm(d);
+    *u = (l > CDPR_R(0.0)) ? cdpr_v3_scale(d, CDPR_R(1.0) / l)
+                           : cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     *g = cdpr_v3_cross(rb, *u);
 }
 
@@ -57,25 +41,25 @@ void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sam
     const cdpr_vec3_t hdot =
         cdpr_v3_add(cdpr_m3_mul_v3(&cab->inertia_com_kg_m2, dw),
                     cdpr_v3_cross(w, cdpr_m3_mul_v3(&cab->inertia_com_kg_m2, w)));
-    *tau_Nm = cdpr_v3_scale(cdpr_m3_mul_v3(&R, hdot), -1.0);
+    *tau_Nm = cdpr_v3_scale(cdpr_m3_mul_v3(&R, hdot), -CDPR_R(1.0));
 }
 
 /* Step 8's gains: finite and >= 0, a positive bound when learning is on. */
 static cdpr_status_t check_learning(const cdpr_tracker_gains_t *g, cdpr_diag_t *diag)
 {
-    const double v[4] = {g->learning_gain, g->learning_lead_s, g->learning_cutoff_hz,
-                         g->learning_limit_m};
+    const cdpr_real_t v[4] = {g->learning_gain, g->learning_lead_s, g->learning_cutoff_hz,
+                              g->learning_limit_m};
     static const char *const names[4] = {"learning_gain", "learning_lead_s", "learning_cutoff_hz",
                                          "learning_limit_m"};
     for (int i = 0; i < 4; ++i) {
         if (!isfinite(v[i])) {
             return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
         }
-        if (v[i] < 0.0) {
+        if (v[i] < CDPR_R(0.0)) {
             return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, names[i], -1);
         }
     }
-    if (g->learning_gain > 0.0 && !(g->learning_limit_m > 0.0)) {
+    if (g->learning_gain > CDPR_R(0.0) && !(g->learning_limit_m > CDPR_R(0.0))) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "learning_limit_m", -1);
     }
     if (g->learning_settle_laps < 0) {
@@ -84,21 +68,22 @@ static cdpr_status_t check_learning(const cdpr_tracker_gains_t *g, cdpr_diag_t *
     return CDPR_OK;
 }
 
-static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s, cdpr_diag_t *diag)
+static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t period_s,
+                                 cdpr_diag_t *diag)
 {
-    const double v[13] = {period_s,
-                          g->kp,
-                          g->kd_s,
-                          g->k_length_per_s,
-                          g->filter_s,
-                          g->inertial_ff,
-                          g->damping_N_s_per_m,
-                          g->damping_rot_N_m_s,
-                          g->transfer_s,
-                          g->wind_ff,
-                          g->tension_gain_m_per_s_per_N,
-                          g->tension_filter_s,
-                          g->transfer_from_rest};
+    const cdpr_real_t v[13] = {period_s,
+                               g->kp,
+                               g->kd_s,
+                               g->k_length_per_s,
+                               g->filter_s,
+                               g->inertial_ff,
+                               g->damping_N_s_per_m,
+                               g->damping_rot_N_m_s,
+                               g->transfer_s,
+                               g->wind_ff,
+                               g->tension_gain_m_per_s_per_N,
+                               g->tension_filter_s,
+                               g->transfer_from_rest};
     static const char *const names[13] = {"period_s",
                                           "kp",
                                           "kd_s",
@@ -119,51 +104,11 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, double period_s,
         if (!isfinite(v[i])) {
             return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
         }
-        if (v[i] < 0.0 || (i == 0 && !(v[i] > 0.0))) {
+        if (v[i] < CDPR_R(0.0) || (i == 0 && !(v[i] > CDPR_R(0.0)))) {
             return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, names[i], -1);
         }
     }
     return check_learning(g, diag);
-}
-
-/* Gaussian elimination with partial pivoting on the augmented 6x7 matrix A; x = solution.
- * CDPR_E_INFEASIBLE when a pivot is below 1e-12 of the largest entry (singular). */
-static cdpr_status_t solve6(double A[6][7], double *x)
-{
-    double amax = 0.0;
-    for (int i = 0; i < 6; ++i) {
-        for (int k = 0; k < 6; ++k) {
-            amax = fmax(amax, fabs(A[i][k]));
-        }
-    }
-    for (int c = 0; c < 6; ++c) {
-        int piv = c;
-        for (int i = c + 1; i < 6; ++i) {
-            piv = (fabs(A[i][c]) > fabs(A[piv][c])) ? i : piv;
-        }
-        if (!(fabs(A[piv][c]) > 1e-12 * amax)) {
-            return CDPR_E_INFEASIBLE;
-        }
-        for (int k = 0; k < 7; ++k) {
-            const double tmp = A[c][k];
-            A[c][k] = A[piv][k];
-            A[piv][k] = tmp;
-        }
-        for (int i = c + 1; i < 6; ++i) {
-            const double m = A[i][c] / A[c][c];
-            for (int k = c; k < 7; ++k) {
-                A[i][k] -= m * A[c][k];
-            }
-        }
-    }
-    for (int i = 5; i >= 0; --i) {
-        double acc = A[i][6];
-        for (int k = i + 1; k < 6; ++k) {
-            acc -= A[i][k] * x[k];
-        }
-        x[i] = acc / A[i][i];
-    }
-    return CDPR_OK;
 }
 
 void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion_t *pose,
@@ -172,25 +117,26 @@ void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion
     cdpr_mat3_t R;
     cdpr_quat_to_mat3(cdpr_quat_normalize(pose->q), &R);
     const cdpr_vec3_t J = wind_m_per_s;
-    *f_N = cdpr_v3(0.0, 0.0, 0.0);
+    *f_N = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     *tau_Nm = *f_N;
     for (int j = 0; j < model->p.n_cables; ++j) {
         const cdpr_robot_cable_params_t *c = &model->p.cables[j];
         const cdpr_vec3_t rb = cdpr_m3_mul_v3(&R, c->attach_body_m);
         const cdpr_vec3_t d = cdpr_v3_sub(c->exit_point_m, cdpr_v3_add(pose->p_m, rb));
-        const double l = cdpr_v3_norm(d);
-        if (!(l > 0.0)) {
+        const cdpr_real_t l = cdpr_v3_norm(d);
+        if (!(l > CDPR_R(0.0))) {
             continue;
         }
-        const cdpr_vec3_t t = cdpr_v3_scale(d, 1.0 / l);
-        const double jt = cdpr_v3_dot(J, t);
+        const cdpr_vec3_t t = cdpr_v3_scale(d, CDPR_R(1.0) / l);
+        const cdpr_real_t jt = cdpr_v3_dot(J, t);
         const cdpr_vec3_t jn = cdpr_v3_sub(J, cdpr_v3_scale(t, jt));
-        const double k = 0.5 * c->cable.rho_air_kg_per_m3 * c->cable.d0_m * c->cable.cd * l;
+        const cdpr_real_t k =
+            CDPR_R(0.5) * c->cable.rho_air_kg_per_m3 * c->cable.d0_m * c->cable.cd * l;
         const cdpr_vec3_t D =
             cdpr_v3_scale(cdpr_v3_add(cdpr_v3_scale(jn, cdpr_v3_norm(jn)),
-                                      cdpr_v3_scale(t, c->cable.cm * fabs(jt) * jt)),
+                                      cdpr_v3_scale(t, c->cable.cm * CDPR_FABS(jt) * jt)),
                           k);
-        const cdpr_vec3_t half = cdpr_v3_scale(D, 0.5);
+        const cdpr_vec3_t half = cdpr_v3_scale(D, CDPR_R(0.5));
         const cdpr_vec3_t r =
             cdpr_m3_mul_v3(&R, cdpr_v3_sub(c->attach_body_m, model->p.cabin.com_body_m));
         *f_N = cdpr_v3_add(*f_N, half);
@@ -198,55 +144,21 @@ void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion
     }
 }
 
-cdpr_status_t cdpr_tracker_straight_tensions(const cdpr_robot_t *model,
-                                             const cdpr_cabin_motion_t *pose, cdpr_vec3_t f_ext_N,
-                                             cdpr_vec3_t tau_ext_Nm, double *tension_N)
-{
-    if (model->p.n_cables != 6) {
-        return CDPR_E_INVALID_ARG;
-    }
-    cdpr_mat3_t R;
-    cdpr_quat_to_mat3(cdpr_quat_normalize(pose->q), &R);
-    double A[6][7];
-    for (int j = 0; j < 6; ++j) {
-        const cdpr_robot_cable_params_t *c = &model->p.cables[j];
-        const cdpr_vec3_t rb = cdpr_m3_mul_v3(&R, c->attach_body_m);
-        const cdpr_vec3_t d = cdpr_v3_sub(c->exit_point_m, cdpr_v3_add(pose->p_m, rb));
-        const double l = cdpr_v3_norm(d);
-        const cdpr_vec3_t u = (l > 0.0) ? cdpr_v3_scale(d, 1.0 / l) : cdpr_v3(0.0, 0.0, 0.0);
-        const cdpr_vec3_t r =
-            cdpr_m3_mul_v3(&R, cdpr_v3_sub(c->attach_body_m, model->p.cabin.com_body_m));
-        const cdpr_vec3_t m = cdpr_v3_cross(r, u);
-        const double col[6] = {u.x, u.y, u.z, m.x, m.y, m.z};
-        for (int i = 0; i < 6; ++i) {
-            A[i][j] = col[i];
-        }
-    }
-    /* sum t_j u_j = M g z - f_ext, sum t_j (r_j x u_j) = -tau_ext (statics.h). */
-    const double w = model->p.cabin.mass_kg * model->p.g_m_per_s2;
-    const double rhs[6] = {-f_ext_N.x,    -f_ext_N.y,    w - f_ext_N.z,
-                           -tau_ext_Nm.x, -tau_ext_Nm.y, -tau_ext_Nm.z};
-    for (int i = 0; i < 6; ++i) {
-        A[i][6] = rhs[i];
-    }
-    return solve6(A, tension_N);
-}
-
 /* External load of the feed-forward IK at time t: the reference (into d), the feed-forward
  * share of the d'Alembert load, the cables' wind load, minus the cable wrench (f_add, tau_add)
  * asked for on top of that (zero for the feed-forward itself). */
-static void load_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add, cdpr_vec3_t tau_add,
+static void load_at(const cdpr_tracker_t *tr, cdpr_real_t t, cdpr_vec3_t f_add, cdpr_vec3_t tau_add,
                     cdpr_traj_sample_t *d, cdpr_vec3_t *f, cdpr_vec3_t *tau)
 {
     cdpr_tracker_reference(tr, t, d);
-    *f = cdpr_v3(0.0, 0.0, 0.0);
+    *f = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     *tau = *f;
-    if (tr->g.inertial_ff > 0.0) {
+    if (tr->g.inertial_ff > CDPR_R(0.0)) {
         cdpr_tracker_inertial_wrench(&tr->model, d, f, tau);
         *f = cdpr_v3_scale(*f, tr->g.inertial_ff);
         *tau = cdpr_v3_scale(*tau, tr->g.inertial_ff);
     }
-    if (tr->g.wind_ff > 0.0) {
+    if (tr->g.wind_ff > CDPR_R(0.0)) {
         cdpr_vec3_t fw;
         cdpr_vec3_t tw;
         cdpr_tracker_wind_wrench(&tr->model, &d->motion, tr->g.wind_m_per_s, &fw, &tw);
@@ -261,8 +173,8 @@ static void load_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add, cdpr_
 
 /* Lengths at time t (and, if T is not NULL, the winch-end tensions): IK of the reference pose
  * under the weight and load_at's load. On failure `L` and `T` are untouched. */
-static cdpr_status_t ik_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add,
-                           cdpr_vec3_t tau_add, double *L, double *T)
+static cdpr_status_t ik_at(const cdpr_tracker_t *tr, cdpr_real_t t, cdpr_vec3_t f_add,
+                           cdpr_vec3_t tau_add, cdpr_real_t *L, cdpr_real_t *T)
 {
     cdpr_traj_sample_t d;
     cdpr_vec3_t f;
@@ -277,7 +189,7 @@ static cdpr_status_t ik_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add
     /* A cable hanging in a loop (statics.h) is an equilibrium of the catenaries, not a
      * length to command: no working pose is near it (1-5 % above the chord in the scenarios). */
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
-        const double chord = cdpr_v3_norm(
+        const cdpr_real_t chord = cdpr_v3_norm(
             cdpr_v3_sub(tr->model.p.cables[j].exit_point_m, res.cable[j].attach_world_m));
         if (!(res.cable[j].length_m <= CDPR_TRACKER_MAX_LENGTH_PER_CHORD * chord)) {
             return CDPR_E_INFEASIBLE;
@@ -294,20 +206,23 @@ static cdpr_status_t ik_at(const cdpr_tracker_t *tr, double t, cdpr_vec3_t f_add
 
 /* Tension awareness: the feed-forward at t failed; distribute its load on the straight chords
  * and count every cable whose tension there is <= 0. */
-static void slack_demand(cdpr_tracker_t *tr, double t, cdpr_tracker_cmd_t *cmd)
+static void slack_demand(cdpr_tracker_t *tr, cdpr_real_t t, cdpr_tracker_cmd_t *cmd)
 {
     cdpr_traj_sample_t d;
     cdpr_vec3_t f;
     cdpr_vec3_t tau;
-    const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
+    const cdpr_vec3_t zero = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     load_at(tr, t, zero, zero, &d, &f, &tau);
-    double ten[CDPR_MAX_CABLES] = {0.0};
-    if (cdpr_tracker_straight_tensions(&tr->model, &d.motion, f, tau, ten) != CDPR_OK) {
+    cdpr_real_t ten[CDPR_MAX_CABLES];
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        ten[j] = CDPR_R(0.0);
+    }
+    if (cdpr_statics_straight_tensions(&tr->model, &d.motion, f, tau, ten) != CDPR_OK) {
         return;
     }
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
-        if (ten[j] <= 0.0) {
-            cmd->slack_demand |= 1U << j;
+        if (ten[j] <= CDPR_R(0.0)) {
+            cmd->slack_demand |= 1U << (unsigned)j;
             tr->slack_demand_periods[j]++;
             if (tr->first_slack_cable < 0) {
                 tr->first_slack_cable = j;
@@ -317,11 +232,11 @@ static void slack_demand(cdpr_tracker_t *tr, double t, cdpr_tracker_cmd_t *cmd)
         }
     }
     if (cmd->slack_demand != 0U) {
-        memcpy(cmd->demand_tension_N, ten, sizeof ten);
+        (void)memcpy(cmd->demand_tension_N, ten, sizeof ten);
     }
 }
 
-void cdpr_tracker_reference(const cdpr_tracker_t *tr, double t_s, cdpr_traj_sample_t *out)
+void cdpr_tracker_reference(const cdpr_tracker_t *tr, cdpr_real_t t_s, cdpr_traj_sample_t *out)
 {
     if (tr->transfer_set != 0) {
         cdpr_transfer_eval(&tr->transfer, &tr->traj, t_s, out);
@@ -332,20 +247,21 @@ void cdpr_tracker_reference(const cdpr_tracker_t *tr, double t_s, cdpr_traj_samp
 
 /* Feed-forward lengths (and winch-end tensions, T may be NULL) at time t; on failure `L` and
  * `T` are untouched. */
-static cdpr_status_t feedforward(const cdpr_tracker_t *tr, double t, double *L, double *T)
+static cdpr_status_t feedforward(const cdpr_tracker_t *tr, cdpr_real_t t, cdpr_real_t *L,
+                                 cdpr_real_t *T)
 {
-    const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
+    const cdpr_vec3_t zero = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     return ik_at(tr, t, zero, zero, L, T);
 }
 
 /* ---------------------------------------------------------------- step 8: learning */
 
 /* Knot k0 = floor(x) mod M, its neighbour k1 and the weight f of k1 at knot coordinate x. */
-static void knot_pair(double x, int M, int *k0, int *k1, double *f)
+static void knot_pair(cdpr_real_t x, int M, int *k0, int *k1, cdpr_real_t *f)
 {
-    const double k = floor(x);
+    const cdpr_real_t k = CDPR_FLOOR(x);
     *f = x - k;
-    long i = (long)fmod(k, (double)M);
+    long i = (long)CDPR_FMOD(k, (cdpr_real_t)M);
     i = (i < 0) ? i + M : i;
     *k0 = (int)i;
     *k1 = (*k0 + 1 < M) ? *k0 + 1 : 0;
@@ -354,17 +270,17 @@ static void knot_pair(double x, int M, int *k0, int *k1, double *f)
 /* One first-order stage y_i = a y_(i-1) + (1 - a) x_i run around the lap (dir +1 forward,
  * -1 backward) from its exact periodic state: with y_-1 = 0 first, then every output plus
  * a^(k+1) y*, y* = y_(M-1) / (1 - a^M) (the lap is periodic, so y_-1 = y_(M-1)). */
-static void circular_stage(double *x, int M, double a, int dir)
+static void circular_stage(cdpr_real_t *x, int M, cdpr_real_t a, int dir)
 {
-    const double b = 1.0 - a;
-    double y = 0.0;
+    const cdpr_real_t b = CDPR_R(1.0) - a;
+    cdpr_real_t y = CDPR_R(0.0);
     for (int k = 0; k < M; ++k) {
         const int i = (dir > 0) ? k : M - 1 - k;
         y = a * y + b * x[i];
         x[i] = y;
     }
-    const double ys = y / (1.0 - pow(a, (double)M));
-    double p = a;
+    const cdpr_real_t ys = y / (CDPR_R(1.0) - CDPR_POW(a, (cdpr_real_t)M));
+    cdpr_real_t p = a;
     for (int k = 0; k < M; ++k) {
         const int i = (dir > 0) ? k : M - 1 - k;
         x[i] += p * ys;
@@ -377,32 +293,33 @@ static void circular_stage(double *x, int M, double a, int dir)
 static void learn_update(cdpr_tracker_t *tr)
 {
     const int M = tr->learn_knots;
-    const double dphi = tr->learn_lap_s / (double)M;
-    const double shift = tr->g.learning_lead_s / dphi;
-    const double a = (tr->g.learning_cutoff_hz > 0.0)
-                         ? exp(-2.0 * CDPR_PI * tr->g.learning_cutoff_hz * dphi)
-                         : 0.0;
-    const double lim = tr->g.learning_limit_m;
+    const cdpr_real_t dphi = tr->learn_lap_s / (cdpr_real_t)M;
+    const cdpr_real_t shift = tr->g.learning_lead_s / dphi;
+    const cdpr_real_t a =
+        (tr->g.learning_cutoff_hz > CDPR_R(0.0))
+            ? CDPR_EXP(-CDPR_R(2.0) * (cdpr_real_t)CDPR_PI * tr->g.learning_cutoff_hz * dphi)
+            : CDPR_R(0.0);
+    const cdpr_real_t lim = tr->g.learning_limit_m;
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
-        double *e = tr->learn_acc[j];
-        double *c = tr->learn_c[j];
+        cdpr_real_t *e = tr->learn_acc[j];
+        cdpr_real_t *c = tr->learn_c[j];
         for (int i = 0; i < M; ++i) {
-            e[i] = (tr->learn_w[i] > 0.0) ? e[i] / tr->learn_w[i] : 0.0;
+            e[i] = (tr->learn_w[i] > CDPR_R(0.0)) ? e[i] / tr->learn_w[i] : CDPR_R(0.0);
         }
         for (int i = 0; i < M; ++i) {
             int k0;
             int k1;
-            double f;
-            knot_pair((double)i + shift, M, &k0, &k1, &f);
-            c[i] += tr->g.learning_gain * ((1.0 - f) * e[k0] + f * e[k1]);
+            cdpr_real_t f;
+            knot_pair((cdpr_real_t)i + shift, M, &k0, &k1, &f);
+            c[i] += tr->g.learning_gain * ((CDPR_R(1.0) - f) * e[k0] + f * e[k1]);
         }
-        if (a > 0.0) {
+        if (a > CDPR_R(0.0)) {
             circular_stage(c, M, a, 1);
             circular_stage(c, M, a, -1);
         }
         for (int i = 0; i < M; ++i) {
-            if (fabs(c[i]) > lim) {
-                c[i] = copysign(lim, c[i]);
+            if (CDPR_FABS(c[i]) > lim) {
+                c[i] = CDPR_COPYSIGN(lim, c[i]);
                 tr->learning_saturations++;
             }
         }
@@ -413,8 +330,8 @@ static void learn_update(cdpr_tracker_t *tr)
 /* Step 8 per period: at a lap change, the update (if the lap ending was recorded whole) and
  * whether the new lap is recorded; then c at the phase of t into dl (added), and the length
  * error e_L of this measurement onto the knots. Nothing without learning or outside laps. */
-static void learn_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double t,
-                       const double raw[12], double *dl)
+static void learn_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, cdpr_real_t t,
+                       const cdpr_real_t raw[12], cdpr_real_t *dl)
 {
     if (tr->learn_knots <= 0) {
         return;
@@ -425,8 +342,8 @@ static void learn_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double 
             learn_update(tr);
         }
         tr->learn_recording = (lap >= 0 && tr->learn_lap >= 0 && t >= tr->learn_start_s) ? 1 : 0;
-        memset(tr->learn_acc, 0, sizeof tr->learn_acc);
-        memset(tr->learn_w, 0, sizeof tr->learn_w);
+        (void)memset(tr->learn_acc, 0, sizeof tr->learn_acc);
+        (void)memset(tr->learn_w, 0, sizeof tr->learn_w);
         tr->learn_lap = lap;
     }
     if (lap < 0) {
@@ -435,22 +352,22 @@ static void learn_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double 
     const int M = tr->learn_knots;
     int k0;
     int k1;
-    double f;
-    knot_pair(cdpr_traj_lap_phase(&tr->traj, t) * (double)M, M, &k0, &k1, &f);
+    cdpr_real_t f;
+    knot_pair(cdpr_traj_lap_phase(&tr->traj, t) * (cdpr_real_t)M, M, &k0, &k1, &f);
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
-        dl[j] += (1.0 - f) * tr->learn_c[j][k0] + f * tr->learn_c[j][k1];
+        dl[j] += (CDPR_R(1.0) - f) * tr->learn_c[j][k0] + f * tr->learn_c[j][k1];
         if (tr->learn_recording != 0) {
             cdpr_vec3_t u;
             cdpr_vec3_t gj;
             cdpr_tracker_jacobian(&tr->model, j, &m->cabin, &u, &gj);
-            const double e = -(u.x * raw[0] + u.y * raw[1] + u.z * raw[2] + gj.x * raw[3] +
-                               gj.y * raw[4] + gj.z * raw[5]);
-            tr->learn_acc[j][k0] += (1.0 - f) * e;
+            const cdpr_real_t e = -(u.x * raw[0] + u.y * raw[1] + u.z * raw[2] + gj.x * raw[3] +
+                                    gj.y * raw[4] + gj.z * raw[5]);
+            tr->learn_acc[j][k0] += (CDPR_R(1.0) - f) * e;
             tr->learn_acc[j][k1] += f * e;
         }
     }
     if (tr->learn_recording != 0) {
-        tr->learn_w[k0] += 1.0 - f;
+        tr->learn_w[k0] += CDPR_R(1.0) - f;
         tr->learn_w[k1] += f;
     }
 }
@@ -460,28 +377,28 @@ static void learn_init(cdpr_tracker_t *tr)
 {
     tr->learn_lap = -1;
     tr->learn_lap_s = cdpr_traj_lap_s(&tr->traj);
-    if (!(tr->g.learning_gain > 0.0) || !(tr->learn_lap_s > 0.0)) {
+    if (!(tr->g.learning_gain > CDPR_R(0.0)) || !(tr->learn_lap_s > CDPR_R(0.0))) {
         return;
     }
-    const double per_lap = floor(tr->learn_lap_s / tr->period_s + 0.5);
+    const cdpr_real_t per_lap = CDPR_FLOOR(tr->learn_lap_s / tr->period_s + CDPR_R(0.5));
     tr->learn_knots =
-        (per_lap > (double)CDPR_TRACKER_LEARN_KNOTS) ? CDPR_TRACKER_LEARN_KNOTS : (int)per_lap;
+        (per_lap > (cdpr_real_t)CDPR_TRACKER_LEARN_KNOTS) ? CDPR_TRACKER_LEARN_KNOTS : (int)per_lap;
     tr->learn_knots = (tr->learn_knots >= 2) ? tr->learn_knots : 0;
 }
 
 /* Step 8 at the first step (time t): t_learn. */
-static void learn_first_step(cdpr_tracker_t *tr, double t)
+static void learn_first_step(cdpr_tracker_t *tr, cdpr_real_t t)
 {
-    double t0 = t + tr->g.transfer_s;
+    cdpr_real_t t0 = t + tr->g.transfer_s;
     if (tr->traj.type == CDPR_TRAJ_CIRCLE && tr->traj.ramp_s > t0) {
         t0 = tr->traj.ramp_s;
     }
-    tr->learn_start_s = t0 + (double)tr->g.learning_settle_laps * tr->learn_lap_s;
+    tr->learn_start_s = t0 + (cdpr_real_t)tr->g.learning_settle_laps * tr->learn_lap_s;
 }
 
 cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *model_params,
                                 const cdpr_traj_t *traj, const cdpr_tracker_gains_t *g,
-                                double period_s, double t0_s, cdpr_diag_t *diag)
+                                cdpr_real_t period_s, cdpr_real_t t0_s, cdpr_diag_t *diag)
 {
     if (tr == NULL || model_params == NULL || traj == NULL || g == NULL || !isfinite(t0_s)) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "tracker", -1);
@@ -495,7 +412,7 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
     if (gs != CDPR_OK) {
         return gs;
     }
-    memset(tr, 0, sizeof *tr);
+    (void)memset(tr, 0, sizeof *tr);
     const cdpr_status_t ms = cdpr_robot_init(&tr->model, model_params, diag);
     if (ms != CDPR_OK) {
         return ms;
@@ -518,15 +435,18 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
 /* Every measured value finite. */
 static int meas_finite(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
 {
-    int finite = isfinite(m->t_s) && cdpr_v3_isfinite(m->cabin.p_m) &&
-                 cdpr_v3_isfinite(m->cabin.v_m_per_s) && cdpr_v3_isfinite(m->cabin.w_rad_per_s) &&
-                 isfinite(m->cabin.q.w) && isfinite(m->cabin.q.x) && isfinite(m->cabin.q.y) &&
-                 isfinite(m->cabin.q.z);
+    int finite = (isfinite(m->t_s) && (cdpr_v3_isfinite(m->cabin.p_m) != 0) &&
+                  (cdpr_v3_isfinite(m->cabin.v_m_per_s) != 0) &&
+                  (cdpr_v3_isfinite(m->cabin.w_rad_per_s) != 0) && isfinite(m->cabin.q.w) &&
+                  isfinite(m->cabin.q.x) && isfinite(m->cabin.q.y) && isfinite(m->cabin.q.z))
+                     ? 1
+                     : 0;
+    /* the tensions are read only with tension feedback on */
+    const int tensions = (tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0)) ? 1 : 0;
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
-        finite = finite && isfinite(m->length_m[j]);
-        /* the tensions are read only with tension feedback on */
-        finite = finite &&
-                 (!(tr->g.tension_gain_m_per_s_per_N > 0.0) || isfinite(m->tension_winch_N[j]));
+        if (!isfinite(m->length_m[j]) || (tensions != 0 && !isfinite(m->tension_winch_N[j]))) {
+            finite = 0;
+        }
     }
     return finite;
 }
@@ -534,10 +454,10 @@ static int meas_finite(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
 /* Step 1: L_ff(t) (prepared by the previous period, unless the caller's clock jumped) and
  * L_ff(t + dt) into l_next, its winch-end tensions into t_next (the last good values when the
  * IK fails). */
-static void feedforward_step(cdpr_tracker_t *tr, double t, double dt, double *l_next,
-                             double *t_next, cdpr_tracker_cmd_t *cmd)
+static void feedforward_step(cdpr_tracker_t *tr, cdpr_real_t t, cdpr_real_t dt, cdpr_real_t *l_next,
+                             cdpr_real_t *t_next, cdpr_tracker_cmd_t *cmd)
 {
-    if (fabs(t - tr->t_next_s) > 1e-9 * (1.0 + fabs(t))) {
+    if (CDPR_FABS(t - tr->t_next_s) > CDPR_R(1e-9) * (CDPR_R(1.0) + CDPR_FABS(t))) {
         if (feedforward(tr, t, tr->l_ff_m, tr->t_ff_N) != CDPR_OK) {
             tr->ik_failures++;
             tr->l_ff_exact = 0;
@@ -545,8 +465,8 @@ static void feedforward_step(cdpr_tracker_t *tr, double t, double dt, double *l_
             tr->l_ff_exact = 1;
         }
     }
-    memcpy(l_next, tr->l_ff_m, sizeof(double) * CDPR_MAX_CABLES);
-    memcpy(t_next, tr->t_ff_N, sizeof(double) * CDPR_MAX_CABLES);
+    (void)memcpy(l_next, tr->l_ff_m, sizeof(cdpr_real_t) * CDPR_MAX_CABLES);
+    (void)memcpy(t_next, tr->t_ff_N, sizeof(cdpr_real_t) * CDPR_MAX_CABLES);
     cmd->ik_status = feedforward(tr, t + dt, l_next, t_next);
     if (cmd->ik_status != CDPR_OK) {
         tr->ik_failures++; /* l_next still holds the last good feed-forward */
@@ -556,8 +476,8 @@ static void feedforward_step(cdpr_tracker_t *tr, double t, double dt, double *l_
 
 /* Step 2a: pose error (desired - measured) and its rate, world axes, into raw[12] (e_p, e_θ,
  * ė_p, ė_θ) and cmd (desired state, e_p, e_θ). */
-static void pose_error(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double t,
-                       cdpr_tracker_cmd_t *cmd, double raw[12])
+static void pose_error(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, cdpr_real_t t,
+                       cdpr_tracker_cmd_t *cmd, cdpr_real_t raw[12])
 {
     cdpr_tracker_reference(tr, t, &cmd->desired);
     const cdpr_cabin_motion_t *d = &cmd->desired.motion;
@@ -578,16 +498,17 @@ static void pose_error(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, d
     cmd->err_rot_rad[0] = e_th.x;
     cmd->err_rot_rad[1] = e_th.y;
     cmd->err_rot_rad[2] = e_th.z;
-    const double v[12] = {e_p.x, e_p.y, e_p.z, e_th.x, e_th.y, e_th.z,
-                          e_v.x, e_v.y, e_v.z, e_w.x,  e_w.y,  e_w.z};
-    memcpy(raw, v, sizeof v);
+    const cdpr_real_t v[12] = {e_p.x, e_p.y, e_p.z, e_th.x, e_th.y, e_th.z,
+                               e_v.x, e_v.y, e_v.z, e_w.x,  e_w.y,  e_w.z};
+    (void)memcpy(raw, v, sizeof v);
 }
 
 /* Step 2b: second-order low-pass (two first-order stages, critically damped) of the 12 error
  * components into tr->err_f; the first sample primes both stages. */
-static void filter_errors(cdpr_tracker_t *tr, const double raw[12], double dt)
+static void filter_errors(cdpr_tracker_t *tr, const cdpr_real_t raw[12], cdpr_real_t dt)
 {
-    const double a = (tr->g.filter_s > 0.0) ? 1.0 - exp(-dt / tr->g.filter_s) : 1.0;
+    const cdpr_real_t a =
+        (tr->g.filter_s > CDPR_R(0.0)) ? CDPR_R(1.0) - CDPR_EXP(-dt / tr->g.filter_s) : CDPR_R(1.0);
     for (int i = 0; i < 12; ++i) {
         if (tr->filter_primed == 0) {
             tr->err_f1[i] = raw[i];
@@ -603,18 +524,19 @@ static void filter_errors(cdpr_tracker_t *tr, const double raw[12], double dt)
 /* Step 3: wrench-space damping: the lengths that make the cables add c ė_p and c_r ė_θ at the
  * desired pose of t, relative to L_ff(t) (same pose and feed-forward load), into dl_w (zero
  * when off or when its IK fails). */
-static void damping_step(cdpr_tracker_t *tr, double t, cdpr_tracker_cmd_t *cmd, double *dl_w)
+static void damping_step(cdpr_tracker_t *tr, cdpr_real_t t, cdpr_tracker_cmd_t *cmd,
+                         cdpr_real_t *dl_w)
 {
-    const double *f = tr->err_f;
+    const cdpr_real_t *f = tr->err_f;
     cmd->fb_status = CDPR_OK;
-    if (!(tr->g.damping_N_s_per_m > 0.0 || tr->g.damping_rot_N_m_s > 0.0)) {
+    if (!(tr->g.damping_N_s_per_m > CDPR_R(0.0) || tr->g.damping_rot_N_m_s > CDPR_R(0.0))) {
         return;
     }
     const cdpr_vec3_t f_add = cdpr_v3_scale(cdpr_v3(f[6], f[7], f[8]), tr->g.damping_N_s_per_m);
     const cdpr_vec3_t tau_add = cdpr_v3_scale(cdpr_v3(f[9], f[10], f[11]), tr->g.damping_rot_N_m_s);
-    double l_ref[CDPR_MAX_CABLES];
-    double l_w[CDPR_MAX_CABLES];
-    memcpy(l_ref, tr->l_ff_m, sizeof l_ref);
+    cdpr_real_t l_ref[CDPR_MAX_CABLES];
+    cdpr_real_t l_w[CDPR_MAX_CABLES];
+    (void)memcpy(l_ref, tr->l_ff_m, sizeof l_ref);
     cmd->fb_status = (tr->l_ff_exact != 0) ? CDPR_OK : feedforward(tr, t, l_ref, NULL);
     if (cmd->fb_status == CDPR_OK) {
         cmd->fb_status = ik_at(tr, t, f_add, tau_add, l_w, NULL);
@@ -630,25 +552,26 @@ static void damping_step(cdpr_tracker_t *tr, double t, cdpr_tracker_cmd_t *cmd, 
 
 /* Steps 2c and 4: length corrections through the straight-cable Jacobian at the measured pose
  * and the payout-rate commands. */
-static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double dt,
-                          const double *l_next, const double *dl_w, cdpr_tracker_cmd_t *cmd)
+static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, cdpr_real_t dt,
+                          const cdpr_real_t *l_next, const cdpr_real_t *dl_w,
+                          cdpr_tracker_cmd_t *cmd)
 {
-    const double *f = tr->err_f;
+    const cdpr_real_t *f = tr->err_f;
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
         cdpr_vec3_t u;
         cdpr_vec3_t gj;
         cdpr_tracker_jacobian(&tr->model, j, &m->cabin, &u, &gj);
-        const double move =
+        const cdpr_real_t move =
             u.x * f[0] + u.y * f[1] + u.z * f[2] + gj.x * f[3] + gj.y * f[4] + gj.z * f[5];
-        const double move_rate =
+        const cdpr_real_t move_rate =
             u.x * f[6] + u.y * f[7] + u.z * f[8] + gj.x * f[9] + gj.y * f[10] + gj.z * f[11];
-        const double dl = -(tr->g.kp * move + tr->g.kd_s * move_rate) + dl_w[j];
-        const double u_ff = (l_next[j] - tr->l_ff_m[j]) / dt;
+        const cdpr_real_t dl = -(tr->g.kp * move + tr->g.kd_s * move_rate) + dl_w[j];
+        const cdpr_real_t u_ff = (l_next[j] - tr->l_ff_m[j]) / dt;
         cmd->l_ff_m[j] = tr->l_ff_m[j];
         cmd->u_ff_m_per_s[j] = u_ff;
         cmd->dl_m[j] = dl;
         cmd->rate_m_per_s[j] = u_ff + tr->g.k_length_per_s * (tr->l_ff_m[j] + dl - m->length_m[j]);
-        if (tr->g.tension_gain_m_per_s_per_N > 0.0) {
+        if (tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0)) {
             cmd->rate_m_per_s[j] += tr->g.tension_gain_m_per_s_per_N * tr->ten_f[j];
         }
     }
@@ -656,14 +579,16 @@ static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
 
 /* Step 4b: the tension errors T_j - T_ff,j(t) through one first-order stage into tr->ten_f
  * (primed by the first sample with the pose filter). Only with tension feedback on. */
-static void filter_tensions(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, double dt)
+static void filter_tensions(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, cdpr_real_t dt)
 {
-    if (!(tr->g.tension_gain_m_per_s_per_N > 0.0)) {
+    if (!(tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0))) {
         return;
     }
-    const double a = (tr->g.tension_filter_s > 0.0) ? 1.0 - exp(-dt / tr->g.tension_filter_s) : 1.0;
+    const cdpr_real_t a = (tr->g.tension_filter_s > CDPR_R(0.0))
+                              ? CDPR_R(1.0) - CDPR_EXP(-dt / tr->g.tension_filter_s)
+                              : CDPR_R(1.0);
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
-        const double e = m->tension_winch_N[j] - tr->t_ff_N[j];
+        const cdpr_real_t e = m->tension_winch_N[j] - tr->t_ff_N[j];
         tr->ten_f[j] = (tr->filter_primed == 0) ? e : tr->ten_f[j] + a * (e - tr->ten_f[j]);
     }
 }
@@ -672,11 +597,11 @@ static void filter_tensions(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, do
  * is then the IK of the measured pose (under the load of the reference's start). */
 static void start_transfer(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
 {
-    if (!(tr->g.transfer_s > 0.0) || tr->transfer_set != 0) {
+    if (!(tr->g.transfer_s > CDPR_R(0.0)) || tr->transfer_set != 0) {
         return;
     }
     cdpr_transfer_init(&tr->transfer, &tr->traj, m->t_s, tr->g.transfer_s, &m->cabin,
-                       (tr->g.transfer_from_rest > 0.5) ? 1 : 0);
+                       (tr->g.transfer_from_rest > CDPR_R(0.5)) ? 1 : 0);
     tr->transfer_set = 1;
     tr->t_next_s = m->t_s;
     if (feedforward(tr, m->t_s, tr->l_ff_m, tr->t_ff_N) != CDPR_OK) {
@@ -696,26 +621,29 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     if (!meas_finite(tr, m)) {
         return CDPR_E_NOT_FINITE;
     }
-    memset(cmd, 0, sizeof *cmd);
-    const double dt = tr->period_s;
-    const double t = m->t_s;
-    double l_next[CDPR_MAX_CABLES];
-    double t_next[CDPR_MAX_CABLES];
+    (void)memset(cmd, 0, sizeof *cmd);
+    const cdpr_real_t dt = tr->period_s;
+    const cdpr_real_t t = m->t_s;
+    cdpr_real_t l_next[CDPR_MAX_CABLES];
+    cdpr_real_t t_next[CDPR_MAX_CABLES];
     if (tr->steps == 0) {
         learn_first_step(tr, t);
     }
     start_transfer(tr, m);
     feedforward_step(tr, t, dt, l_next, t_next, cmd);
-    double raw[12];
+    cdpr_real_t raw[12];
     pose_error(tr, m, t, cmd, raw);
     filter_tensions(tr, m, dt); /* before filter_errors: both prime on the same sample */
     filter_errors(tr, raw, dt);
-    double dl_w[CDPR_MAX_CABLES] = {0.0};
+    cdpr_real_t dl_w[CDPR_MAX_CABLES];
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        dl_w[j] = CDPR_R(0.0);
+    }
     damping_step(tr, t, cmd, dl_w);
     learn_step(tr, m, t, raw, dl_w);
     rate_commands(tr, m, dt, l_next, dl_w, cmd);
-    memcpy(tr->l_ff_m, l_next, sizeof l_next);
-    memcpy(tr->t_ff_N, t_next, sizeof t_next);
+    (void)memcpy(tr->l_ff_m, l_next, sizeof l_next);
+    (void)memcpy(tr->t_ff_N, t_next, sizeof t_next);
     tr->l_ff_exact = (cmd->ik_status == CDPR_OK) ? 1 : 0;
     tr->t_next_s = t + dt;
     tr->steps++;

@@ -102,19 +102,19 @@
 /// into a separate process unchanged. Memory: caller-owned object, no allocation. Work per
 /// step: one cdpr_statics_ik_wrench (bounded iterations), a second one when wrench-space
 /// damping is on, plus O(cables).
-#ifndef CDPR_HOST_TRACKER_H
-#define CDPR_HOST_TRACKER_H
+#ifndef CDPR_CONTROL_TRACKER_H
+#define CDPR_CONTROL_TRACKER_H
 
 #include "cdpr/plant.h"
 #include "cdpr/robot.h"
 #include "cdpr/statics.h"
 #include "cdpr/status.h"
-#include "cdpr/host/trajectory.h"
+#include "cdpr/control/trajectory.h"
 
 /// Largest unstretched length, in chords, the tracker commands (the IK's loop solutions lie
 /// beyond; working cables stay within a few per cent of their chords). 1.5 chords is a sag of
 /// about 40 % of the chord.
-#define CDPR_TRACKER_MAX_LENGTH_PER_CHORD 1.5
+#define CDPR_TRACKER_MAX_LENGTH_PER_CHORD CDPR_R(1.5)
 
 /// Capacity of the learned correction (step 8): knots per lap and cable. A lap longer than
 /// this many control periods is stored decimated (6.28 s at 100 Hz: 512 knots 12.3 ms apart;
@@ -124,31 +124,31 @@
 
 /// Gains (inputs).
 typedef struct {
-    double kp;                ///< pose-error gain [-] (>= 0)
-    double kd_s;              ///< pose-error-rate gain [s] (>= 0)
-    double k_length_per_s;    ///< length-loop gain k_L [1/s] (>= 0)
-    double filter_s;          ///< time constant of the error low-pass [s] (>= 0; 0 = none)
-    double inertial_ff;       ///< fraction of the d'Alembert load in the feed-forward IK [-]
-                              ///< (>= 0; 1 = full inverse dynamics of the rigid cabin, 0 = static)
-    double damping_N_s_per_m; ///< wrench-space damping c of the velocity error [N s/m] (>= 0)
-    double damping_rot_N_m_s; ///< wrench-space damping c_r of the rate error [N m s] (>= 0)
-    double transfer_s;        ///< planned transfer T from the first measurement onto the
-                              ///< trajectory [s] (>= 0; 0 = none: the reference is the
-                              ///< trajectory from the start; cdpr_transfer_t)
-    double wind_ff;           ///< fraction of the cables' steady wind load in the feed-forward
-                              ///< IK [-] (>= 0; 0 = none; cdpr_tracker_wind_wrench)
-    cdpr_vec3_t wind_m_per_s; ///< the steady wind the feed-forward assumes [m/s] (finite; the
-                              ///< plant's robot.wind_m_per_s: an ideal anemometer)
-    double tension_gain_m_per_s_per_N; ///< winch tension feedback k_T [m/s/N] (>= 0; 0 = off)
-    double tension_filter_s;           ///< time constant of the tension error's low-pass [s] (>= 0;
-                                       ///< 0 = none)
-    double learning_gain;              ///< learning over laps γ [-] (>= 0; 0 = off; step 8)
-    double learning_lead_s;            ///< phase advance of the learned error [s] (>= 0)
-    double learning_cutoff_hz; ///< cutoff f_c of the zero-phase filter Q [Hz] (>= 0; 0 = none)
-    double learning_limit_m;   ///< bound of |c_j| [m] (> 0 when learning_gain > 0)
-    long learning_settle_laps; ///< whole laps after the transfer before recording (>= 0)
-    double transfer_from_rest; ///< 1: the transfer starts the trajectory's clock at rest and
-                               ///< takes over the measured velocity (cdpr_transfer_t); 0: off
+    cdpr_real_t kp;             ///< pose-error gain [-] (>= 0)
+    cdpr_real_t kd_s;           ///< pose-error-rate gain [s] (>= 0)
+    cdpr_real_t k_length_per_s; ///< length-loop gain k_L [1/s] (>= 0)
+    cdpr_real_t filter_s;       ///< time constant of the error low-pass [s] (>= 0; 0 = none)
+    cdpr_real_t inertial_ff;    ///< fraction of the d'Alembert load in the feed-forward IK [-]
+                             ///< (>= 0; 1 = full inverse dynamics of the rigid cabin, 0 = static)
+    cdpr_real_t damping_N_s_per_m; ///< wrench-space damping c of the velocity error [N s/m] (>= 0)
+    cdpr_real_t damping_rot_N_m_s; ///< wrench-space damping c_r of the rate error [N m s] (>= 0)
+    cdpr_real_t transfer_s;        ///< planned transfer T from the first measurement onto the
+                                   ///< trajectory [s] (>= 0; 0 = none: the reference is the
+                                   ///< trajectory from the start; cdpr_transfer_t)
+    cdpr_real_t wind_ff;           ///< fraction of the cables' steady wind load in the feed-forward
+                                   ///< IK [-] (>= 0; 0 = none; cdpr_tracker_wind_wrench)
+    cdpr_vec3_t wind_m_per_s;      ///< the steady wind the feed-forward assumes [m/s] (finite; the
+                                   ///< plant's robot.wind_m_per_s: an ideal anemometer)
+    cdpr_real_t tension_gain_m_per_s_per_N; ///< winch tension feedback k_T [m/s/N] (>= 0; 0 = off)
+    cdpr_real_t tension_filter_s;   ///< time constant of the tension error's low-pass [s] (>= 0;
+                                    ///< 0 = none)
+    cdpr_real_t learning_gain;      ///< learning over laps γ [-] (>= 0; 0 = off; step 8)
+    cdpr_real_t learning_lead_s;    ///< phase advance of the learned error [s] (>= 0)
+    cdpr_real_t learning_cutoff_hz; ///< cutoff f_c of the zero-phase filter Q [Hz] (>= 0; 0 = none)
+    cdpr_real_t learning_limit_m;   ///< bound of |c_j| [m] (> 0 when learning_gain > 0)
+    long learning_settle_laps;      ///< whole laps after the transfer before recording (>= 0)
+    cdpr_real_t transfer_from_rest; ///< 1: the transfer starts the trajectory's clock at rest and
+                                    ///< takes over the measured velocity (cdpr_transfer_t); 0: off
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,
@@ -157,58 +157,59 @@ typedef cdpr_plant_meas_t cdpr_tracker_meas_t;
 
 /// Commands and diagnostics of one period (outputs).
 typedef struct {
-    double rate_m_per_s[CDPR_MAX_CABLES]; ///< payout-rate commands u_j [m/s], + = pay out
-    double l_ff_m[CDPR_MAX_CABLES];       ///< feed-forward lengths L_ff(t) [m]
-    double u_ff_m_per_s[CDPR_MAX_CABLES]; ///< feed-forward rates [m/s]
-    double dl_m[CDPR_MAX_CABLES];         ///< feedback length corrections δL [m]
-    cdpr_traj_sample_t desired;           ///< desired state at t
-    double err_pos_m[3];                  ///< e_p = p_d - p, world [m]
-    double err_rot_rad[3];                ///< e_θ, world [rad]
-    cdpr_status_t ik_status;              ///< status of this period's IK
-    cdpr_status_t fb_status;              ///< status of the damping IK (CDPR_OK if unused)
-    unsigned slack_demand;                ///< bit j: cable j's demanded tension <= 0 this period
-    double demand_tension_N[CDPR_MAX_CABLES]; ///< straight-cable tensions of the demanded load
-                                              ///< (filled when slack_demand != 0, else 0) [N]
+    cdpr_real_t rate_m_per_s[CDPR_MAX_CABLES]; ///< payout-rate commands u_j [m/s], + = pay out
+    cdpr_real_t l_ff_m[CDPR_MAX_CABLES];       ///< feed-forward lengths L_ff(t) [m]
+    cdpr_real_t u_ff_m_per_s[CDPR_MAX_CABLES]; ///< feed-forward rates [m/s]
+    cdpr_real_t dl_m[CDPR_MAX_CABLES];         ///< feedback length corrections δL [m]
+    cdpr_traj_sample_t desired;                ///< desired state at t
+    cdpr_real_t err_pos_m[3];                  ///< e_p = p_d - p, world [m]
+    cdpr_real_t err_rot_rad[3];                ///< e_θ, world [rad]
+    cdpr_status_t ik_status;                   ///< status of this period's IK
+    cdpr_status_t fb_status;                   ///< status of the damping IK (CDPR_OK if unused)
+    unsigned slack_demand; ///< bit j: cable j's demanded tension <= 0 this period
+    cdpr_real_t demand_tension_N[CDPR_MAX_CABLES]; ///< straight-cable tensions of the demanded load
+                                                   ///< (filled when slack_demand != 0, else 0) [N]
 } cdpr_tracker_cmd_t;
 
 /// The controller (caller-owned).
 typedef struct {
-    cdpr_robot_t model;             ///< own robot model (statics only)
-    cdpr_traj_t traj;               ///< desired trajectory
-    cdpr_tracker_gains_t g;         ///< gains
-    double period_s;                ///< control period Δt_c [s]
-    cdpr_statics_opts_t ik_opts;    ///< IK settings
-    double l_ff_m[CDPR_MAX_CABLES]; ///< L_ff at t_next_s (internal)
-    double err_f1[12];              ///< first filter stage (internal)
-    double err_f[12];               ///< filtered e_p, e_θ, ė_p, ė_θ (internal)
-    double ten_f[CDPR_MAX_CABLES];  ///< filtered tension errors T_j - T_ff,j [N] (internal)
-    double t_ff_N[CDPR_MAX_CABLES]; ///< feed-forward winch-end tensions at t_next_s (internal)
-    int filter_primed;              ///< err_f holds a value (internal)
-    double t_next_s;                ///< time L_ff refers to (internal)
-    int l_ff_exact;                 ///< l_ff_m is the IK at t_next_s, not a held value (internal)
-    unsigned long ik_failures;      ///< periods whose IK failed (output)
-    unsigned long fb_failures;      ///< periods whose damping IK failed (output)
-    unsigned long steps;            ///< periods run (output)
-    cdpr_transfer_t transfer;       ///< the planned transfer (set at the first step; internal)
-    int transfer_set;               ///< transfer holds the first measurement (internal)
+    cdpr_robot_t model;                  ///< own robot model (statics only)
+    cdpr_traj_t traj;                    ///< desired trajectory
+    cdpr_tracker_gains_t g;              ///< gains
+    cdpr_real_t period_s;                ///< control period Δt_c [s]
+    cdpr_statics_opts_t ik_opts;         ///< IK settings
+    cdpr_real_t l_ff_m[CDPR_MAX_CABLES]; ///< L_ff at t_next_s (internal)
+    cdpr_real_t err_f1[12];              ///< first filter stage (internal)
+    cdpr_real_t err_f[12];               ///< filtered e_p, e_θ, ė_p, ė_θ (internal)
+    cdpr_real_t ten_f[CDPR_MAX_CABLES];  ///< filtered tension errors T_j - T_ff,j [N] (internal)
+    cdpr_real_t t_ff_N[CDPR_MAX_CABLES]; ///< feed-forward winch-end tensions at t_next_s (internal)
+    int filter_primed;                   ///< err_f holds a value (internal)
+    cdpr_real_t t_next_s;                ///< time L_ff refers to (internal)
+    int l_ff_exact;            ///< l_ff_m is the IK at t_next_s, not a held value (internal)
+    unsigned long ik_failures; ///< periods whose IK failed (output)
+    unsigned long fb_failures; ///< periods whose damping IK failed (output)
+    unsigned long steps;       ///< periods run (output)
+    cdpr_transfer_t transfer;  ///< the planned transfer (set at the first step; internal)
+    int transfer_set;          ///< transfer holds the first measurement (internal)
     unsigned long slack_demand_periods[CDPR_MAX_CABLES]; ///< periods whose feed-forward demanded
                                                          ///< a tension <= 0 of cable j (output)
-    int first_slack_cable;        ///< cable (0-based) of the first slack demand (-1: none)
-    double first_slack_t_s;       ///< its time: the feed-forward instant t + Δt_c [s]
-    double first_slack_tension_N; ///< its straight-cable tension [N] (<= 0)
+    int first_slack_cable;             ///< cable (0-based) of the first slack demand (-1: none)
+    cdpr_real_t first_slack_t_s;       ///< its time: the feed-forward instant t + Δt_c [s]
+    cdpr_real_t first_slack_tension_N; ///< its straight-cable tension [N] (<= 0)
     /* learning over laps (step 8) */
-    double learn_c[CDPR_MAX_CABLES][CDPR_TRACKER_LEARN_KNOTS];   ///< learned c_j at the knots [m]
-    double learn_acc[CDPR_MAX_CABLES][CDPR_TRACKER_LEARN_KNOTS]; ///< this lap's weighted e_L sums
-                                                                 ///< (internal)
-    double learn_w[CDPR_TRACKER_LEARN_KNOTS]; ///< this lap's weight sums per knot (internal)
-    int learn_knots;                          ///< M (0: no learning; internal)
-    double learn_lap_s;                       ///< T_lap [s] (internal)
-    double learn_start_s;                     ///< t_learn: first lap recorded starts here [s]
-    long learn_lap;                           ///< lap of the previous step (-1: none; internal)
-    int learn_recording;                      ///< the current lap is recorded whole (internal)
-    unsigned long learning_updates;           ///< laps learned (updates of c) (output)
-    unsigned long learning_saturations;       ///< knot values clamped to ±learning_limit_m
-                                              ///< (summed over updates and cables) (output)
+    cdpr_real_t learn_c[CDPR_MAX_CABLES]
+                       [CDPR_TRACKER_LEARN_KNOTS]; ///< learned c_j at the knots [m]
+    cdpr_real_t learn_acc[CDPR_MAX_CABLES][CDPR_TRACKER_LEARN_KNOTS]; ///< this lap's weighted e_L
+                                                                      ///< sums (internal)
+    cdpr_real_t learn_w[CDPR_TRACKER_LEARN_KNOTS]; ///< this lap's weight sums per knot (internal)
+    int learn_knots;                               ///< M (0: no learning; internal)
+    cdpr_real_t learn_lap_s;                       ///< T_lap [s] (internal)
+    cdpr_real_t learn_start_s;                     ///< t_learn: first lap recorded starts here [s]
+    long learn_lap;                     ///< lap of the previous step (-1: none; internal)
+    int learn_recording;                ///< the current lap is recorded whole (internal)
+    unsigned long learning_updates;     ///< laps learned (updates of c) (output)
+    unsigned long learning_saturations; ///< knot values clamped to ±learning_limit_m
+                                        ///< (summed over updates and cables) (output)
 } cdpr_tracker_t;
 
 /// Validate and initialise for control period `period_s` (> 0): builds the model from
@@ -219,7 +220,7 @@ typedef struct {
 /// trajectory starts outside the feasible set).
 cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *model_params,
                                 const cdpr_traj_t *traj, const cdpr_tracker_gains_t *g,
-                                double period_s, double t0_s, cdpr_diag_t *diag);
+                                cdpr_real_t period_s, cdpr_real_t t0_s, cdpr_diag_t *diag);
 
 /// One control period from measurements at m->t_s. Always produces commands (holding the last
 /// good feed-forward when the IK fails; cmd->ik_status says why). If m->t_s is not the time
@@ -252,22 +253,11 @@ void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion
 
 /// Reference of tracker `tr` at t: the trajectory, or the transfer onto it once the first
 /// step has set it (transfer_s > 0).
-void cdpr_tracker_reference(const cdpr_tracker_t *tr, double t_s, cdpr_traj_sample_t *out);
-
-/// Straight-chord tensions t_j that balance the weight plus the external wrench (f_ext at the
-/// CoM, tau_ext about it, world axes) at `pose`: the 6x6 solve of the massless model
-/// (statics.h model, chords instead of catenaries), negative values allowed. Returns CDPR_OK,
-/// or CDPR_E_INFEASIBLE when the chords do not span the wrench (singular).
-cdpr_status_t cdpr_tracker_straight_tensions(const cdpr_robot_t *model,
-                                             const cdpr_cabin_motion_t *pose, cdpr_vec3_t f_ext_N,
-                                             cdpr_vec3_t tau_ext_Nm, double *tension_N);
-
-/// Rotation vector θ of the unit quaternion q (|θ| <= π, world axes for q_d q^-1) [rad].
-cdpr_vec3_t cdpr_quat_to_rotvec(cdpr_quat_t q);
+void cdpr_tracker_reference(const cdpr_tracker_t *tr, cdpr_real_t t_s, cdpr_traj_sample_t *out);
 
 /// Straight-cable length Jacobian row of cable j at motion m: dL_j = -(u·dp + g·dθ) with
 /// the returned u (unit vector attachment -> exit point) and g = (R b_j) x u.
 void cdpr_tracker_jacobian(const cdpr_robot_t *model, int j, const cdpr_cabin_motion_t *m,
                            cdpr_vec3_t *u, cdpr_vec3_t *g);
 
-#endif /* CDPR_HOST_TRACKER_H */
+#endif /* CDPR_CONTROL_TRACKER_H */

@@ -5,24 +5,23 @@
 /// finite differences of the momenta, the feed-forward under the circle's centripetal load and
 /// the wrench-space damping against the IK under hand-computed loads, refusing to command a
 /// cable hanging in a loop, holding the last good
-/// feed-forward when the IK fails, no heap allocation per step, and in closed loop
-/// (cdpr_sim_run) holding the cabin at rest: without pose feedback the settled cabin does
-/// not move at all, and proportional feedback divides the static offset between the discrete
-/// model and the continuous catenary IK by (1 + kp).
+/// feed-forward when the IK fails, no heap allocation per step, and in closed loop with the
+/// core's plant (the loop a firmware runs) holding the cabin at rest: without pose feedback
+/// the settled cabin does not move at all, and proportional feedback divides the static
+/// offset between the discrete model and the continuous catenary IK by (1 + kp). Core and
+/// lib/control only: runs on the host and, through QEMU, on the Cortex-M.
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "alloc_count.h"
-#include "cdpr/host/presets.h"
-#include "cdpr/host/scenario.h"
-#include "cdpr/host/sim.h"
+#include "cdpr/control/tracker.h"
+#include "cdpr/plant.h"
 #include "cdpr/statics.h"
-#include "cdpr/host/tracker.h"
+#include "paper_circle.h"
+#include "paper_plant.h"
 #include "ref_mat3.h"
 #include "test_real.h"
-#include "paper_circle.h"
-#include "paper_model.h"
 #include "unity.h"
 
 /* Control period of the controllers built here [s]. */
@@ -34,9 +33,14 @@ void tearDown(void) {}
 static cdpr_tracker_t tracker;
 static cdpr_robot_t model;
 
+/* The paper's 50 m model at 8 segments per cable (paper_plant.h: written out in the tests,
+ * the numbers of the preset), initialised into `model`. */
 static void model_params(cdpr_robot_params_t *p)
 {
-    test_paper_model_params(p, &model);
+    cdpr_plant_params_t pp;
+    test_paper_plant_params(&pp, 8);
+    *p = pp.robot;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&model, p, NULL));
 }
 
 /* Straight distance attachment -> exit point of cable j at motion m (independent of the
@@ -302,53 +306,86 @@ static void test_step_makes_no_heap_allocation(void)
     TEST_ASSERT_EQUAL_UINT32(0u, (unsigned)cdpr_alloc_count());
 }
 
-/* Hold at the circle's start with 8 segments for `duration` seconds. */
-static void run_hold(double kp, double duration, cdpr_sim_summary_t *sum)
+/* The tracker and the core's plant in one loop, as a firmware runs them each period
+ * (measure, step the controller, command the winches, advance the plant): the paper's model
+ * at 8 segments (paper_plant.h, the same numbers as the preset), holding the circle's start
+ * (0, 0, 9.135) m for `periods` periods of 10 ms. Position error |p - p_d| per period. */
+typedef struct {
+    double initial_m;        /* at the first period */
+    double max_m;            /* largest */
+    double final_m;          /* at the last period */
+    double rms_second_m;     /* RMS over the second half of the periods */
+    double max_rate_m_per_s; /* largest commanded payout rate */
+    unsigned long nodes;     /* node insertions and removals */
+} hold_run_t;
+
+static cdpr_plant_t plant;
+
+static void run_hold(double kp, int periods, hold_run_t *h)
 {
-    cdpr_scenario_t sc;
-    cdpr_scenario_default(&sc, CDPR_PRESET_PAPER_50M);
-    sc.robot.segments = 8;
-    sc.gains.kp = kp;
-    sc.gains.kd_s = 0.0;
-    sc.gains.k_length_per_s = 5.0;
-    sc.gains.filter_s = 1.0;
-    sc.integrator.max_trials = 1000;
-    sc.duration_s = duration;
-    cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_check(&sc, &err), err.msg);
-    cdpr_sim_opts_t o;
-    cdpr_sim_opts_default(&o);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_run(&sc, &o, sum, &err), err.msg);
-    TEST_ASSERT_EQUAL_INT(CDPR_SIM_OK, sum->status);
+    cdpr_plant_params_t pp;
+    test_paper_plant_params(&pp, 8);
+    pp.max_trials = 1000;
+    const double pose[6] = {0.0, 0.0, TEST_HOME_Z_M, 0.0, 0.0, 0.0};
+    const cdpr_traj_t tr = hold_at(pose);
+    const cdpr_tracker_gains_t g = {kp,  0.0, 5.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
+    cdpr_diag_t d;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_plant_init(&plant, &pp, &d), d.field);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        CDPR_OK, cdpr_tracker_init(&tracker, &pp.robot, &tr, &g, PERIOD_S, 0.0, &d), d.field);
+    memset(h, 0, sizeof *h);
+    double sq = 0.0;
+    for (int k = 0; k < periods; ++k) {
+        cdpr_tracker_meas_t m;
+        cdpr_plant_measure(&plant, &m);
+        cdpr_tracker_cmd_t cmd;
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &m, &cmd));
+        const double e = cdpr_v3_norm(cdpr_v3_sub(m.cabin.p_m, cmd.desired.motion.p_m));
+        h->initial_m = (k == 0) ? e : h->initial_m;
+        h->max_m = fmax(h->max_m, e);
+        h->final_m = e;
+        sq += (2 * k >= periods) ? e * e : 0.0;
+        for (int j = 0; j < 6; ++j) {
+            h->max_rate_m_per_s = fmax(h->max_rate_m_per_s, fabs(cmd.rate_m_per_s[j]));
+        }
+        int flags = 0;
+        const cdpr_status_t st = cdpr_plant_step(&plant, CDPR_WINCH_RATE, cmd.rate_m_per_s, &flags);
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, st);
+    }
+    h->rms_second_m = sqrt(sq / (double)(periods - periods / 2));
+    for (int j = 0; j < 6; ++j) {
+        h->nodes += plant.nodes.insertions[j] + plant.nodes.removals[j];
+    }
 }
 
 static void test_closed_loop_holds_the_cabin_at_rest(void)
 {
-    cdpr_sim_summary_t a;
-    run_hold(0.0, 10.0, &a);
+    SKIP_IN_FLOAT("the 1e-5 m rest bound is below what float resolves of a 9 m pose");
+    hold_run_t a;
+    run_hold(0.0, 1000, &a);
     /* The settled discrete chain sits off the continuous catenary pose by O(Δ^2): about
      * 2 mm at 8 segments (docs/validation.md §6 measured 2.1 mm at another pose). */
-    TEST_ASSERT_TRUE(a.initial_error_m > 1e-3);
-    TEST_ASSERT_TRUE(a.initial_error_m < 4e-3);
+    TEST_ASSERT_TRUE(a.initial_m > 1e-3);
+    TEST_ASSERT_TRUE(a.initial_m < 4e-3);
     /* Started at rest at its own equilibrium with L = L_ff and no feedback, nothing moves:
      * the winches get u = 0 and the error stays at its initial value. Bound as the at-rest
      * test of test_statics: 1e-5 m over 10 s. */
-    TEST_ASSERT_DOUBLE_WITHIN(1e-5, a.initial_error_m, a.max_error_m);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-5, a.initial_error_m, a.final_error_m);
-    TEST_ASSERT_TRUE(a.max_payout_m_per_s < 1e-9);
-    TEST_ASSERT_EQUAL_UINT32(0u, (unsigned)(a.node_insertions + a.node_removals));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-5, a.initial_m, a.max_m);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-5, a.initial_m, a.final_m);
+    TEST_ASSERT_TRUE(a.max_rate_m_per_s < 1e-9);
+    TEST_ASSERT_EQUAL_UINT32(0u, (unsigned)a.nodes);
 
     /* Proportional feedback kp = 1: the loop's static gain (plant: straight-cable Jacobian,
      * ~1 for small moves) halves the offset, e = e0 / (1 + kp). The lightly damped modes it
      * excites ring around that value: compared as the RMS over the second half of 20 s, 15 %
      * (the straight-cable Jacobian differs from the sagging cables' by a few per cent, the
      * ringing adds the rest). */
-    cdpr_sim_summary_t b;
-    run_hold(1.0, 20.0, &b);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-12, a.initial_error_m, b.initial_error_m);
-    TEST_ASSERT_DOUBLE_WITHIN(0.15 * a.initial_error_m / 2.0, a.initial_error_m / 2.0,
-                              b.rms_error_second_half_m);
-    TEST_ASSERT_TRUE(b.max_error_m <= a.initial_error_m * (1.0 + 1e-9));
+    hold_run_t b;
+    run_hold(1.0, 2000, &b);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, a.initial_m, b.initial_m);
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * a.initial_m / 2.0, a.initial_m / 2.0, b.rms_second_m);
+    TEST_ASSERT_TRUE(b.max_m <= a.initial_m * (1.0 + 1e-9));
 }
 
 /* Central difference over ±h of the trajectory at t: CoM velocity v_c = v + ω_w x (R c) and
