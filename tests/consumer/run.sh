@@ -18,7 +18,8 @@
 #   tests/consumer/cdpr-consumer-{host,core}.
 #  Cortex-M7 (cortex-m7 preset, installed to its own prefix), tests/consumer/firmware, Release:
 #   4. the installed package;  5. add_subdirectory(<src>/lib/core and lib/control);
-#   each: 0 FMA instructions (vfma/vfms/vfnma/vfnms) in the libcdpr_core.a it links, and the
+#   each: 0 FMA instructions (vfma/vfms/vfnma/vfnms) in the libcdpr_core.a and
+#   libcdpr_control.a it links, and the
 #   output under QEMU mps2-an500 byte-identical to build/cortex-m7's cdpr-consumer-core.
 #
 # Reuses (and brings up to date) build/release and build/cortex-m7; everything else lives in
@@ -228,13 +229,14 @@ for route in package subdirectory; do
         bad "Cortex-M7 $route consumer: configure or build failed"
         continue
     fi
-    archive=$(cat "$b/CDPR_CORE_ARCHIVE.txt")
-    n=$(fma_count "$archive")
-    if [[ $n == 0 ]]; then
-        ok "Cortex-M7 $route consumer: 0 FMA instructions in ${archive#"$work"/}"
-    else
-        bad "Cortex-M7 $route consumer: $n FMA instructions in $archive"
-    fi
+    for archive in "$(cat "$b/CDPR_CORE_ARCHIVE.txt")" "$(cat "$b/CDPR_CONTROL_ARCHIVE.txt")"; do
+        n=$(fma_count "$archive")
+        if [[ $n == 0 ]]; then
+            ok "Cortex-M7 $route consumer: 0 FMA instructions in ${archive#"$work"/}"
+        else
+            bad "Cortex-M7 $route consumer: $n FMA instructions in $archive"
+        fi
+    done
     if qemu_m7 "$b/state_bits.elf" >"$work/m7-$route.txt"; then
         same "Cortex-M7 $route consumer on QEMU == the cortex-m7 preset's cdpr-consumer-core" \
             "$work/ref-m7.txt" "$work/m7-$route.txt"
