@@ -56,8 +56,9 @@ if [[ $multicast -eq 1 ]]; then
 fi
 if [[ $multicast -eq 1 ]]; then
     echo "two processes over $url; lcm-logger records to $out/circle.lcmlog"
-    # The tracker checks its controller's design at load (a few seconds with feedback on):
-    # start the plant only once it listens, so that it sees state 0.
+    # Start the plant only once the tracker listens, so that it sees state 0. (The
+    # controller's design is checked by the tests' design_gate_paper-circle-laps, not here:
+    # cdpr-design scenarios/paper-circle-laps.yaml --verdict, ~12 s.)
     "$bin/cdpr-tracker" "$scenario" --rate 1000 --integrator ros34pw2-fixed --lcm-url "$url" --out "$out" \
         2> >(tee "$out/tracker.stderr" >&2) &
     tracker=$!

@@ -73,7 +73,7 @@ def run_one(sim, base_text, out, label, settings, duration, plot):
     path = os.path.join(d, "scenario.yaml")
     with open(path, "w") as f:
         f.write(text)
-    # --unchecked-gains: the sweep measures the gains the check at load refuses too
+    # --unchecked-gains: no design check (the default) and no note about it per case
     cmd = [sim, path, "--out", d, "--quiet", "--unchecked-gains"]
     if not plot:
         cmd.append("--no-plot")

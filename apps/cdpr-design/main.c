@@ -200,20 +200,26 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J] [--check] [--zoh]\n"
+            "       cdpr-design SCENARIO --verdict\n"
             "Linear model of the scenario's loop holding the trajectory's pose at T (default:\n"
             "where it stops) written into the directory OUT; scripts/feedback_design.py reads\n"
             "it (modes, closed-loop eigenvalues, margins; docs/validation.md \"Feedback\n"
             "design\").\n\n"
             "  --at T          hold the pose of the trajectory at T [s]\n"
             "  --step-test J   also the nonlinear response to a 1 mm/s step on winch J (0..5)\n"
-            "  --check         also the analysis in C (the check the apps run at load: growth,\n"
-            "                  margins, α, the learning's ρ) as JSON on stdout and OUT/check.json\n"
+            "  --check         also the analysis in C (the check the apps run with\n"
+            "                  --check-design: growth, margins, α, the learning's ρ) as JSON on\n"
+            "                  stdout and OUT/check.json\n"
+            "  --verdict       only the verdict of that check at the apps' pose, as the apps\n"
+            "                  print it (no OUT): refused (exit 5), below the goal margins (a\n"
+            "                  warning, exit 0), passed or feed-forward only (exit 0)\n"
             "  --zoh           also OUT/Phi.bin (n x n) and OUT/Gam.bin (n x 6): the zero-order\n"
             "                  hold over the control period as the check computes it\n"
             "  --help          this text\n"
             "  --version       version and git description\n\n"
             "exit codes: 0 done, 1 step test failed, 2 bad command line or scenario,\n"
-            "            3 OUT cannot be written, 4 the analysis failed\n");
+            "            3 OUT cannot be written, 4 the analysis failed, 5 --verdict: the\n"
+            "            controller is refused\n");
 }
 
 /* Phi.bin, Gam.bin: the check's zero-order hold of the plant. */
@@ -267,18 +273,49 @@ static int run_check(const char *dir, const cdpr_design_model_t *m, double t0)
     return rc;
 }
 
+/* --verdict: the check the apps run with --check-design, at their pose, printed as they print
+ * it; one more line on stdout when it passes. Exit 5 when refused. */
+static int run_verdict(int argc, char **argv)
+{
+    if (argc - optind != 1) {
+        return cdpr_app_exit_code(
+            cdpr_app_usage_error("cdpr-design", "--verdict takes SCENARIO alone (no OUT)"));
+    }
+    const char *path = argv[optind];
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    static cdpr_scenario_t sc;
+    const cdpr_status_t ls = cdpr_app_scenario("cdpr-design", path, &ov, &sc);
+    if (ls != CDPR_OK) {
+        return cdpr_app_exit_code(ls);
+    }
+    const cdpr_status_t st = cdpr_app_design_check("cdpr-design", path, &sc, 0);
+    if (st == CDPR_E_OUT_OF_RANGE) {
+        return 5;
+    }
+    if (st != CDPR_OK) {
+        return 4;
+    }
+    printf("cdpr-design: %s: %s\n", path,
+           (cdpr_design_has_feedback(&sc.gains) != 0) ? "the controller passes the design check"
+                                                      : "feed-forward only: nothing to check");
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"at", required_argument, NULL, 'a'},
                                              {"step-test", required_argument, NULL, 's'},
                                              {"check", no_argument, NULL, 'c'},
                                              {"zoh", no_argument, NULL, 'z'},
+                                             {"verdict", no_argument, NULL, 'v'},
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     double at_s = (double)NAN;
     double cable = -1.0;
     int check = 0;
     int zoh = 0;
+    int verdict = 0;
     int c;
     opterr = 0;
     while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
@@ -294,6 +331,8 @@ int main(int argc, char **argv)
             check = 1;
         } else if (c == 'z') {
             zoh = 1;
+        } else if (c == 'v') {
+            verdict = 1;
         } else {
             return cdpr_app_exit_code(
                 cdpr_app_other_option("cdpr-design", c, argv, longopts, usage));
@@ -301,6 +340,9 @@ int main(int argc, char **argv)
         if (bad != CDPR_OK) {
             return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
         }
+    }
+    if (verdict != 0) {
+        return run_verdict(argc, argv);
     }
     if (argc - optind != 2) {
         return cdpr_app_exit_code(cdpr_app_usage_error("cdpr-design", "SCENARIO and OUT expected"));

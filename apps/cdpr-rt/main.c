@@ -32,6 +32,7 @@ typedef struct {
     const char *tracker_out;
     int with_tracker;
     int quiet;
+    int check_design; /* --check-design */
     cdpr_scenario_overrides_t ov;
     cdpr_rt_opts_t rt;
 } options_t;
@@ -76,6 +77,9 @@ static void usage(FILE *f)
            "                         thread (what memq:// needs: it is in-process only)\n"
            "  --tracker-out DIR      with --with-tracker: its timeseries.csv, summary.json and\n"
            "                         figures (as cdpr-tracker --out)\n"
+           "  --check-design         with --with-tracker: first check the controller's feedback\n"
+           "                         and learning on the linearised loop (seconds; exit 2 when\n"
+           "                         refused; docs/scenarios.md)\n"
            "  --quiet                no telemetry summary\n"
            "  --help                 this text\n"
            "  --version              version and git description\n\n"
@@ -101,6 +105,7 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"prefix", required_argument, NULL, 'p'},
                                              {"with-tracker", no_argument, NULL, 't'},
                                              {"tracker-out", required_argument, NULL, 'o'},
+                                             CDPR_APP_CHECK_DESIGN_OPTION,
                                              {"quiet", no_argument, NULL, 'q'},
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
@@ -162,6 +167,9 @@ static int parse(int argc, char **argv, options_t *o)
             break;
         case 'o':
             o->tracker_out = optarg;
+            break;
+        case CDPR_APP_OPT_CHECK_DESIGN:
+            o->check_design = 1;
             break;
         case 'q':
             o->quiet = 1;
@@ -362,8 +370,8 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(st);
     }
     /* The scenario's controller runs only in the in-process tracker. */
-    if (o.with_tracker != 0 &&
-        (st = cdpr_app_design_check("cdpr-rt", o.scenario, &sc, o.quiet)) != CDPR_OK) {
+    if (o.with_tracker != 0 && (st = cdpr_app_design_gate("cdpr-rt", o.scenario, &sc,
+                                                          o.check_design, o.quiet)) != CDPR_OK) {
         return cdpr_app_exit_code(st);
     }
     o.rt.stop = cdpr_app_stop_on_signals();

@@ -30,7 +30,7 @@ typedef struct {
     int plot;
     int progress; /* -1 auto (a tty), 0 off, 1 forced */
     int quiet;
-    int unchecked; /* --unchecked-gains */
+    int check_design; /* --check-design (1), --unchecked-gains (-1), neither (0) */
 } options_t;
 
 /* The default gnuplot script: the installation's (cdpr_app_data_file). */
@@ -55,8 +55,11 @@ static void usage(FILE *f)
             "                      %s\n"
             "  --progress          progress on stderr even when it is not a terminal\n"
             "  --quiet             no progress and no summary on stdout\n"
-            "  --unchecked-gains   run a controller the check at load refuses (the linearised\n"
-            "                      closed loop grows, or the learning diverges): to measure it\n"
+            "  --check-design      first check the controller's feedback and learning on the\n"
+            "                      linearised loop (seconds; docs/scenarios.md): refused (exit\n"
+            "                      2) when the closed loop grows or the learning diverges\n"
+            "  --unchecked-gains   no check and no note that it was skipped (the default runs\n"
+            "                      no check and says so once; the last of the two wins)\n"
             "  --help              this text\n"
             "  --version           version and git description\n\n"
             "exit codes: 0 run completed (status ok or warnings), 1 simulation stopped early,\n"
@@ -76,6 +79,7 @@ static int parse(int argc, char **argv, options_t *o)
         {"progress", no_argument, NULL, 'p'},
         {"quiet", no_argument, NULL, 'q'},
         {"unchecked-gains", no_argument, NULL, 'u'},
+        CDPR_APP_CHECK_DESIGN_OPTION,
         CDPR_APP_STD_OPTIONS,
         {NULL, 0, NULL, 0}};
     int c;
@@ -105,7 +109,10 @@ static int parse(int argc, char **argv, options_t *o)
             o->quiet = 1;
             break;
         case 'u':
-            o->unchecked = 1;
+            o->check_design = -1;
+            break;
+        case CDPR_APP_OPT_CHECK_DESIGN:
+            o->check_design = 1;
             break;
         default:
             (void)cdpr_app_other_option("cdpr-sim", c, argv, longopts, usage);
@@ -150,11 +157,11 @@ int main(int argc, char **argv)
     if (ls != CDPR_OK) {
         return cdpr_app_exit_code(ls);
     }
-    if (o.unchecked == 0) {
-        const cdpr_status_t ds = cdpr_app_design_check("cdpr-sim", o.scenario, &sc, o.quiet);
-        if (ds != CDPR_OK) {
-            return cdpr_app_exit_code(ds);
-        }
+    const cdpr_status_t ds =
+        cdpr_app_design_gate("cdpr-sim", o.scenario, &sc, (o.check_design > 0) ? 1 : 0,
+                             (o.quiet != 0 || o.check_design < 0) ? 1 : 0);
+    if (ds != CDPR_OK) {
+        return cdpr_app_exit_code(ds);
     }
     cdpr_sim_opts_t so;
     cdpr_sim_opts_default(&so);

@@ -176,3 +176,18 @@ cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cd
     }
     return st;
 }
+
+cdpr_status_t cdpr_app_design_gate(const char *prog, const char *path, const cdpr_scenario_t *sc,
+                                   int check, int quiet)
+{
+    if (check != 0) {
+        return cdpr_app_design_check(prog, path, sc, quiet);
+    }
+    if (quiet == 0 && cdpr_design_has_feedback(&sc->gains) != 0) {
+        fprintf(stderr,
+                "%s: note: %s: the controller's feedback/learning is not checked before this "
+                "run; --check-design checks it first, or cdpr-design %s --verdict\n",
+                prog, path, path);
+    }
+    return CDPR_OK;
+}

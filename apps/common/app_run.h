@@ -40,8 +40,8 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
                                 const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc);
 
-/// The check at load of the controller's design (cdpr/design/design.h): when sc's controller
-/// has feedback or learning (kp, kd_s, damping_N_s_per_m, damping_rot_N_m_s,
+/// The check of the controller's design (cdpr/design/design.h), at load with --check-design: when
+/// sc's controller has feedback or learning (kp, kd_s, damping_N_s_per_m, damping_rot_N_m_s,
 /// tension_gain_m_per_s_per_N, learning_gain > 0), linearise the loop at the pose cdpr-design
 /// uses by default and analyse it. Refused (the closed loop grows, or the learning's ρ(M) >= 1
 /// at a lap harmonic): prints "PROG: PATH: controller (...): ..." and returns
@@ -52,6 +52,23 @@ cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
 /// (CDPR_APP_DESIGN_S_AT_703 scaled by the cube of the states) and its time printed after.
 cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc,
                                     int quiet);
+
+/// The option `--check-design` of the scenario-running apps (cdpr-sim, cdpr-rt --with-tracker,
+/// cdpr-tracker): run cdpr_app_design_check before anything else. A value beyond any char, so
+/// it takes no short option letter.
+#define CDPR_APP_OPT_CHECK_DESIGN 0x1c0
+#define CDPR_APP_CHECK_DESIGN_OPTION                                                               \
+    {                                                                                              \
+        "check-design", no_argument, NULL, CDPR_APP_OPT_CHECK_DESIGN                               \
+    }
+
+/// The design check at load when asked for (`check` != 0: cdpr_app_design_check, its status).
+/// Otherwise the check does not run (it costs seconds: the apps start at once) and, when the
+/// controller has feedback or learning and `quiet` is 0, one line on stderr says so and how to
+/// check: "PROG: note: PATH: the controller's feedback/learning is not checked before this
+/// run; --check-design checks it first, or cdpr-design PATH --verdict". CDPR_OK then.
+cdpr_status_t cdpr_app_design_gate(const char *prog, const char *path, const cdpr_scenario_t *sc,
+                                   int check, int quiet);
 
 /// The design check's cost at 703 states (the paper's robot at 20 segments) with Debian's
 /// reference LAPACK on the project's 2-core machine [s]; cdpr_app_design_check announces

@@ -42,6 +42,8 @@ YAML
 }
 
 # refused NAME FILE EXPECTED-STDERR-SUBSTRING...: exit 2, every substring on stderr, no output.
+# Options every cdpr-sim call below adds (the design cases: --check-design).
+sim_args=()
 refused() {
     local name=$1 file=$2
     shift 2
@@ -49,7 +51,8 @@ refused() {
         return
     fi
     # (a guard against a hang, not a time assertion: the old code settled for minutes)
-    timeout 300 "$sim" "$file" --out "out-$name" --no-plot --quiet >"$name.stdout" 2>"$name.stderr"
+    timeout 300 "$sim" "$file" "${sim_args[@]}" --out "out-$name" --no-plot --quiet \
+        >"$name.stdout" 2>"$name.stderr"
     local rc=$?
     local ok=1
     [ "$rc" -eq 2 ] || { echo "FAIL $name: exit $rc, expected 2"; ok=0; }
@@ -145,11 +148,13 @@ sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 2.25/; s/duration_s: 12.6 .*/duratio
 refused l9_slack_at_start l9f.yaml \
     "l9f.yaml:48: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad): the weight and the feed-forward's inertial load leave cables 2 (1.18 N), 3 (1.18 N) slack"
 
-# The controller's design, checked at load (lib/design, docs/validation.md §8 "Feedback design":
-# the same linearisation and margins as cdpr-design + scripts/feedback_design.py, held at the
-# trajectory's end pose): gains whose linearised closed loop grows, and learning whose lap-to-lap
-# map has rho >= 1 at a lap harmonic, are refused with the margin named; a stable loop below
-# the goal margins runs with one warning; feed-forward only runs no check.
+# The controller's design, checked at load when asked (--check-design; lib/design,
+# docs/validation.md §8 "Feedback design": the same linearisation and margins as cdpr-design +
+# scripts/feedback_design.py, held at the trajectory's end pose): gains whose linearised closed
+# loop grows, and learning whose lap-to-lap map has rho >= 1 at a lap harmonic, are refused with
+# the margin named; a stable loop below the goal margins runs with one warning; feed-forward
+# only runs no check.
+sim_args=(--check-design)
 base | sed 's/^  kp: 0.0$/  kp: 0.0\n  kd_s: 0.1/' >d1.yaml
 refused d1_design_grows d1.yaml \
     "cdpr-sim: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s at 8.65 Hz (loop-at-a-time margins 11.3 dB / 45.7°, α 0.170; goal 6 dB / 30°)"
@@ -164,7 +169,8 @@ accepted() {
     if [ -n "$only" ] && [ "$only" != "$name" ]; then
         return
     fi
-    timeout 300 "$sim" "$file" --out "out-$name" --no-plot --quiet >"$name.stdout" 2>"$name.stderr"
+    timeout 300 "$sim" "$file" "${sim_args[@]}" --out "out-$name" --no-plot --quiet \
+        >"$name.stdout" 2>"$name.stderr"
     local rc=$? ok=1
     [ "$rc" -eq 0 ] || { echo "FAIL $name: exit $rc, expected 0"; ok=0; }
     if [ -n "$want" ]; then
@@ -187,6 +193,36 @@ base | sed 's/^  kp: 0.0$/  kp: 0.0\n  tension_gain_m_per_s_per_N: 1e-3\n  tensi
 accepted d4_design_meets_goal d4.yaml
 sed 's/learning_gain: 0.3/learning_gain: 0.2/; s/learning_cutoff_hz: 1.0/learning_cutoff_hz: 0.5/' d2.yaml >d5.yaml
 accepted d5_learning_converges d5.yaml
+sim_args=()
+# Without --check-design nothing is checked: the refused controller runs (exit 0; what
+# --unchecked-gains did before the check left the load path) and, unless --quiet, one note says
+# that the check was skipped and how to run it; cdpr-design --verdict refuses it alone (exit 5).
+name=d1_unchecked_by_default
+if [ -z "$only" ] || [ "$only" = "$name" ]; then
+    timeout 300 "$sim" d1.yaml --out "out-$name" --no-plot --duration 0.1 >"$name.stdout" \
+        2>"$name.stderr"
+    rc=$?
+    note="cdpr-sim: note: d1.yaml: the controller's feedback/learning is not checked before this run; --check-design checks it first, or cdpr-design d1.yaml --verdict"
+    if [ "$rc" -eq 0 ] && grep -qxF -- "$note" "$name.stderr" && [ -e "out-$name/summary.json" ]; then
+        echo "ok   $name: $(head -c 400 "$name.stderr")"
+    else
+        echo "FAIL $name: exit $rc: $(head -c 600 "$name.stderr")"
+        fails=$((fails + 1))
+    fi
+fi
+design="$build/apps/cdpr-design/cdpr-design"
+[ -x "$design" ] || design="$build/apps/cdpr-design"
+name=d1_verdict
+if [ -x "$design" ] && { [ -z "$only" ] || [ "$only" = "$name" ]; }; then
+    timeout 300 "$design" d1.yaml --verdict >"$name.stdout" 2>"$name.stderr"
+    rc=$?
+    if [ "$rc" -eq 5 ] && grep -qF "cdpr-design: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s" "$name.stderr"; then
+        echo "ok   $name: $(head -c 400 "$name.stderr")"
+    else
+        echo "FAIL $name: exit $rc: $(head -c 600 "$name.stderr")"
+        fails=$((fails + 1))
+    fi
+fi
 # cdpr-rt (its in-process tracker) and cdpr-tracker refuse the same controller before any LCM.
 for app in cdpr-rt cdpr-tracker; do
     exe="$build/apps/$app/$app"
@@ -195,8 +231,8 @@ for app in cdpr-rt cdpr-tracker; do
     if [ ! -x "$exe" ] || { [ -n "$only" ] && [ "$only" != "$name" ]; }; then
         continue
     fi
-    args=()
-    [ "$app" = cdpr-rt ] && args=(--with-tracker)
+    args=(--check-design)
+    [ "$app" = cdpr-rt ] && args+=(--with-tracker)
     timeout 300 "$exe" d1.yaml --lcm-url memq:// "${args[@]}" >"$name.stdout" 2>"$name.stderr"
     rc=$?
     if [ "$rc" -eq 2 ] && grep -qF "$app: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s" "$name.stderr"; then

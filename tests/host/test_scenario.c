@@ -498,8 +498,8 @@ static void test_bad_files_name_file_key_and_line(void)
         /* The app: exit status 2 and the same file and key on stderr. */
         char args[1600];
         char out[4096];
-        /* --unchecked-gains: GOOD_LINE's feedback is one the design check at load refuses
-         * (test_design_check_refuses_good_line); these cases are about the file. */
+        /* --unchecked-gains: no note about GOOD_LINE's unchecked feedback (the design check
+         * refuses it: test_design_check_refuses_good_line); these cases are about the file. */
         snprintf(args, sizeof args, "'%s' --out '%s/bad_out' --no-plot --quiet --unchecked-gains",
                  path, tmp_dir);
         TEST_ASSERT_EQUAL_INT_MESSAGE(2, run_sim(args, out, sizeof out), what);
@@ -556,10 +556,11 @@ static void test_command_line(void)
 #endif
 }
 
-/* The design check at load (lib/design): GOOD_LINE's feedback (kp 0.5, kd_s 0.05, wrench
- * damping 30 / 20, filter 0.25 s) makes the linearised closed loop grow, so cdpr-sim refuses
- * it with exit 2, the file, the keys and the growth named, before running anything;
- * --unchecked-gains runs it. */
+/* The design check at load when asked (--check-design, lib/design): GOOD_LINE's feedback (kp
+ * 0.5, kd_s 0.05, wrench damping 30 / 20, filter 0.25 s) makes the linearised closed loop grow,
+ * so cdpr-sim --check-design refuses it with exit 2, the file, the keys and the growth named,
+ * before running anything; without the option (or with --unchecked-gains given last) it runs,
+ * and without --quiet one note says the check was skipped. */
 static void test_design_check_refuses_good_line(void)
 {
 #ifndef CDPR_SIM_EXE
@@ -576,18 +577,28 @@ static void test_design_check_refuses_good_line(void)
     char summary[800];
     snprintf(summary, sizeof summary, "%s/good_out/summary.json", tmp_dir);
     (void)remove(summary); /* a previous run's */
-    snprintf(args, sizeof args, "'%s' --out '%s/good_out' --no-plot --quiet", path, tmp_dir);
+    snprintf(args, sizeof args, "'%s' --out '%s/good_out' --no-plot --quiet --check-design", path,
+             tmp_dir);
     TEST_ASSERT_EQUAL_INT_MESSAGE(2, run_sim(args, out, sizeof out), out);
-    char want[900];
+    char want[1800];
     snprintf(want, sizeof want,
              "cdpr-sim: %s: controller (kp 0.5, kd_s 0.05, damping_N_s_per_m 30, "
              "damping_rot_N_m_s 20, filter_s 0.25): the linearised closed loop grows at ",
              path);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, want), out);
     TEST_ASSERT_NULL_MESSAGE(fopen(summary, "r"), "refused, yet something ran");
-    snprintf(args, sizeof args, "'%s' --out '%s/good_out' --no-plot --quiet --unchecked-gains",
-             path, tmp_dir);
+    snprintf(args, sizeof args,
+             "'%s' --out '%s/good_out' --no-plot --quiet --check-design --unchecked-gains", path,
+             tmp_dir);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, run_sim(args, out, sizeof out), out);
+    TEST_ASSERT_NULL_MESSAGE(strstr(out, "grows"), out);
+    snprintf(args, sizeof args, "'%s' --out '%s/good_out' --no-plot", path, tmp_dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run_sim(args, out, sizeof out), out);
+    snprintf(want, sizeof want,
+             "cdpr-sim: note: %s: the controller's feedback/learning is not checked before this "
+             "run; --check-design checks it first, or cdpr-design %s --verdict\n",
+             path, path);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, want), out);
 #endif
 }
 
