@@ -38,6 +38,7 @@
 #include <string.h>
 
 #include "app_cli.h"
+#include "app_design.h"
 #include "app_run.h"
 #include "app_status.h"
 #include "cdpr/design/design.h"
@@ -200,7 +201,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: cdpr-design SCENARIO OUT [--at T] [--step-test J] [--check] [--zoh]\n"
-            "       cdpr-design SCENARIO --verdict\n"
+            "       cdpr-design SCENARIO --verdict [--quiet] [overrides]\n"
             "Linear model of the scenario's loop holding the trajectory's pose at T (default:\n"
             "where it stops) written into the directory OUT; scripts/feedback_design.py reads\n"
             "it (modes, closed-loop eigenvalues, margins; docs/validation.md \"Feedback\n"
@@ -212,7 +213,10 @@ static void usage(FILE *f)
             "                  stdout and OUT/check.json\n"
             "  --verdict       only the verdict of that check at the apps' pose, as the apps\n"
             "                  print it (no OUT): refused (exit 5), below the goal margins (a\n"
-            "                  warning, exit 0), passed or feed-forward only (exit 0)\n"
+            "                  warning, exit 0), passed or feed-forward only (exit 0); with\n"
+            "                  --quiet only the refusal or the warning is printed\n"
+            "  --rate HZ  --duration S  --max-trials N  --max-attempts N  --integrator NAME\n"
+            "                  the run settings of cdpr-sim (docs/scenarios.md), applied first\n"
             "  --zoh           also OUT/Phi.bin (n x n) and OUT/Gam.bin (n x 6): the zero-order\n"
             "                  hold over the control period as the check computes it\n"
             "  --help          this text\n"
@@ -275,30 +279,31 @@ static int run_check(const char *dir, const cdpr_design_model_t *m, double t0)
 
 /* --verdict: the check the apps run with --check-design, at their pose, printed as they print
  * it; one more line on stdout when it passes. Exit 5 when refused. */
-static int run_verdict(int argc, char **argv)
+static int run_verdict(int argc, char **argv, const cdpr_scenario_overrides_t *ov, int quiet)
 {
     if (argc - optind != 1) {
         return cdpr_app_exit_code(
             cdpr_app_usage_error("cdpr-design", "--verdict takes SCENARIO alone (no OUT)"));
     }
     const char *path = argv[optind];
-    cdpr_scenario_overrides_t ov;
-    cdpr_scenario_overrides_none(&ov);
     static cdpr_scenario_t sc;
-    const cdpr_status_t ls = cdpr_app_scenario("cdpr-design", path, &ov, &sc);
+    const cdpr_status_t ls = cdpr_app_scenario("cdpr-design", path, ov, &sc);
     if (ls != CDPR_OK) {
         return cdpr_app_exit_code(ls);
     }
-    const cdpr_status_t st = cdpr_app_design_check("cdpr-design", path, &sc, 0);
+    const cdpr_status_t st = cdpr_app_design_check("cdpr-design", path, &sc, quiet);
     if (st == CDPR_E_OUT_OF_RANGE) {
         return 5;
     }
     if (st != CDPR_OK) {
         return 4;
     }
+    if (quiet != 0) {
+        return 0;
+    }
     printf("cdpr-design: %s: %s\n", path,
-           (cdpr_design_has_feedback(&sc.gains) != 0) ? "the controller passes the design check"
-                                                      : "feed-forward only: nothing to check");
+           (cdpr_tracker_has_feedback(&sc.gains) != 0) ? "the controller passes the design check"
+                                                       : "feed-forward only: nothing to check");
     return 0;
 }
 
@@ -309,6 +314,8 @@ int main(int argc, char **argv)
                                              {"check", no_argument, NULL, 'c'},
                                              {"zoh", no_argument, NULL, 'z'},
                                              {"verdict", no_argument, NULL, 'v'},
+                                             {"quiet", no_argument, NULL, 'q'},
+                                             CDPR_APP_OVERRIDE_OPTIONS,
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     double at_s = (double)NAN;
@@ -316,9 +323,19 @@ int main(int argc, char **argv)
     int check = 0;
     int zoh = 0;
     int verdict = 0;
+    int quiet = 0;
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
     int c;
     opterr = 0;
     while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
+        const int ovr = cdpr_app_override_opt("cdpr-design", c, optarg, &ov);
+        if (ovr != 0) {
+            if (ovr < 0) {
+                return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
+            }
+            continue;
+        }
         cdpr_status_t bad = CDPR_OK;
         if (c == 'a') {
             bad = cdpr_cli_number("cdpr-design", "at", optarg, 0.0, 1e6, &at_s);
@@ -333,6 +350,8 @@ int main(int argc, char **argv)
             zoh = 1;
         } else if (c == 'v') {
             verdict = 1;
+        } else if (c == 'q') {
+            quiet = 1;
         } else {
             return cdpr_app_exit_code(
                 cdpr_app_other_option("cdpr-design", c, argv, longopts, usage));
@@ -342,7 +361,7 @@ int main(int argc, char **argv)
         }
     }
     if (verdict != 0) {
-        return run_verdict(argc, argv);
+        return run_verdict(argc, argv, &ov, quiet);
     }
     if (argc - optind != 2) {
         return cdpr_app_exit_code(cdpr_app_usage_error("cdpr-design", "SCENARIO and OUT expected"));
@@ -350,8 +369,6 @@ int main(int argc, char **argv)
     const int step_cable = (int)cable;
     const char *dir = argv[optind + 1];
     const double t0 = cdpr_clock_now_s();
-    cdpr_scenario_overrides_t ov;
-    cdpr_scenario_overrides_none(&ov);
     static cdpr_scenario_t sc;
     cdpr_status_t st = cdpr_app_scenario("cdpr-design", argv[optind], &ov, &sc);
     if (st != CDPR_OK) {

@@ -370,7 +370,7 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(st);
     }
     /* The scenario's controller runs only in the in-process tracker. */
-    if (o.with_tracker != 0 && (st = cdpr_app_design_gate("cdpr-rt", o.scenario, &sc,
+    if (o.with_tracker != 0 && (st = cdpr_app_design_gate("cdpr-rt", o.scenario, &sc, &o.ov,
                                                           o.check_design, o.quiet)) != CDPR_OK) {
         return cdpr_app_exit_code(st);
     }

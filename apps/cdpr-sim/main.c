@@ -158,7 +158,7 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(ls);
     }
     const cdpr_status_t ds =
-        cdpr_app_design_gate("cdpr-sim", o.scenario, &sc, (o.check_design > 0) ? 1 : 0,
+        cdpr_app_design_gate("cdpr-sim", o.scenario, &sc, &o.ov, (o.check_design > 0) ? 1 : 0,
                              (o.quiet != 0 || o.check_design < 0) ? 1 : 0);
     if (ds != CDPR_OK) {
         return cdpr_app_exit_code(ds);

@@ -469,7 +469,7 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     if (st != CDPR_OK) {
         return st;
     }
-    st = cdpr_app_design_gate("cdpr-tracker", o->scenario, sc, o->check_design, o->quiet);
+    st = cdpr_app_design_gate("cdpr-tracker", o->scenario, sc, &o->ov, o->check_design, o->quiet);
     if (st != CDPR_OK) {
         return st;
     }

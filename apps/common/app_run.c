@@ -7,9 +7,12 @@
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
+#include <spawn.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
-#include "cdpr/design/design.h"
+#include "cdpr/control/tracker.h"
 #include "cdpr/host/clock.h"
 #include "cdpr/host/cli.h"
 #include "cdpr/host/fs.h"
@@ -127,63 +130,106 @@ cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc
     return CDPR_OK;
 }
 
-/* The linearised loop's state count: the robot's (13 for the cabin, 1 + 6 (segments - 1) per
- * cable) plus the controller's; 0 when the robot cannot be built (the check then says why). */
-static long design_states(const cdpr_scenario_t *sc)
+/* argv[k..] += "--NAME" "%.17g of v" when v was given (not NaN); the value round-trips. */
+static int add_number(const char **argv, int k, const char *name, double v, char *buf, size_t cap)
 {
-    static cdpr_robot_params_t mp; /* 2 kB per cable: not on the stack */
-    cdpr_winch_params_t w[CDPR_MAX_CABLES];
-    cdpr_diag_t d;
-    if (cdpr_scenario_build_robot(sc, NULL, &mp, w, &d) != CDPR_OK) {
-        return 0;
+    if (isnan(v)) {
+        return k;
     }
-    long n = 13;
-    for (int j = 0; j < mp.n_cables; ++j) {
-        n += 1 + 6L * (long)(mp.cables[j].n_segments - 1);
-    }
-    return n;
+    snprintf(buf, cap, "%.17g", v);
+    argv[k] = name;
+    argv[k + 1] = buf;
+    return k + 2;
 }
 
-cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc,
-                                    int quiet)
+/* The check in a child process: cdpr-design (next to this executable, as installed and in the
+ * build tree) SCENARIO --verdict with the same overrides, so the apps need no LAPACK. Its
+ * messages go straight to our stderr; its exit status is the verdict. */
+static cdpr_status_t design_verdict(const char *prog, const char *path,
+                                    const cdpr_scenario_overrides_t *ov, int quiet)
 {
-    int checked = 0; /* 0: feed-forward only, nothing computed */
-    int warn = 0;
-    cdpr_design_error_t err;
-    /* Say what is coming: the check's dense algebra grows as the cube of the states (measured:
-     * 6 s at 703 states, 81 s at 1417, with Debian's reference LAPACK; docs/performance.md). */
-    const long n = design_states(sc);
-    const double t0 = cdpr_clock_now_s();
-    if (quiet == 0 && cdpr_design_has_feedback(&sc->gains) != 0 && n > 0) {
-        const double expect_s = CDPR_APP_DESIGN_S_AT_703 * pow((double)n / 703.0, 3.0);
+    char exe[1024];
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    char *slash = NULL;
+    if (n > 0 && (size_t)n < sizeof exe - 1) {
+        exe[n] = '\0';
+        slash = strrchr(exe, '/');
+    }
+    char design[1100];
+    if (slash == NULL) {
+        fprintf(stderr, "%s: --check-design: cannot locate this executable\n", prog);
+        return CDPR_E_IO;
+    }
+    *slash = '\0';
+    snprintf(design, sizeof design, "%s/cdpr-design", exe);
+    if (access(design, X_OK) != 0) {
         fprintf(stderr,
-                "%s: checking the controller's design on its linearised loop (%ld states of the "
-                "robot; about %.0f s on an idle 2-core machine with reference LAPACK, growing as "
-                "the cube of the states)...\n",
-                prog, n, expect_s);
+                "%s: --check-design: %s: %s (the check runs in cdpr-design, installed next to "
+                "%s)\n",
+                prog, design, strerror(errno), prog);
+        return CDPR_E_IO;
     }
-    const cdpr_status_t st = cdpr_design_check_scenario(sc, path, &checked, &warn, NULL, &err);
-    if (quiet == 0 && checked != 0) {
-        fprintf(stderr, "%s: design check done in %.1f s\n", prog, cdpr_clock_now_s() - t0);
+    static const char *const methods[] = {"rkf45", "ros34pw2", "ros34pw2-fixed"};
+    char num[4][40];
+    const char *argv[16];
+    int k = 0;
+    argv[k++] = design;
+    argv[k++] = path;
+    argv[k++] = "--verdict";
+    if (quiet != 0) {
+        argv[k++] = "--quiet";
     }
-    if (st == CDPR_E_OUT_OF_RANGE) {
-        fprintf(stderr, "%s: %s\n", prog, err.msg);
-    } else if (st != CDPR_OK) {
-        fprintf(stderr, "%s: %s: the check of the controller's design failed: %s\n", prog, path,
-                err.msg);
-    } else if (warn != 0) {
-        fprintf(stderr, "%s: warning: %s\n", prog, err.msg);
+    k = add_number(argv, k, "--rate", ov->rate_hz, num[0], sizeof num[0]);
+    k = add_number(argv, k, "--duration", ov->duration_s, num[1], sizeof num[1]);
+    k = add_number(argv, k, "--max-trials", ov->max_trials, num[2], sizeof num[2]);
+    k = add_number(argv, k, "--max-attempts", ov->max_attempts, num[3], sizeof num[3]);
+    if (ov->method >= 0 && ov->method < 3) {
+        argv[k++] = "--integrator";
+        argv[k++] = methods[ov->method];
     }
-    return st;
+    argv[k] = NULL;
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, design, NULL, NULL, (char *const *)argv, environ);
+    if (rc != 0) {
+        fprintf(stderr, "%s: --check-design: cannot run %s: %s\n", prog, design, strerror(rc));
+        return CDPR_E_IO;
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0) {
+        if (errno != EINTR) {
+            fprintf(stderr, "%s: --check-design: waiting for %s: %s\n", prog, design,
+                    strerror(errno));
+            return CDPR_E_IO;
+        }
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+        return CDPR_OK;
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 5) {
+        fprintf(stderr, "%s: %s: the design check refuses the controller (above); not run\n", prog,
+                path);
+        return CDPR_E_OUT_OF_RANGE;
+    }
+    if (WIFSIGNALED(status)) {
+        fprintf(stderr, "%s: %s: the design check was stopped by signal %d\n", prog, path,
+                WTERMSIG(status));
+        return CDPR_E_INTERRUPTED;
+    }
+    fprintf(stderr, "%s: %s: the check of the controller's design failed (cdpr-design exit %d)\n",
+            prog, path, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    return CDPR_E_NO_CONVERGENCE;
 }
 
 cdpr_status_t cdpr_app_design_gate(const char *prog, const char *path, const cdpr_scenario_t *sc,
-                                   int check, int quiet)
+                                   const cdpr_scenario_overrides_t *ov, int check, int quiet)
 {
-    if (check != 0) {
-        return cdpr_app_design_check(prog, path, sc, quiet);
+    if (cdpr_tracker_has_feedback(&sc->gains) == 0) {
+        return CDPR_OK; /* feed-forward only: nothing to check */
     }
-    if (quiet == 0 && cdpr_design_has_feedback(&sc->gains) != 0) {
+    if (check != 0) {
+        return design_verdict(prog, path, ov, quiet);
+    }
+    if (quiet == 0) {
         fprintf(stderr,
                 "%s: note: %s: the controller's feedback/learning is not checked before this "
                 "run; --check-design checks it first, or cdpr-design %s --verdict\n",

@@ -40,40 +40,28 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
                                 const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc);
 
-/// The check of the controller's design (cdpr/design/design.h), at load with --check-design: when
-/// sc's controller has feedback or learning (kp, kd_s, damping_N_s_per_m, damping_rot_N_m_s,
-/// tension_gain_m_per_s_per_N, learning_gain > 0), linearise the loop at the pose cdpr-design
-/// uses by default and analyse it. Refused (the closed loop grows, or the learning's ρ(M) >= 1
-/// at a lap harmonic): prints "PROG: PATH: controller (...): ..." and returns
-/// CDPR_E_OUT_OF_RANGE (exit status 2). Stable below the goal margins (6 dB / 30°): one
-/// "PROG: warning: ..." line, CDPR_OK. The check itself failing: its status after printing
-/// why. Feed-forward only: CDPR_OK at once, nothing computed or printed. Unless `quiet`, the
-/// check is announced on stderr with the robot's state count and its expected cost
-/// (CDPR_APP_DESIGN_S_AT_703 scaled by the cube of the states) and its time printed after.
-cdpr_status_t cdpr_app_design_check(const char *prog, const char *path, const cdpr_scenario_t *sc,
-                                    int quiet);
-
 /// The option `--check-design` of the scenario-running apps (cdpr-sim, cdpr-rt --with-tracker,
-/// cdpr-tracker): run cdpr_app_design_check before anything else. A value beyond any char, so
-/// it takes no short option letter.
+/// cdpr-tracker): run the design check before anything else. A value beyond any char, so it
+/// takes no short option letter.
 #define CDPR_APP_OPT_CHECK_DESIGN 0x1c0
 #define CDPR_APP_CHECK_DESIGN_OPTION                                                               \
     {                                                                                              \
         "check-design", no_argument, NULL, CDPR_APP_OPT_CHECK_DESIGN                               \
     }
 
-/// The design check at load when asked for (`check` != 0: cdpr_app_design_check, its status).
-/// Otherwise the check does not run (it costs seconds: the apps start at once) and, when the
-/// controller has feedback or learning and `quiet` is 0, one line on stderr says so and how to
-/// check: "PROG: note: PATH: the controller's feedback/learning is not checked before this
-/// run; --check-design checks it first, or cdpr-design PATH --verdict". CDPR_OK then.
+/// The design check at load, for a controller with feedback or learning
+/// (cdpr_tracker_has_feedback; feed-forward only: CDPR_OK, nothing printed). When asked for
+/// (`check` != 0) it runs `cdpr-design PATH --verdict` with the overrides `ov` as a child
+/// process (the executable next to this one; so the apps link no LAPACK), whose messages go to
+/// stderr, and returns: CDPR_OK (passed, or a warning below the goal margins),
+/// CDPR_E_OUT_OF_RANGE (refused: "PROG: PATH: the design check refuses the controller (above);
+/// not run"), CDPR_E_NO_CONVERGENCE (the check failed), CDPR_E_INTERRUPTED (the child was
+/// stopped by a signal) or CDPR_E_IO (cdpr-design missing or not started). Otherwise the
+/// check does not run (it costs seconds: the apps start at once) and, when `quiet` is 0, one
+/// line on stderr says so: "PROG: note: PATH: the controller's feedback/learning is not checked
+/// before this run; --check-design checks it first, or cdpr-design PATH --verdict".
 cdpr_status_t cdpr_app_design_gate(const char *prog, const char *path, const cdpr_scenario_t *sc,
-                                   int check, int quiet);
-
-/// The design check's cost at 703 states (the paper's robot at 20 segments) with Debian's
-/// reference LAPACK on the project's 2-core machine [s]; cdpr_app_design_check announces
-/// this scaled by the cube of the state count before it runs, and the time taken after.
-#define CDPR_APP_DESIGN_S_AT_703 6.0
+                                   const cdpr_scenario_overrides_t *ov, int check, int quiet);
 
 /// Install SIGINT, SIGTERM and SIGHUP handlers (alike, without SA_RESTART) that set the
 /// returned flag (0 until a signal came; the apps' loops, cdpr_sim_run and the plant node's

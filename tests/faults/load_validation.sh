@@ -148,7 +148,8 @@ sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 2.25/; s/duration_s: 12.6 .*/duratio
 refused l9_slack_at_start l9f.yaml \
     "l9f.yaml:48: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad): the weight and the feed-forward's inertial load leave cables 2 (1.18 N), 3 (1.18 N) slack"
 
-# The controller's design, checked at load when asked (--check-design; lib/design,
+# The controller's design, checked at load when asked (--check-design runs cdpr-design
+# --verdict, whose lines are prefixed cdpr-design; lib/design,
 # docs/validation.md §8 "Feedback design": the same linearisation and margins as cdpr-design +
 # scripts/feedback_design.py, held at the trajectory's end pose): gains whose linearised closed
 # loop grows, and learning whose lap-to-lap map has rho >= 1 at a lap harmonic, are refused with
@@ -157,11 +158,13 @@ refused l9_slack_at_start l9f.yaml \
 sim_args=(--check-design)
 base | sed 's/^  kp: 0.0$/  kp: 0.0\n  kd_s: 0.1/' >d1.yaml
 refused d1_design_grows d1.yaml \
-    "cdpr-sim: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s at 8.65 Hz (loop-at-a-time margins 11.3 dB / 45.7°, α 0.170; goal 6 dB / 30°)"
+    "cdpr-design: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s at 8.65 Hz (loop-at-a-time margins 11.3 dB / 45.7°, α 0.170; goal 6 dB / 30°)" \
+    "cdpr-sim: d1.yaml: the design check refuses the controller (above); not run"
 sed 's/^  kp: 0.0 .*/  kp: 0.0\n  learning_gain: 0.3\n  learning_lead_s: 0.7\n  learning_cutoff_hz: 1.0\n  learning_limit_m: 1.0/;
      s/^  duration_s: 12.6 .*/  duration_s: 0.1/' "$src/scenarios/paper-circle.yaml" >d2.yaml
 refused d2_learning_diverges d2.yaml \
-    "cdpr-sim: d2.yaml: controller.learning_gain 0.3 (lead 0.7 s, cutoff 1 Hz): learning diverges at lap harmonic 2 (0.318 Hz), ρ = 1.08 (ρ >= 1 at harmonics 2, 3, 6; largest 2.21 at harmonic 6)"
+    "cdpr-sim: d2.yaml: the design check refuses the controller (above); not run" \
+    "cdpr-design: d2.yaml: controller.learning_gain 0.3 (lead 0.7 s, cutoff 1 Hz): learning diverges at lap harmonic 2 (0.318 Hz), ρ = 1.08 (ρ >= 1 at harmonics 2, 3, 6; largest 2.21 at harmonic 6)"
 
 # accepted NAME FILE [WARNING]: exit 0; stderr is exactly the one warning line (or empty).
 accepted() {
@@ -188,7 +191,7 @@ accepted() {
 }
 base | sed 's/^  kp: 0.0$/  kp: 0.0\n  tension_gain_m_per_s_per_N: 3e-3\n  tension_filter_s: 0.1/' >d3.yaml
 accepted d3_design_below_goal d3.yaml \
-    "cdpr-sim: warning: d3.yaml: controller (tension_gain_m_per_s_per_N 0.003, tension_filter_s 0.1): below the goal margins: loop-at-a-time margins 10.6 dB / 9.4°, α 0.110; goal 6 dB / 30° (the linearised closed loop does not grow)"
+    "cdpr-design: warning: d3.yaml: controller (tension_gain_m_per_s_per_N 0.003, tension_filter_s 0.1): below the goal margins: loop-at-a-time margins 10.6 dB / 9.4°, α 0.110; goal 6 dB / 30° (the linearised closed loop does not grow)"
 base | sed 's/^  kp: 0.0$/  kp: 0.0\n  tension_gain_m_per_s_per_N: 1e-3\n  tension_filter_s: 0.05/' >d4.yaml
 accepted d4_design_meets_goal d4.yaml
 sed 's/learning_gain: 0.3/learning_gain: 0.2/; s/learning_cutoff_hz: 1.0/learning_cutoff_hz: 0.5/' d2.yaml >d5.yaml
@@ -235,7 +238,8 @@ for app in cdpr-rt cdpr-tracker; do
     [ "$app" = cdpr-rt ] && args+=(--with-tracker)
     timeout 300 "$exe" d1.yaml --lcm-url memq:// "${args[@]}" >"$name.stdout" 2>"$name.stderr"
     rc=$?
-    if [ "$rc" -eq 2 ] && grep -qF "$app: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s" "$name.stderr"; then
+    if [ "$rc" -eq 2 ] && grep -qF "cdpr-design: d1.yaml: controller (kd_s 0.1, filter_s 0.1): the linearised closed loop grows at 0.15 1/s" "$name.stderr" &&
+        grep -qxF "$app: d1.yaml: the design check refuses the controller (above); not run" "$name.stderr"; then
         echo "ok   $name: $(head -c 400 "$name.stderr")"
     else
         echo "FAIL $name: exit $rc: $(head -c 600 "$name.stderr")"

@@ -177,7 +177,7 @@ static void test_feed_forward_is_not_checked(void)
     memset(&g, 0, sizeof g);
     g.k_length_per_s = 5.0;
     g.filter_s = 0.1;
-    TEST_ASSERT_EQUAL_INT(0, cdpr_design_has_feedback(&g));
+    TEST_ASSERT_EQUAL_INT(0, cdpr_tracker_has_feedback(&g));
     for (int k = 0; k < 6; ++k) {
         cdpr_tracker_gains_t h = g;
         double *key[6] = {&h.kp,
@@ -187,7 +187,7 @@ static void test_feed_forward_is_not_checked(void)
                           &h.tension_gain_m_per_s_per_N,
                           &h.learning_gain};
         *key[k] = 0.1;
-        TEST_ASSERT_EQUAL_INT(1, cdpr_design_has_feedback(&h));
+        TEST_ASSERT_EQUAL_INT(1, cdpr_tracker_has_feedback(&h));
     }
     static cdpr_scenario_t sc; /* zeros: an unusable scenario, never looked at */
     sc.gains = g;

@@ -582,7 +582,7 @@ static void test_design_check_refuses_good_line(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(2, run_sim(args, out, sizeof out), out);
     char want[1800];
     snprintf(want, sizeof want,
-             "cdpr-sim: %s: controller (kp 0.5, kd_s 0.05, damping_N_s_per_m 30, "
+             "cdpr-design: %s: controller (kp 0.5, kd_s 0.05, damping_N_s_per_m 30, "
              "damping_rot_N_m_s 20, filter_s 0.25): the linearised closed loop grows at ",
              path);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, want), out);

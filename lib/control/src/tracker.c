@@ -9,6 +9,15 @@
 
 #include "cdpr/vec3.h"
 
+int cdpr_tracker_has_feedback(const cdpr_tracker_gains_t *g)
+{
+    return (g->kp > CDPR_R(0.0) || g->kd_s > CDPR_R(0.0) || g->damping_N_s_per_m > CDPR_R(0.0) ||
+            g->damping_rot_N_m_s > CDPR_R(0.0) || g->tension_gain_m_per_s_per_N > CDPR_R(0.0) ||
+            g->learning_gain > CDPR_R(0.0))
+               ? 1
+               : 0;
+}
+
 void cdpr_tracker_jacobian(const cdpr_robot_t *model, int j, const cdpr_cabin_motion_t *m,
                            cdpr_vec3_t *u, cdpr_vec3_t *g)
 {

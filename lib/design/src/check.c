@@ -132,7 +132,7 @@ cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *
     *checked = 0;
     *warn = 0;
     err->msg[0] = '\0';
-    if (cdpr_design_has_feedback(&sc->gains) == 0) {
+    if (cdpr_tracker_has_feedback(&sc->gains) == 0) {
         return CDPR_OK;
     }
     *checked = 1;

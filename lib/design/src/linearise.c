@@ -15,15 +15,6 @@
 #define NM CDPR_DESIGN_NM
 #define NU CDPR_DESIGN_NU
 
-int cdpr_design_has_feedback(const cdpr_tracker_gains_t *g)
-{
-    return (g->kp > 0.0 || g->kd_s > 0.0 || g->damping_N_s_per_m > 0.0 ||
-            g->damping_rot_N_m_s > 0.0 || g->tension_gain_m_per_s_per_N > 0.0 ||
-            g->learning_gain > 0.0)
-               ? 1
-               : 0;
-}
-
 /* Perturbation of state component i (relative above 1). */
 static double step_of(double y, double rel)
 {

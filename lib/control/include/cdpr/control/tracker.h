@@ -255,6 +255,12 @@ void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion
 /// step has set it (transfer_s > 0).
 void cdpr_tracker_reference(const cdpr_tracker_t *tr, cdpr_real_t t_s, cdpr_traj_sample_t *out);
 
+/// 1 when the gains close a loop around the feed-forward (pose feedback kp or kd_s, wrench
+/// damping, winch tension feedback, or learning over laps: any of kp, kd_s, damping_N_s_per_m,
+/// damping_rot_N_m_s, tension_gain_m_per_s_per_N, learning_gain > 0), else 0 (feed-forward
+/// only: the length loop k_L alone). What the design check of such a controller analyses.
+int cdpr_tracker_has_feedback(const cdpr_tracker_gains_t *g);
+
 /// Straight-cable length Jacobian row of cable j at motion m: dL_j = -(u·dp + g·dθ) with
 /// the returned u (unit vector attachment -> exit point) and g = (R b_j) x u.
 void cdpr_tracker_jacobian(const cdpr_robot_t *model, int j, const cdpr_cabin_motion_t *m,

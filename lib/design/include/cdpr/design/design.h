@@ -100,10 +100,6 @@ typedef struct {
     double g0_diag[6];   ///< Re diag G(1e-4 Hz) [learning.G_at_0_diag]
 } cdpr_design_report_t;
 
-/// The controller has a feedback or learning term (kp, kd_s, damping_N_s_per_m,
-/// damping_rot_N_m_s, tension_gain_m_per_s_per_N or learning_gain > 0): 1, else 0.
-int cdpr_design_has_feedback(const cdpr_tracker_gains_t *g);
-
 /// Settle scenario `sc` at its trajectory's pose at `at_s` (NaN: where it stops, or its start
 /// when it never stops) held, and build the controller holding it. Allocates *pt (free with
 /// cdpr_design_point_free). CDPR_OK, or the status of the plant / tracker init (err: why).
@@ -131,7 +127,7 @@ cdpr_status_t cdpr_design_discretise(const cdpr_design_model_t *m, double *Phi, 
 cdpr_status_t cdpr_design_analyse(const cdpr_design_model_t *m, int learn, cdpr_design_report_t *r,
                                   cdpr_design_error_t *err);
 
-/// The check at load: when sc's controller has feedback or learning (cdpr_design_has_feedback),
+/// The check at load: when sc's controller has feedback or learning (cdpr_tracker_has_feedback),
 /// linearise it at the pose cdpr-design uses by default and analyse it. Returns CDPR_OK when
 /// accepted (*warn set when below the goal margins: err->msg says which), CDPR_E_OUT_OF_RANGE
 /// when refused (the closed loop grows, or ρ(M) >= 1 at a lap harmonic; err->msg names the
