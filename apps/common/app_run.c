@@ -24,19 +24,17 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
     double *field = NULL;
     const char *name = NULL;
     if (c == CDPR_APP_OPT_INTEGRATOR) {
-        if (strcmp(arg, "rkf45") == 0) {
-            ov->method = (int)CDPR_PLANT_RKF45;
-        } else if (strcmp(arg, "ros34pw2") == 0) {
-            ov->method = (int)CDPR_PLANT_ROS34PW2;
-        } else if (strcmp(arg, "ros34pw2-fixed") == 0) {
-            ov->method = (int)CDPR_PLANT_ROS34PW2_FIXED;
-        } else {
-            fprintf(stderr,
-                    "%s: option --integrator: '%s': not rkf45, ros34pw2 or ros34pw2-fixed\n", prog,
-                    arg);
-            return -1;
+        static const cdpr_plant_integrator_t all[] = {CDPR_PLANT_RKF45, CDPR_PLANT_ROS34PW2,
+                                                      CDPR_PLANT_ROS34PW2_FIXED};
+        for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) {
+            if (strcmp(arg, cdpr_plant_integrator_name(all[i])) == 0) {
+                ov->method = (int)all[i];
+                return 1;
+            }
         }
-        return 1;
+        fprintf(stderr, "%s: option --integrator: '%s': not rkf45, ros34pw2 or ros34pw2-fixed\n",
+                prog, arg);
+        return -1;
     }
     switch (c) {
     case CDPR_APP_OPT_RATE:
@@ -169,7 +167,6 @@ static cdpr_status_t design_verdict(const char *prog, const char *path,
                 prog, design, strerror(errno), prog);
         return CDPR_E_IO;
     }
-    static const char *const methods[] = {"rkf45", "ros34pw2", "ros34pw2-fixed"};
     char num[4][40];
     const char *argv[16];
     int k = 0;
@@ -183,9 +180,11 @@ static cdpr_status_t design_verdict(const char *prog, const char *path,
     k = add_number(argv, k, "--duration", ov->duration_s, num[1], sizeof num[1]);
     k = add_number(argv, k, "--max-trials", ov->max_trials, num[2], sizeof num[2]);
     k = add_number(argv, k, "--max-attempts", ov->max_attempts, num[3], sizeof num[3]);
-    if (ov->method >= 0 && ov->method < 3) {
+    const char *method =
+        (ov->method >= 0) ? cdpr_plant_integrator_name((cdpr_plant_integrator_t)ov->method) : NULL;
+    if (method != NULL) {
         argv[k++] = "--integrator";
-        argv[k++] = methods[ov->method];
+        argv[k++] = method;
     }
     argv[k] = NULL;
     pid_t pid = 0;

@@ -253,7 +253,7 @@ static void test_provenance_of_an_existing_scenario_file(void)
                     "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad\n"
                     "# integrator: rkf45\nt_s,"),
         csv);
-    TEST_ASSERT_EQUAL_STRING("rkf45", cdpr_sim_integrator_name(CDPR_PLANT_RKF45));
+    TEST_ASSERT_EQUAL_STRING("rkf45", cdpr_plant_integrator_name(CDPR_PLANT_RKF45));
 
     /* summary.json carries the same, and reads back. */
     const char *path = CDPR_TEST_TMP "/prov/summary.json";

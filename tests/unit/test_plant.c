@@ -327,9 +327,21 @@ static void test_reruns_are_bit_identical_and_allocate_nothing(void)
     TEST_ASSERT_EQUAL_UINT32(0u, (unsigned)allocs);
 }
 
+/* The integrators' names are the spellings of the scenario files and command lines
+ * (docs/scenarios.md "integrator.method"); a value outside the enumeration has none. */
+static void test_integrator_names(void)
+{
+    TEST_ASSERT_EQUAL_STRING("rkf45", cdpr_plant_integrator_name(CDPR_PLANT_RKF45));
+    TEST_ASSERT_EQUAL_STRING("ros34pw2", cdpr_plant_integrator_name(CDPR_PLANT_ROS34PW2));
+    TEST_ASSERT_EQUAL_STRING("ros34pw2-fixed",
+                             cdpr_plant_integrator_name(CDPR_PLANT_ROS34PW2_FIXED));
+    TEST_ASSERT_NULL(cdpr_plant_integrator_name((cdpr_plant_integrator_t)7));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
+    RUN_TEST(test_integrator_names);
     RUN_TEST(test_settled_start_is_the_static_equilibrium_and_stays_at_rest);
     RUN_TEST(test_refused_period_rolls_back_byte_for_byte);
     RUN_TEST(test_length_changes_by_the_integral_of_the_applied_rate);

@@ -11,9 +11,10 @@
 
 int cdpr_tracker_has_feedback(const cdpr_tracker_gains_t *g)
 {
-    return (g->kp > CDPR_R(0.0) || g->kd_s > CDPR_R(0.0) || g->damping_N_s_per_m > CDPR_R(0.0) ||
-            g->damping_rot_N_m_s > CDPR_R(0.0) || g->tension_gain_m_per_s_per_N > CDPR_R(0.0) ||
-            g->learning_gain > CDPR_R(0.0))
+    const cdpr_real_t zero = CDPR_R(0.0);
+    return ((g->kp > zero) || (g->kd_s > zero) || (g->damping_N_s_per_m > zero) ||
+            (g->damping_rot_N_m_s > zero) || (g->tension_gain_m_per_s_per_N > zero) ||
+            (g->learning_gain > zero))
                ? 1
                : 0;
 }

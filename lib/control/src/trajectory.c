@@ -6,7 +6,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "cdpr/control/tracker.h"
 #include "cdpr/vec3.h"
 
 cdpr_vec3_t cdpr_euler_rates_to_body(const cdpr_real_t euler[3], const cdpr_real_t rates[3])

@@ -8,6 +8,21 @@
 
 #include "check.h"
 
+const char *cdpr_plant_integrator_name(cdpr_plant_integrator_t integrator)
+{
+    const char *name = NULL;
+    if (integrator == CDPR_PLANT_RKF45) {
+        name = "rkf45";
+    } else if (integrator == CDPR_PLANT_ROS34PW2) {
+        name = "ros34pw2";
+    } else if (integrator == CDPR_PLANT_ROS34PW2_FIXED) {
+        name = "ros34pw2-fixed";
+    } else {
+        /* not a scheme of this library: no name */
+    }
+    return name;
+}
+
 void cdpr_plant_params_default(cdpr_plant_params_t *pp)
 {
     cdpr_robot_params_default(&pp->robot);

@@ -7,6 +7,7 @@
 #include "cdpr/host/rig.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 const char *cdpr_preset_name(cdpr_preset_t preset)
@@ -105,6 +106,37 @@ void cdpr_preset_geometry(const cdpr_preset_config_t *cfg, int j, cdpr_vec3_t *e
         cdpr_v3(cfg->exit_radius_m * cos(th), cfg->exit_radius_m * sin(th), cfg->exit_height_m);
     *attach_body_m =
         cdpr_v3(cfg->attach_radius_m * cos(ph), cfg->attach_radius_m * sin(ph), cfg->attach_z_m);
+}
+
+void cdpr_rig_from_preset(const cdpr_preset_config_t *cfg, cdpr_rig_t *rig)
+{
+    memset(rig, 0, sizeof *rig);
+    snprintf(rig->name, sizeof rig->name, "%s", cdpr_preset_name(cfg->preset));
+    rig->n_cables = CDPR_ROBOT_CABLES;
+    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
+        cdpr_rig_cable_t *c = &rig->cable[j];
+        cdpr_vec3_t e;
+        cdpr_vec3_t b;
+        cdpr_preset_geometry(cfg, j, &e, &b);
+        c->exit_m[0] = e.x;
+        c->exit_m[1] = e.y;
+        c->exit_m[2] = e.z;
+        c->attach_m[0] = b.x;
+        c->attach_m[1] = b.y;
+        c->attach_m[2] = b.z;
+        c->rope = cfg->cable;
+        c->winch = cfg->winch;
+        c->segments = cfg->segments;
+    }
+    rig->cabin_mass_kg = cfg->cabin_mass_kg;
+    const double *I = cfg->cabin_inertia_kg_m2;
+    const double *P = cfg->cabin_products_kg_m2; /* Ixy, Ixz, Iyz */
+    const double m[3][3] = {{I[0], P[0], P[1]}, {P[0], I[1], P[2]}, {P[1], P[2], I[2]}};
+    memcpy(rig->cabin_inertia_kg_m2, m, sizeof m);
+    memcpy(rig->cabin_com_m, cfg->cabin_com_m, sizeof rig->cabin_com_m);
+    rig->gravity_m_per_s2 = cfg->gravity_m_per_s2;
+    memcpy(rig->wind_m_per_s, cfg->wind_m_per_s, sizeof rig->wind_m_per_s);
+    memcpy(rig->nominal_pose, cfg->nominal_pose, sizeof rig->nominal_pose);
 }
 
 cdpr_status_t cdpr_preset_build(const cdpr_preset_config_t *cfg, const double *length_m,

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /// @file rig.c
-/// Robot descriptions (rig.h): robot files through libcyaml, presets as rigs, the core build
+/// Robot descriptions (rig.h): robot files through libcyaml, the core build
 /// and the checks (docs/robots.md "Robot files").
 #include "cdpr/host/rig.h"
 
@@ -146,37 +146,6 @@ static cdpr_status_t rig_error(const char *path, const char *prefix, const char 
 }
 
 /* ---------------------------------------------------------------- presets and the build */
-
-void cdpr_rig_from_preset(const cdpr_preset_config_t *cfg, cdpr_rig_t *rig)
-{
-    memset(rig, 0, sizeof *rig);
-    snprintf(rig->name, sizeof rig->name, "%s", cdpr_preset_name(cfg->preset));
-    rig->n_cables = CDPR_ROBOT_CABLES;
-    for (int j = 0; j < CDPR_ROBOT_CABLES; ++j) {
-        cdpr_rig_cable_t *c = &rig->cable[j];
-        cdpr_vec3_t e;
-        cdpr_vec3_t b;
-        cdpr_preset_geometry(cfg, j, &e, &b);
-        c->exit_m[0] = e.x;
-        c->exit_m[1] = e.y;
-        c->exit_m[2] = e.z;
-        c->attach_m[0] = b.x;
-        c->attach_m[1] = b.y;
-        c->attach_m[2] = b.z;
-        c->rope = cfg->cable;
-        c->winch = cfg->winch;
-        c->segments = cfg->segments;
-    }
-    rig->cabin_mass_kg = cfg->cabin_mass_kg;
-    const double *I = cfg->cabin_inertia_kg_m2;
-    const double *P = cfg->cabin_products_kg_m2; /* Ixy, Ixz, Iyz */
-    const double m[3][3] = {{I[0], P[0], P[1]}, {P[0], I[1], P[2]}, {P[1], P[2], I[2]}};
-    memcpy(rig->cabin_inertia_kg_m2, m, sizeof m);
-    memcpy(rig->cabin_com_m, cfg->cabin_com_m, sizeof rig->cabin_com_m);
-    rig->gravity_m_per_s2 = cfg->gravity_m_per_s2;
-    memcpy(rig->wind_m_per_s, cfg->wind_m_per_s, sizeof rig->wind_m_per_s);
-    memcpy(rig->nominal_pose, cfg->nominal_pose, sizeof rig->nominal_pose);
-}
 
 /* The same steps, in the same order, as cdpr_preset_build (presets.c): bit-identical. */
 cdpr_status_t cdpr_rig_build(const cdpr_rig_t *rig, const double *length_m, cdpr_robot_params_t *p,

@@ -13,7 +13,6 @@
 #include <string.h>
 
 #include "cdpr/config.h"
-#include "cdpr/host/summary.h"
 #include "cdpr/host/yaml.h"
 #include "rig_raw.h"
 
@@ -1400,8 +1399,8 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
                         "%s: --integrator %s overrides integrator.method = %s of %s (its "
                         "settings: rtol %g, atol %g m, %g m/s, %g, %g rad/s, h_max %g s, "
                         "max_trials %d, max_attempts %d)\n",
-                        prog, cdpr_sim_integrator_name(m),
-                        cdpr_sim_integrator_name(sc->integrator.method), of, in->rtol,
+                        prog, cdpr_plant_integrator_name(m),
+                        cdpr_plant_integrator_name(sc->integrator.method), of, in->rtol,
                         in->atol_position_m, in->atol_velocity_m_per_s, in->atol_quaternion,
                         in->atol_rate_rad_per_s, in->h_max_s, in->max_trials, in->max_attempts);
             }
@@ -1410,7 +1409,7 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
         sc->integrator.method = m;
         const size_t n = strlen(opts);
         snprintf(opts + n, sizeof opts - n, "%s--integrator %s", (n > 0) ? ", " : "",
-                 cdpr_sim_integrator_name(m));
+                 cdpr_plant_integrator_name(m));
     }
     const struct {
         const char *opt;

@@ -80,20 +80,6 @@ static void json_string_or_null(FILE *f, const char *s)
     }
 }
 
-const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator)
-{
-    /* No default: a new scheme in cdpr/plant.h makes -Wswitch ask for its name here. */
-    switch (integrator) {
-    case CDPR_PLANT_RKF45:
-        return "rkf45";
-    case CDPR_PLANT_ROS34PW2:
-        return "ros34pw2";
-    case CDPR_PLANT_ROS34PW2_FIXED:
-        return "ros34pw2-fixed";
-    }
-    return NULL;
-}
-
 void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_path,
                               const cdpr_plant_params_t *pp)
 {
@@ -105,7 +91,7 @@ void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_
         (void)cdpr_sha256_file(scenario_path, prov->scenario_sha256);
     }
     if (pp != NULL) {
-        const char *name = cdpr_sim_integrator_name(pp->integrator);
+        const char *name = cdpr_plant_integrator_name(pp->integrator);
         if (name != NULL) {
             snprintf(prov->integrator, sizeof prov->integrator, "%s", name);
         } else {

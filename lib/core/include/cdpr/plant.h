@@ -210,6 +210,10 @@ typedef struct {
 /// cannot fail.
 void cdpr_plant_params_default(cdpr_plant_params_t *pp);
 
+/// The integrator's name as the scenario files and the command lines spell it: "rkf45",
+/// "ros34pw2", "ros34pw2-fixed"; NULL for a value outside the enumeration. O(1).
+const char *cdpr_plant_integrator_name(cdpr_plant_integrator_t integrator);
+
 /// Validate the plant's own fields of `pp` (not the robot, winch, IK and integrator settings,
 /// which cdpr_plant_init validates with their modules' rules). O(1); no allocation.
 /// Errors (diag names the field): CDPR_E_INVALID_ARG (NULL, unknown integrator or start),

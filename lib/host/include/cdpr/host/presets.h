@@ -21,6 +21,7 @@
 #include "cdpr/robot.h"
 #include "cdpr/status.h"
 #include "cdpr/winch.h"
+#include "cdpr/host/rig.h"
 
 /// The six-cable robots of docs/robots.md.
 #define CDPR_ROBOT_CABLES 6
@@ -71,5 +72,9 @@ void cdpr_preset_geometry(const cdpr_preset_config_t *cfg, int j, cdpr_vec3_t *e
 /// (may be NULL) and are validated too.
 cdpr_status_t cdpr_preset_build(const cdpr_preset_config_t *cfg, const double *length_m,
                                 cdpr_robot_params_t *p, cdpr_winch_params_t *w, cdpr_diag_t *diag);
+
+/// The rig of a preset configuration (presets.h): exit points and attachments from its polar
+/// layout (cdpr_preset_geometry), the same rope and winch for every cable. Name: the preset's.
+void cdpr_rig_from_preset(const cdpr_preset_config_t *cfg, cdpr_rig_t *rig);
 
 #endif /* CDPR_HOST_PRESETS_H */

@@ -4,8 +4,8 @@
 /// the rope, the winch limits and the segment count; the cabin's mass, full inertia matrix and
 /// centre of mass; gravity, air density and wind. Read from robot files (YAML through
 /// libcyaml; docs/robots.md "Robot files" lists every key) or from a compiled preset
-/// (presets.h, whose polar layout is one special case), and turned into the core's
-/// cdpr_robot_params_t and cdpr_winch_params_t.
+/// (presets.h, whose polar layout is one special case: cdpr_rig_from_preset), and turned into the
+/// core's cdpr_robot_params_t and cdpr_winch_params_t.
 ///
 /// A scenario's `robot:` section names a preset (`preset:` + overrides, presets.h), a robot
 /// file (`file:`, relative to the scenario file) or embeds a description (`cables:`,
@@ -26,7 +26,6 @@
 #include "cdpr/robot.h"
 #include "cdpr/status.h"
 #include "cdpr/winch.h"
-#include "cdpr/host/presets.h"
 
 /// Cable count the sag-aware IK (cdpr_statics_ik, the plant's initial pose, the tracker) needs.
 #define CDPR_RIG_IK_CABLES 6
@@ -57,10 +56,6 @@ typedef struct {
 typedef struct {
     char msg[2048];
 } cdpr_rig_error_t;
-
-/// The rig of a preset configuration (presets.h): exit points and attachments from its polar
-/// layout (cdpr_preset_geometry), the same rope and winch for every cable. Name: the preset's.
-void cdpr_rig_from_preset(const cdpr_preset_config_t *cfg, cdpr_rig_t *rig);
 
 /// Build the core parameters, exactly as cdpr_preset_build does for a preset (byte for byte
 /// for cdpr_rig_from_preset's rigs): dynamic cabin, cable j with its rope, segments and

@@ -32,10 +32,6 @@ typedef struct {
     char integrator[32];                       ///< the plant's scheme ("rkf45")
 } cdpr_sim_provenance_t;
 
-/// Name of an integration scheme as written in the outputs ("rkf45"); NULL for a value this
-/// library does not know.
-const char *cdpr_sim_integrator_name(cdpr_plant_integrator_t integrator);
-
 /// Provenance of a run of the scenario file `scenario_path` (its bytes are hashed now; ""
 /// when it cannot be read) with plant parameters `pp` (NULL: integrator unknown); version, git
 /// description and build type of this build.
