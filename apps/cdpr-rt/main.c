@@ -308,12 +308,11 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
     }
     g_tracker_sum.substep_limit_hits = p->stats.substep_limit_hits;
     g_tracker_sum.min_length_periods = p->stats.min_length_periods;
-    const int implicit = (p->pp.integrator != CDPR_PLANT_RKF45) ? 1 : 0;
-    g_tracker_sum.steps_accepted =
-        (implicit != 0) ? p->ros.stats.steps_accepted : p->rk.stats.steps_accepted;
-    g_tracker_sum.steps_rejected =
-        (implicit != 0) ? p->ros.stats.steps_rejected : p->rk.stats.steps_rejected;
-    g_tracker_sum.rhs_evals = (implicit != 0) ? p->ros.stats.rhs_evals : p->rk.stats.rhs_evals;
+    cdpr_plant_work_t w;
+    cdpr_plant_work(p, &w);
+    g_tracker_sum.steps_accepted = w.steps_accepted;
+    g_tracker_sum.steps_rejected = w.steps_rejected;
+    g_tracker_sum.rhs_evals = w.rhs_evals;
     g_tracker_sum.settle_steps = p->settle.steps;
     g_tracker_sum.settle_wall_time_s = (double)NAN; /* not measured by cdpr_rt_init */
     g_tracker_sum.wall_time_s = g_rt.tel.wall_s;

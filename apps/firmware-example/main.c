@@ -374,13 +374,13 @@ int main(void)
     for (int i = 0; i < robot->dim; ++i) {
         ok = (isfinite(plant.y[i]) != 0) ? ok : 0;
     }
+    cdpr_plant_work_t work;
+    cdpr_plant_work(&plant, &work);
     printf("cdpr firmware example: %d cables x %d segments, %s, %d periods of 1 ms\n", N_CABLES,
            N_SEGMENTS, (sizeof(cdpr_real_t) == 4u) ? "float" : "double", N_PERIODS);
     printf("cabin z: %ld mm, state dim %d, rhs evals %lu, substep-limit periods %lu\n",
            (long)lroundf((float)(plant.y[CDPR_CABIN_P + 2] * CDPR_R(1000.0))), robot->dim,
-           (params.integrator != CDPR_PLANT_RKF45) ? plant.ros.stats.rhs_evals
-                                                   : plant.rk.stats.rhs_evals,
-           (unsigned long)warnings);
+           work.rhs_evals, (unsigned long)warnings);
     printf("per period, max: rhs evals %lu, factorisations %lu, solves %lu\n",
            plant.stats.max_rhs_evals, plant.stats.max_factorisations, plant.stats.max_solves);
     if (params.integrator == CDPR_PLANT_ROS34PW2_FIXED) {
@@ -389,9 +389,7 @@ int main(void)
                "periods\n",
                plant.substeps, (long)lroundf((float)(plant.stats.max_err_norm * CDPR_R(1000.0))),
                plant.stats.err_above_one_periods);
-        ok = (plant.stats.max_rhs_evals * (unsigned long)N_PERIODS == plant.ros.stats.rhs_evals)
-                 ? ok
-                 : 0;
+        ok = (plant.stats.max_rhs_evals * (unsigned long)N_PERIODS == work.rhs_evals) ? ok : 0;
     }
     for (int j = 0; j < N_CABLES; ++j) {
         const long tc = (long)lroundf((float)out.tension_cabin_N[j]);

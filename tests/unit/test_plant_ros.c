@@ -393,9 +393,50 @@ static void test_release_against_tight_reference_and_energy(void)
     TEST_ASSERT_TRUE_MESSAGE(rise_max < 0.2, msg);
 }
 
+/* cdpr_plant_work reports the scheme's own counters (rkf45.h, ros34pw2.h), whichever the scheme:
+ * RKF45 has no factorisations or solves. */
+static void test_work_is_the_integrators_counters(void)
+{
+    static const cdpr_plant_integrator_t schemes[3] = {CDPR_PLANT_RKF45, CDPR_PLANT_ROS34PW2,
+                                                       CDPR_PLANT_ROS34PW2_FIXED};
+    for (int s = 0; s < 3; ++s) {
+        cdpr_plant_params_t pp;
+        robot_params(&pp);
+        if (schemes[s] != CDPR_PLANT_RKF45) {
+            ros_params(&pp);
+        }
+        pp.integrator = schemes[s];
+        init_plant(&plant, &pp);
+        for (int k = 0; k < 20; ++k) {
+            cdpr_real_t u[6];
+            test_paper_rates_at(k, u);
+            int flags = 0;
+            TEST_ASSERT_TRUE(cdpr_plant_step(&plant, CDPR_WINCH_RATE, u, &flags) >= 0);
+        }
+        cdpr_plant_work_t w;
+        cdpr_plant_work(&plant, &w);
+        TEST_ASSERT_EQUAL_INT((int)schemes[s], (int)w.integrator);
+        TEST_ASSERT_TRUE(w.rhs_evals > 0u);
+        if (schemes[s] == CDPR_PLANT_RKF45) {
+            TEST_ASSERT_EQUAL_UINT32(plant.rk.stats.steps_accepted, w.steps_accepted);
+            TEST_ASSERT_EQUAL_UINT32(plant.rk.stats.steps_rejected, w.steps_rejected);
+            TEST_ASSERT_EQUAL_UINT32(plant.rk.stats.rhs_evals, w.rhs_evals);
+            TEST_ASSERT_EQUAL_UINT32(0u, w.factorisations + w.solves);
+        } else {
+            TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.steps_accepted, w.steps_accepted);
+            TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.steps_rejected, w.steps_rejected);
+            TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.rhs_evals, w.rhs_evals);
+            TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.factorisations, w.factorisations);
+            TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.solves, w.solves);
+            TEST_ASSERT_TRUE(w.factorisations > 0u && w.solves >= w.factorisations);
+        }
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
+    RUN_TEST(test_work_is_the_integrators_counters);
     RUN_TEST(test_implicit_follows_tight_reference);
     RUN_TEST(test_implicit_raw_tension_at_a_tighter_velocity_tolerance);
     RUN_TEST(test_implicit_follows_tight_reference_across_rope_damping);

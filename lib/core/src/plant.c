@@ -274,6 +274,26 @@ cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cd
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
+void cdpr_plant_work(const cdpr_plant_t *p, cdpr_plant_work_t *w)
+{
+    w->integrator = p->pp.integrator;
+    if (p->pp.integrator == CDPR_PLANT_RKF45) {
+        w->steps_accepted = p->rk.stats.steps_accepted;
+        w->steps_rejected = p->rk.stats.steps_rejected;
+        w->nonfinite_rejected = p->rk.stats.nonfinite_rejected;
+        w->rhs_evals = p->rk.stats.rhs_evals;
+        w->factorisations = 0UL;
+        w->solves = 0UL;
+    } else {
+        w->steps_accepted = p->ros.stats.steps_accepted;
+        w->steps_rejected = p->ros.stats.steps_rejected;
+        w->nonfinite_rejected = p->ros.stats.nonfinite_rejected;
+        w->rhs_evals = p->ros.stats.rhs_evals;
+        w->factorisations = p->ros.stats.factorisations;
+        w->solves = p->ros.stats.solves;
+    }
+}
+
 cdpr_real_t cdpr_plant_time(const cdpr_plant_t *p)
 {
     return (cdpr_real_t)p->k * p->pp.period_s;

@@ -386,17 +386,15 @@ static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum)
     sum->max_rhs_per_period = p->stats.max_rhs_evals;
     sum->max_err_norm = (double)NAN;
     sum->err_above_one_periods = 0;
+    cdpr_plant_work_t w;
+    cdpr_plant_work(p, &w);
+    sum->steps_accepted = w.steps_accepted;
+    sum->steps_rejected = w.steps_rejected;
+    sum->rhs_evals = w.rhs_evals;
     if (p->pp.integrator != CDPR_PLANT_RKF45) {
-        sum->steps_accepted = p->ros.stats.steps_accepted;
-        sum->steps_rejected = p->ros.stats.steps_rejected;
-        sum->rhs_evals = p->ros.stats.rhs_evals;
         sum->substeps = p->substeps;
         sum->max_err_norm = (p->substeps > 0) ? (double)p->stats.max_err_norm : (double)NAN;
         sum->err_above_one_periods = p->stats.err_above_one_periods;
-    } else {
-        sum->steps_accepted = p->rk.stats.steps_accepted;
-        sum->steps_rejected = p->rk.stats.steps_rejected;
-        sum->rhs_evals = p->rk.stats.rhs_evals;
     }
 }
 

@@ -250,10 +250,11 @@ static void fill_stats(cdpr_rt_t *rt)
         t->node_removals += p->nodes.removals[j];
     }
     t->final_time_s = cdpr_plant_time(p);
-    const int ros = (p->pp.integrator != CDPR_PLANT_RKF45) ? 1 : 0;
-    t->rhs_evals = (ros != 0) ? p->ros.stats.rhs_evals : p->rk.stats.rhs_evals;
-    t->factorisations = (ros != 0) ? p->ros.stats.factorisations : 0UL;
-    t->solves = (ros != 0) ? p->ros.stats.solves : 0UL;
+    cdpr_plant_work_t w;
+    cdpr_plant_work(p, &w);
+    t->rhs_evals = w.rhs_evals;
+    t->factorisations = w.factorisations;
+    t->solves = w.solves;
     t->max_rhs_per_period = p->stats.max_rhs_evals;
     t->max_factorisations_per_period = p->stats.max_factorisations;
     t->max_solves_per_period = p->stats.max_solves;

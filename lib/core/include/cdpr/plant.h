@@ -214,6 +214,19 @@ void cdpr_plant_params_default(cdpr_plant_params_t *pp);
 /// "ros34pw2", "ros34pw2-fixed"; NULL for a value outside the enumeration. O(1).
 const char *cdpr_plant_integrator_name(cdpr_plant_integrator_t integrator);
 
+/// The integrator's work since cdpr_plant_init, whatever the scheme (outputs): what the
+/// integrators' own counters (cdpr_rkf45_stats_t, cdpr_ros_stats_t) hold, so a caller need not
+/// pick them by the scheme. RKF45 has no factorisations or solves (0).
+typedef struct {
+    cdpr_plant_integrator_t integrator; ///< the scheme (cdpr_plant_integrator_name)
+    unsigned long steps_accepted;       ///< accepted steps (the fixed mode: every substep)
+    unsigned long steps_rejected;       ///< trials rejected by the error test
+    unsigned long nonfinite_rejected;   ///< trials rejected because they produced NaN/Inf
+    unsigned long rhs_evals;            ///< evaluations of the robot's RHS
+    unsigned long factorisations;       ///< W factorisations (ROS34PW2)
+    unsigned long solves;               ///< W solves (ROS34PW2)
+} cdpr_plant_work_t;
+
 /// Validate the plant's own fields of `pp` (not the robot, winch, IK and integrator settings,
 /// which cdpr_plant_init validates with their modules' rules). O(1); no allocation.
 /// Errors (diag names the field): CDPR_E_INVALID_ARG (NULL, unknown integrator or start),
@@ -259,6 +272,9 @@ cdpr_status_t cdpr_plant_fixed_substeps(const cdpr_robot_t *r, const cdpr_winch_
 /// CDPR_E_OUT_OF_RANGE for a params.substeps below the derived n (diag "substeps", index = the
 /// derived n) -- checked before the settling, so a refusal costs no settle.
 cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cdpr_diag_t *diag);
+
+/// The integrator's work since init into `w` (cdpr_plant_work_t). O(1); cannot fail.
+void cdpr_plant_work(const cdpr_plant_t *p, cdpr_plant_work_t *w);
 
 /// Plant time t_k = k Δt [s]. O(1); cannot fail.
 cdpr_real_t cdpr_plant_time(const cdpr_plant_t *p);
