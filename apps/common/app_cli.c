@@ -120,6 +120,24 @@ static int exists(const char *path)
     return stat(path, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
+cdpr_status_t cdpr_app_exe_dir(char *dir, size_t cap)
+{
+    if (cap < 2U) {
+        return CDPR_E_IO;
+    }
+    const ssize_t n = readlink("/proc/self/exe", dir, cap - 1U);
+    if (n <= 0 || (size_t)n >= cap - 1U) {
+        return CDPR_E_IO;
+    }
+    dir[n] = '\0';
+    char *slash = strrchr(dir, '/');
+    if (slash == NULL) {
+        return CDPR_E_IO;
+    }
+    *slash = '\0';
+    return CDPR_OK;
+}
+
 cdpr_status_t cdpr_app_data_file(const char *rel, char *buf, size_t cap)
 {
     if (cap == 0U) {
@@ -128,15 +146,8 @@ cdpr_status_t cdpr_app_data_file(const char *rel, char *buf, size_t cap)
     buf[0] = '\0';
     /* 1. Next to the executable: <exe dir>/../share/cdpr/rel. */
     char exe[1024];
-    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    char *slash = NULL;
-    if (n > 0 && (size_t)n < sizeof exe - 1) {
-        exe[n] = '\0';
-        slash = strrchr(exe, '/');
-    }
     int have_first = 0;
-    if (slash != NULL) {
-        *slash = '\0';
+    if (cdpr_app_exe_dir(exe, sizeof exe) == CDPR_OK) {
         char dir[1100];
         if (join(dir, sizeof dir, exe, CDPR_BIN_TO_DATA) != CDPR_OK ||
             join(buf, cap, dir, rel) != CDPR_OK) {

@@ -77,4 +77,9 @@ cdpr_status_t cdpr_app_scenario_operand(const char *prog, int argc, char *const 
 /// fit in `cap` bytes.
 cdpr_status_t cdpr_app_data_file(const char *rel, char *buf, size_t cap);
 
+/// The directory of the running executable (/proc/self/exe, links resolved) into `dir`:
+/// CDPR_OK, or CDPR_E_IO when it cannot be read or does not fit in `cap` bytes. Where the apps
+/// find each other (cdpr-design next to cdpr-sim) and their data (cdpr_app_data_file).
+cdpr_status_t cdpr_app_exe_dir(char *dir, size_t cap);
+
 #endif /* CDPR_APP_CLI_H */

@@ -3,6 +3,8 @@
 /// Scenario, overrides and outputs of the scenario-running apps (app_run.h).
 #include "app_run.h"
 
+#include "app_cli.h"
+
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -147,18 +149,11 @@ static cdpr_status_t design_verdict(const char *prog, const char *path,
                                     const cdpr_scenario_overrides_t *ov, int quiet)
 {
     char exe[1024];
-    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    char *slash = NULL;
-    if (n > 0 && (size_t)n < sizeof exe - 1) {
-        exe[n] = '\0';
-        slash = strrchr(exe, '/');
-    }
     char design[1100];
-    if (slash == NULL) {
+    if (cdpr_app_exe_dir(exe, sizeof exe) != CDPR_OK) {
         fprintf(stderr, "%s: --check-design: cannot locate this executable\n", prog);
         return CDPR_E_IO;
     }
-    *slash = '\0';
     snprintf(design, sizeof design, "%s/cdpr-design", exe);
     if (access(design, X_OK) != 0) {
         fprintf(stderr,

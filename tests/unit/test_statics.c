@@ -486,39 +486,30 @@ static void test_straight_tensions_balance_the_load(void)
         TEST_ASSERT_EQUAL_INT(
             CDPR_OK, cdpr_statics_straight_tensions(&robot, &pose, cdpr_v3(fe[0], fe[1], fe[2]),
                                                     cdpr_v3(te[0], te[1], te[2]), t));
+        /* The cable forces t_j u_j on chords from attachment points built here (ref_mat3.h's
+         * rotation), then the equilibrium residual as for the catenary IK above. */
         const mat_t R = euler_matrix(q[3], q[4], q[5]);
-        double cw[3];
-        double f[3];
-        double m[3];
-        for (int i = 0; i < 3; ++i) {
-            cw[i] = q[i] + R.m[i][0] * com[0] + R.m[i][1] * com[1] + R.m[i][2] * com[2];
-            f[i] = fe[i];
-            m[i] = te[i];
-        }
-        f[2] -= 40.0 * 9.80665;
+        static cdpr_statics_result_t chords;
         double tmin = 1e300;
         for (int j = 0; j < 6; ++j) {
             const cdpr_vec3_t b = robot.p.cables[j].attach_body_m;
             const cdpr_vec3_t e = robot.p.cables[j].exit_point_m;
             double P[3];
-            double d[3];
             for (int i = 0; i < 3; ++i) {
                 P[i] = q[i] + R.m[i][0] * b.x + R.m[i][1] * b.y + R.m[i][2] * b.z;
             }
-            d[0] = e.x - P[0];
-            d[1] = e.y - P[1];
-            d[2] = e.z - P[2];
+            const double d[3] = {e.x - P[0], e.y - P[1], e.z - P[2]};
             const double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            const double F[3] = {t[j] * d[0] / l, t[j] * d[1] / l, t[j] * d[2] / l};
-            const double a[3] = {P[0] - cw[0], P[1] - cw[1], P[2] - cw[2]};
-            for (int i = 0; i < 3; ++i) {
-                f[i] += F[i];
-            }
-            m[0] += a[1] * F[2] - a[2] * F[1];
-            m[1] += a[2] * F[0] - a[0] * F[2];
-            m[2] += a[0] * F[1] - a[1] * F[0];
+            chords.cable[j].attach_world_m =
+                cdpr_v3((cdpr_real_t)P[0], (cdpr_real_t)P[1], (cdpr_real_t)P[2]);
+            chords.cable[j].force_on_cabin_N =
+                cdpr_v3((cdpr_real_t)(t[j] * d[0] / l), (cdpr_real_t)(t[j] * d[1] / l),
+                        (cdpr_real_t)(t[j] * d[2] / l));
             tmin = fmin(tmin, (double)t[j]);
         }
+        double f[3];
+        double m[3];
+        loaded_residual(&chords, q, com, fe, te, f, m);
         /* Tensions up to ~1e3 N (1e4 N outside): a few roundings of the 6x6 solve and of the
          * sums, 1e-9 N and N m in double; float: u_f times the largest tension times the
          * condition of the chord matrix (~1e2): 0.5 N. */
