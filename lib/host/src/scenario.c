@@ -1251,6 +1251,13 @@ void cdpr_scenario_rig(const cdpr_scenario_t *sc, cdpr_rig_t *rig)
     }
 }
 
+const char *cdpr_scenario_trajectory_key(const cdpr_scenario_t *sc)
+{
+    static const char *const keys[] = {"trajectory.hold", "trajectory.circle", "trajectory.line",
+                                       "trajectory.cyclic"};
+    return keys[(sc->traj.type <= CDPR_TRAJ_CYCLIC) ? sc->traj.type : CDPR_TRAJ_HOLD];
+}
+
 const char *cdpr_scenario_robot_name(const cdpr_scenario_t *sc)
 {
     return (sc->robot_source == CDPR_ROBOT_FROM_PRESET) ? cdpr_preset_name(sc->robot.preset)

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cdpr/host/clock.h"
+#include "cdpr/host/feasibility.h"
 #include "cdpr/host/fs.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/statics.h"
@@ -26,171 +27,6 @@ void cdpr_sim_opts_default(cdpr_sim_opts_t *o)
 {
     memset(o, 0, sizeof *o);
     o->progress_after_s = 2.0;
-}
-
-static const char *traj_key(const cdpr_scenario_t *sc)
-{
-    static const char *const keys[] = {"trajectory.hold", "trajectory.circle", "trajectory.line",
-                                       "trajectory.cyclic"};
-    return keys[(sc->traj.type <= CDPR_TRAJ_CYCLIC) ? sc->traj.type : CDPR_TRAJ_HOLD];
-}
-
-/* Why the IK of the desired motion at t failed, into `what`: the cable whose straight-cable
- * tension is lowest, when it would have to push. */
-static void infeasible_reason(const cdpr_robot_t *r, const cdpr_traj_sample_t *ds, double t,
-                              cdpr_vec3_t f, cdpr_vec3_t tau, cdpr_status_t st, char *what,
-                              size_t cap)
-{
-    double T[6];
-    int worst = 0;
-    const int solved =
-        (cdpr_statics_straight_tensions(r, &ds->motion, f, tau, T) == CDPR_OK) ? 1 : 0;
-    for (int j = 1; j < 6 && solved != 0; ++j) {
-        worst = (T[j] < T[worst]) ? j : worst;
-    }
-    const int n =
-        snprintf(what, cap,
-                 "desired pose at t = %g s (%g, %g, %g m, %g, %g, %g rad) is not "
-                 "reachable (no equilibrium with every cable pulling",
-                 t, ds->pose[0], ds->pose[1], ds->pose[2], ds->pose[3], ds->pose[4], ds->pose[5]);
-    if (n < 0 || (size_t)n >= cap) {
-        return;
-    }
-    if (solved != 0 && T[worst] <= 0.0) {
-        snprintf(what + n, cap - (size_t)n,
-                 " under the weight and the feed-forward's inertial load): cable %d would need "
-                 "a tension of %.4g N (pushing; straight-cable estimate): %s",
-                 worst + 1, T[worst], cdpr_status_str(st));
-    } else {
-        snprintf(what + n, cap - (size_t)n, "): %s", cdpr_status_str(st));
-    }
-}
-
-/* The cables a load leaves (nearly) slack, from their straight-cable tensions T: at most 1 % of
- * the cabin's weight. Writes "2 (1.18 N), 3 (1.18 N)" into `list`; returns how many. */
-static int slack_cables(const cdpr_robot_t *r, const double T[6], char *list, size_t cap)
-{
-    const double small = 0.01 * r->p.cabin.mass_kg * r->p.g_m_per_s2;
-    int k = 0;
-    size_t used = 0;
-    list[0] = '\0';
-    for (int j = 0; j < 6; ++j) {
-        if (T[j] <= small && used < cap) {
-            const int n = snprintf(list + used, cap - used, "%s%d (%.3g N)", (k > 0) ? ", " : "",
-                                   j + 1, T[j]);
-            used += (n > 0) ? (size_t)n : 0U;
-            ++k;
-        }
-    }
-    return k;
-}
-
-/* Unstretched lengths of an IK result within the winch and length-command limits, and at the
- * start no cable hanging in a loop (longer than CDPR_TRACKER_MAX_LENGTH_PER_CHORD chords: an
- * equilibrium of the catenaries the controller refuses to command). A cable that comes out that
- * long is reported with the straight-cable tensions of the load (the weight plus the
- * feed-forward's inertial load): the cables it leaves slack, or the long cable's own. */
-static cdpr_status_t check_lengths(const cdpr_scenario_t *sc, const cdpr_robot_t *model,
-                                   const cdpr_traj_sample_t *ds, cdpr_vec3_t f, cdpr_vec3_t tau,
-                                   const cdpr_statics_result_t *res, const cdpr_winch_params_t *w,
-                                   double t, int start, cdpr_scenario_error_t *err)
-{
-    for (int j = 0; j < res->n_cables; ++j) {
-        const double L = res->cable[j].length_m;
-        const double chord = cdpr_v3_norm(
-            cdpr_v3_sub(model->p.cables[j].exit_point_m, res->cable[j].attach_world_m));
-        /* The loop: at the start only, where the controller's first feed-forward refuses it
-         * (later, the controller counts a failed feed-forward and falls back, docs/scenarios.md).
-         */
-        const int in_loop =
-            (start != 0 && !(L <= CDPR_TRACKER_MAX_LENGTH_PER_CHORD * chord)) ? 1 : 0;
-        const int too_long = (L > CDPR_SIM_MAX_LENGTH_M || in_loop != 0) ? 1 : 0;
-        if (too_long == 0 && L >= w[j].min_length_m) {
-            continue;
-        }
-        double T[6];
-        const int solved =
-            (too_long != 0 && model->p.n_cables == 6 &&
-             cdpr_statics_straight_tensions(model, &ds->motion, f, tau, T) == CDPR_OK)
-                ? 1
-                : 0;
-        char slack[256];
-        char what[768];
-        if (solved != 0 && slack_cables(model, T, slack, sizeof slack) > 0) {
-            snprintf(what, sizeof what,
-                     "desired pose at t = %g s (%g, %g, %g m, %g, %g, %g rad): the weight and "
-                     "the feed-forward's inertial load leave cables %s slack (straight-cable "
-                     "tensions; at most 1 %% of the cabin's weight): the equilibrium has cable %d "
-                     "%.6g m long for a chord of %.6g m",
-                     t, ds->pose[0], ds->pose[1], ds->pose[2], ds->pose[3], ds->pose[4],
-                     ds->pose[5], slack, j + 1, L, chord);
-        } else if (in_loop != 0 && L <= CDPR_SIM_MAX_LENGTH_M) {
-            const int n = snprintf(what, sizeof what,
-                                   "desired pose at t = %g s: cable %d would hang in a loop, "
-                                   "%.6g m long for a chord of %.6g m (more than %g chords: no "
-                                   "length to command)",
-                                   t, j + 1, L, chord, CDPR_TRACKER_MAX_LENGTH_PER_CHORD);
-            if (solved != 0 && n > 0 && (size_t)n < sizeof what) {
-                snprintf(what + n, sizeof what - (size_t)n,
-                         "; its straight-cable tension under the weight and the feed-forward's "
-                         "inertial load is %.3g N, the cabin's weight %.3g N",
-                         T[j], model->p.cabin.mass_kg * model->p.g_m_per_s2);
-            }
-        } else {
-            snprintf(what, sizeof what,
-                     "cable %d would be %.6g m long at t = %g s: outside [%g, %g] m (the "
-                     "winch's min_length_m, the longest length command)",
-                     j + 1, L, t, w[j].min_length_m, CDPR_SIM_MAX_LENGTH_M);
-        }
-        cdpr_scenario_error(sc, traj_key(sc), what, err);
-        return CDPR_E_OUT_OF_RANGE;
-    }
-    return CDPR_OK;
-}
-
-cdpr_status_t cdpr_sim_check_trajectory(const cdpr_scenario_t *sc, double duration,
-                                        cdpr_robot_t *model, cdpr_scenario_error_t *err)
-{
-    cdpr_robot_params_t mp;
-    cdpr_winch_params_t w[CDPR_MAX_CABLES];
-    cdpr_diag_t d;
-    if (cdpr_scenario_build_robot(sc, NULL, &mp, w, &d) != CDPR_OK ||
-        cdpr_robot_init(model, &mp, &d) != CDPR_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "rejected by the model: field '%s': %s", d.field,
-                 cdpr_status_str(d.status));
-        cdpr_scenario_error(sc, "robot", what, err);
-        return d.status;
-    }
-    cdpr_statics_opts_t o;
-    cdpr_statics_opts_default(&o);
-    const long n = cdpr_scenario_count(ceil(duration / 0.1));
-    for (long k = 0; k <= n; ++k) {
-        const double t = (k < n) ? 0.1 * (double)k : duration + sc->period_s;
-        cdpr_traj_sample_t ds;
-        cdpr_traj_eval(&sc->traj, t, &ds);
-        cdpr_vec3_t f = cdpr_v3(0.0, 0.0, 0.0);
-        cdpr_vec3_t tau = f;
-        if (sc->gains.inertial_ff > 0.0) {
-            cdpr_tracker_inertial_wrench(model, &ds, &f, &tau);
-            f = cdpr_v3_scale(f, sc->gains.inertial_ff);
-            tau = cdpr_v3_scale(tau, sc->gains.inertial_ff);
-        }
-        cdpr_statics_result_t res;
-        const cdpr_status_t st = cdpr_statics_ik_wrench(model, &ds.motion, f, tau, &o, &res);
-        if (st != CDPR_OK) {
-            char what[768];
-            infeasible_reason(model, &ds, t, f, tau, st, what, sizeof what);
-            cdpr_scenario_error(sc, traj_key(sc), what, err);
-            return st;
-        }
-        const cdpr_status_t ls =
-            check_lengths(sc, model, &ds, f, tau, &res, w, t, (k == 0) ? 1 : 0, err);
-        if (ls != CDPR_OK) {
-            return ls;
-        }
-    }
-    return CDPR_OK;
 }
 
 static void progress(const cdpr_sim_opts_t *o, double t, double total, double wall, int final)
@@ -218,7 +54,7 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
 {
     /* The trajectory first (feasible, lengths within the limits; its error names the time and
      * pose): a statics check per 0.1 s, cheap next to the settle that follows. */
-    const cdpr_status_t ts = cdpr_sim_check_trajectory(sc, duration, &s->model, err);
+    const cdpr_status_t ts = cdpr_feasibility_check_trajectory(sc, duration, &s->model, err);
     if (ts != CDPR_OK) {
         return ts;
     }
@@ -236,7 +72,9 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
     if (st != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "controller: field '%s': %s", d.field, cdpr_status_str(st));
-        cdpr_scenario_error(sc, (strcmp(d.field, "trajectory") == 0) ? traj_key(sc) : "controller",
+        cdpr_scenario_error(sc,
+                            (strcmp(d.field, "trajectory") == 0) ? cdpr_scenario_trajectory_key(sc)
+                                                                 : "controller",
                             what, err);
         return st;
     }

@@ -14,7 +14,7 @@
 #include <sys/mman.h>
 #include <time.h>
 
-#include "cdpr/host/sim.h"
+#include "cdpr/host/feasibility.h"
 #include "cdpr/lcm/pack.h"
 
 /* Lockstep: how often the periodic thread looks at the mailbox while it waits [ns]. */
@@ -89,8 +89,9 @@ static cdpr_status_t init_bridge(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     for (int j = 0; j < bp.n_cables; ++j) {
         bp.winch[j] = rt->plant.pp.winch[j];
     }
-    /* Length commands within the lengths a scenario may have (cdpr_sim_check_trajectory). */
-    bp.max_length_m = CDPR_SIM_MAX_LENGTH_M;
+    /* Length commands within the lengths a scenario may have (cdpr_feasibility_check_trajectory).
+     */
+    bp.max_length_m = CDPR_FEASIBILITY_MAX_LENGTH_M;
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
     const cdpr_status_t st = cdpr_lcm_bridge_init(&rt->bridge, &bp, &d);
@@ -158,7 +159,7 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
     rt->stall_periods = (long)ceil(CDPR_RT_STALL_S / sc->period_s);
     /* The trajectory check of cdpr-sim (feasible, lengths within the limits) before the
      * plant's settle, which costs far more. */
-    st = cdpr_sim_check_trajectory(sc, sc->duration_s, &rt->check_model, err);
+    st = cdpr_feasibility_check_trajectory(sc, sc->duration_s, &rt->check_model, err);
     if (st != CDPR_OK) {
         return st;
     }

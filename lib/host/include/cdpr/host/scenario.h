@@ -136,6 +136,10 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
 /// cdpr_rig_from_preset. O(cables); cannot fail.
 void cdpr_scenario_rig(const cdpr_scenario_t *sc, cdpr_rig_t *rig);
 
+/// The key of the scenario's trajectory block as messages name it: "trajectory.hold",
+/// "trajectory.circle", "trajectory.line" or "trajectory.cyclic". O(1); cannot fail.
+const char *cdpr_scenario_trajectory_key(const cdpr_scenario_t *sc);
+
 /// Name of the scenario's robot: the preset's name, the robot file's path or "embedded".
 const char *cdpr_scenario_robot_name(const cdpr_scenario_t *sc);
 
