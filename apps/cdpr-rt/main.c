@@ -215,7 +215,7 @@ static void on_overload(long periods, long misses, double rate_hz, void *ctx)
 static cdpr_rt_t g_rt;
 static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_record_t g_record;
-static cdpr_sim_summary_t g_tracker_sum;
+static cdpr_summary_t g_tracker_sum;
 
 static int tracker_open(lcm_t *lcm, void *ctx)
 {
@@ -271,8 +271,8 @@ static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc
     g_record.traj = &sc->traj;
     g_record.period_s = period_s;
     cdpr_scenario_error_t err;
-    const cdpr_status_t rs = cdpr_sim_rec_open(&g_record.rec, sc, &g_rt.plant.pp, o->tracker_out,
-                                               g_rt.plant.robot.p.n_cables, &g_tracker_sum, &err);
+    const cdpr_status_t rs = cdpr_record_open(&g_record.rec, sc, &g_rt.plant.pp, o->tracker_out,
+                                              g_rt.plant.robot.p.n_cables, &g_tracker_sum, &err);
     if (rs != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
         return rs;
@@ -289,15 +289,15 @@ static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc
 static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *sc,
                                     cdpr_status_t run)
 {
-    cdpr_status_t st = cdpr_sim_rec_close(&g_record.rec);
+    cdpr_status_t st = cdpr_record_close(&g_record.rec);
     cdpr_scenario_error_t err;
     if (st != CDPR_OK) {
-        cdpr_sim_rec_io_error(&g_record.rec, &err);
+        cdpr_record_io_error(&g_record.rec, &err);
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
     }
     g_tracker_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_tracker_sum.ik_failures = g_tracker.tracker.ik_failures;
-    cdpr_sim_tracker_counts(&g_tracker.tracker, &g_tracker_sum);
+    cdpr_record_tracker_counts(&g_tracker.tracker, &g_tracker_sum);
     /* The plant runs in this process: its own counts (as cdpr-sim's summary has them). */
     const cdpr_plant_t *p = &g_rt.plant;
     g_tracker_sum.node_insertions = g_rt.tel.node_insertions;
@@ -323,25 +323,25 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
         g_tracker_sum.max_err_norm = (double)p->stats.max_err_norm;
         g_tracker_sum.err_above_one_periods = p->stats.err_above_one_periods;
     }
-    g_tracker_sum.status = CDPR_SIM_OK;
+    g_tracker_sum.status = CDPR_SUMMARY_OK;
     const char *why = "";
     if (st != CDPR_OK) {
-        g_tracker_sum.status = CDPR_SIM_IO_ERROR;
+        g_tracker_sum.status = CDPR_SUMMARY_IO_ERROR;
         why = "timeseries.csv write failed; ";
     } else if (run == CDPR_E_INTERRUPTED) {
-        g_tracker_sum.status = CDPR_SIM_INTERRUPTED;
+        g_tracker_sum.status = CDPR_SUMMARY_INTERRUPTED;
         why = "interrupted by a signal; ";
     } else if (run == CDPR_E_CONFLICT) {
-        g_tracker_sum.status = CDPR_SIM_WARNINGS;
+        g_tracker_sum.status = CDPR_SUMMARY_WARNINGS;
         why = "another plant shared the channels; ";
     } else if (run != CDPR_OK) {
-        g_tracker_sum.status = CDPR_SIM_FAILED;
+        g_tracker_sum.status = CDPR_SUMMARY_FAILED;
         why = "the plant could not advance; ";
     }
     snprintf(g_tracker_sum.message, sizeof g_tracker_sum.message, "%s%llu commands", why,
              (unsigned long long)g_tracker.stats.answered);
     if (o->quiet == 0) {
-        cdpr_sim_print_summary(stdout, "in-process tracker", &g_tracker_sum);
+        cdpr_summary_print(stdout, "in-process tracker", &g_tracker_sum);
         cdpr_rt_tracker_print_cost(stdout, &g_tracker);
     }
     if (o->tracker_out != NULL) {

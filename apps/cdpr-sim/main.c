@@ -173,7 +173,7 @@ int main(int argc, char **argv)
         /* A rewritten line on a terminal; plain lines when forced into a file or pipe. */
         so.progress = (tty != 0) ? 1 : ((o.progress > 0) ? 2 : 0);
     }
-    cdpr_sim_summary_t sum;
+    cdpr_summary_t sum;
     cdpr_scenario_error_t err;
     err.msg[0] = '\0';
     const cdpr_status_t st = cdpr_sim_run(&sc, &so, &sum, &err);
@@ -188,11 +188,11 @@ int main(int argc, char **argv)
     }
     cdpr_status_t plotted = CDPR_E_IO;
     if (o.plot != 0) {
-        plotted = cdpr_sim_plot("cdpr-sim", o.plot_script, o.out_dir,
+        plotted = cdpr_plot_run("cdpr-sim", o.plot_script, o.out_dir,
                                 cdpr_traj_type_name(sc.traj.type), cdpr_app_title(&sc));
     }
     if (o.quiet == 0) {
-        cdpr_sim_print_summary(stdout, o.scenario, &sum);
+        cdpr_summary_print(stdout, o.scenario, &sum);
         printf("  outputs         %s/timeseries.csv, %s/summary.json\n", o.out_dir, o.out_dir);
         if (plotted == CDPR_OK) {
             print_figures(o.out_dir, sc.traj.type);

@@ -399,7 +399,7 @@ static cdpr_status_t replay_run(const options_t *o)
 static cdpr_plant_t g_model; /* the controller's own model: IK of the initial pose only */
 static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_record_t g_record;
-static cdpr_sim_summary_t g_sum;
+static cdpr_summary_t g_sum;
 static int g_silence;        /* serve stopped because no state came for --idle-exit */
 static int g_refused;        /* serve stopped: CDPR_RT_MAX_REFUSED_IN_ROW states refused in a row */
 static int g_not_in_control; /* the plant applied another controller's commands too often */
@@ -491,8 +491,8 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     g_record.traj = &sc->traj;
     g_record.period_s = sc->period_s;
     /* The integrator is the plant's as the scenario configures it (cdpr-rt reads the same). */
-    st = cdpr_sim_rec_open(&g_record.rec, sc, &g_model.pp, o->out_dir, g_model.robot.p.n_cables,
-                           &g_sum, &err);
+    st = cdpr_record_open(&g_record.rec, sc, &g_model.pp, o->out_dir, g_model.robot.p.n_cables,
+                          &g_sum, &err);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
         return st;
@@ -580,22 +580,22 @@ static void finish_status(cdpr_status_t rc, int csv_failed)
     const cdpr_rt_tracker_stats_t *s = &g_tracker.stats;
     const char *why = "";
     if (csv_failed != 0) {
-        g_sum.status = CDPR_SIM_IO_ERROR;
+        g_sum.status = CDPR_SUMMARY_IO_ERROR;
         why = "timeseries.csv write failed; ";
     } else if (rc == CDPR_E_CONFLICT && g_not_in_control != 0) {
-        g_sum.status = CDPR_SIM_FAILED;
+        g_sum.status = CDPR_SUMMARY_FAILED;
         why = "not in control: the plant applied another controller's commands; ";
     } else if (rc == CDPR_E_MISMATCH) {
-        g_sum.status = CDPR_SIM_FAILED;
+        g_sum.status = CDPR_SUMMARY_FAILED;
         why = (g_refused != 0) ? "stopped: the plant's states were refused; "
                                : "the plant runs at another rate; ";
     } else if (rc == CDPR_OK) {
-        g_sum.status = (g_sum.ik_failures > 0) ? CDPR_SIM_WARNINGS : CDPR_SIM_OK;
+        g_sum.status = (g_sum.ik_failures > 0) ? CDPR_SUMMARY_WARNINGS : CDPR_SUMMARY_OK;
     } else if (rc == CDPR_E_INTERRUPTED && g_silence == 0) {
-        g_sum.status = CDPR_SIM_INTERRUPTED;
+        g_sum.status = CDPR_SUMMARY_INTERRUPTED;
         why = "interrupted by a signal; ";
     } else {
-        g_sum.status = CDPR_SIM_FAILED;
+        g_sum.status = CDPR_SUMMARY_FAILED;
         why = (g_silence != 0) ? "stopped: no state came; " : "";
     }
     const uint64_t refused =
@@ -617,29 +617,29 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
                             double wall0)
 {
     int csv_failed = 0;
-    if (cdpr_sim_rec_close(&g_record.rec) != CDPR_OK) {
+    if (cdpr_record_close(&g_record.rec) != CDPR_OK) {
         cdpr_scenario_error_t err;
-        cdpr_sim_rec_io_error(&g_record.rec, &err);
+        cdpr_record_io_error(&g_record.rec, &err);
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
         csv_failed = 1;
         rc = CDPR_E_IO;
     }
     g_sum.max_payout_m_per_s = g_record.max_payout_m_per_s;
     g_sum.ik_failures = g_tracker.tracker.ik_failures;
-    cdpr_sim_tracker_counts(&g_tracker.tracker, &g_sum);
+    cdpr_record_tracker_counts(&g_tracker.tracker, &g_sum);
     g_sum.wall_time_s = cdpr_clock_now_s() - wall0;
     /* What only the plant knows is unknown here (null in summary.json); the node events are
-     * the changes of the segment counts in the tensions messages (cdpr_sim_rec_node_events). */
-    cdpr_sim_rec_node_events(&g_record.rec, &g_sum.node_insertions, &g_sum.node_removals, NULL);
-    g_sum.capacity_hits = CDPR_SIM_UNKNOWN;
-    g_sum.substep_limit_hits = CDPR_SIM_UNKNOWN;
-    g_sum.min_length_periods = CDPR_SIM_UNKNOWN;
-    g_sum.steps_accepted = CDPR_SIM_UNKNOWN;
-    g_sum.steps_rejected = CDPR_SIM_UNKNOWN;
-    g_sum.rhs_evals = CDPR_SIM_UNKNOWN;
-    g_sum.max_rhs_per_period = CDPR_SIM_UNKNOWN;
+     * the changes of the segment counts in the tensions messages (cdpr_record_node_events). */
+    cdpr_record_node_events(&g_record.rec, &g_sum.node_insertions, &g_sum.node_removals, NULL);
+    g_sum.capacity_hits = CDPR_SUMMARY_UNKNOWN;
+    g_sum.substep_limit_hits = CDPR_SUMMARY_UNKNOWN;
+    g_sum.min_length_periods = CDPR_SUMMARY_UNKNOWN;
+    g_sum.steps_accepted = CDPR_SUMMARY_UNKNOWN;
+    g_sum.steps_rejected = CDPR_SUMMARY_UNKNOWN;
+    g_sum.rhs_evals = CDPR_SUMMARY_UNKNOWN;
+    g_sum.max_rhs_per_period = CDPR_SUMMARY_UNKNOWN;
     g_sum.max_err_norm = (double)NAN;
-    g_sum.err_above_one_periods = CDPR_SIM_UNKNOWN;
+    g_sum.err_above_one_periods = CDPR_SUMMARY_UNKNOWN;
     g_sum.settle_steps = -1;
     g_sum.settle_wall_time_s = (double)NAN;
     if (g_tracker.have_plant_diag != 0) {
@@ -667,7 +667,7 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
         rc = CDPR_E_IO;
     }
     if (o->quiet == 0) {
-        cdpr_sim_print_summary(stdout, "cdpr-tracker", &g_sum);
+        cdpr_summary_print(stdout, "cdpr-tracker", &g_sum);
         const uint64_t refused =
             s->bad_measurement + s->refused_seq + s->refused_time + s->refused_implausible;
         printf("  LCM             decode errors %llu, refused pairs %llu\n",

@@ -106,7 +106,7 @@ const char *cdpr_app_title(const cdpr_scenario_t *sc)
 }
 
 cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc,
-                                     const char *out_dir, const cdpr_sim_summary_t *sum,
+                                     const char *out_dir, const cdpr_summary_t *sum,
                                      const char *plot_script)
 {
     char path[1100];
@@ -114,17 +114,17 @@ cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc
         fprintf(stderr, "%s: %s/summary.json: path too long\n", prog, out_dir);
         return CDPR_E_IO;
     }
-    if (cdpr_sim_write_summary(path, sc, sum) != CDPR_OK) {
+    if (cdpr_summary_write(path, sc, sum) != CDPR_OK) {
         fprintf(stderr, "%s: %s: cannot write: %s\n", prog, path, strerror(errno));
         return CDPR_E_IO;
     }
     if (cdpr_fs_path(path, sizeof path, out_dir, "laps.csv") != CDPR_OK ||
-        cdpr_sim_write_laps(path, sum) != CDPR_OK) {
+        cdpr_summary_write_laps(path, sum) != CDPR_OK) {
         fprintf(stderr, "%s: %s: cannot write: %s\n", prog, path, strerror(errno));
         return CDPR_E_IO;
     }
     if (plot_script != NULL) {
-        (void)cdpr_sim_plot(prog, plot_script, out_dir, cdpr_traj_type_name(sc->traj.type),
+        (void)cdpr_plot_run(prog, plot_script, out_dir, cdpr_traj_type_name(sc->traj.type),
                             cdpr_app_title(sc));
     }
     return CDPR_OK;

@@ -77,7 +77,7 @@ const char *cdpr_app_title(const cdpr_scenario_t *sc);
 /// that script; a failure there is only a warning). Returns CDPR_OK, or CDPR_E_IO after
 /// printing "PROG: FILE: cannot write: why".
 cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc,
-                                     const char *out_dir, const cdpr_sim_summary_t *sum,
+                                     const char *out_dir, const cdpr_summary_t *sum,
                                      const char *plot_script);
 
 #endif /* CDPR_APP_RUN_H */

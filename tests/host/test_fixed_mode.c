@@ -51,7 +51,7 @@ static void test_circle_same_work_every_period(void)
         cdpr_sim_opts_t o;
         cdpr_sim_opts_default(&o);
         o.out_dir = CDPR_TEST_TMP;
-        static cdpr_sim_summary_t sum;
+        static cdpr_summary_t sum;
         cdpr_scenario_error_t err;
         TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_run(&g_sc, &o, &sum, &err), err.msg);
         char msg[200];
@@ -61,7 +61,7 @@ static void test_circle_same_work_every_period(void)
                        segs[i], sum.substeps, sum.rhs_evals, sum.periods, sum.max_rhs_per_period,
                        sum.max_err_norm, sum.err_above_one_periods);
         TEST_MESSAGE(msg);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_SIM_OK, sum.status, sum.message);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_SUMMARY_OK, sum.status, sum.message);
         TEST_ASSERT_EQUAL_INT_MESSAGE(300, sum.periods, msg);
         TEST_ASSERT_TRUE_MESSAGE(sum.substeps >= 1, msg);
         TEST_ASSERT_EQUAL_UINT_MESSAGE(4UL * (unsigned long)sum.substeps, sum.max_rhs_per_period,
@@ -72,9 +72,9 @@ static void test_circle_same_work_every_period(void)
                                        sum.steps_accepted, msg);
         TEST_ASSERT_EQUAL_UINT(0UL, sum.steps_rejected);
         /* The summary file says the same. */
-        static cdpr_sim_summary_t back;
+        static cdpr_summary_t back;
         TEST_ASSERT_EQUAL_INT(CDPR_OK,
-                              cdpr_sim_read_summary(CDPR_TEST_TMP "/summary.json", &back, &err));
+                              cdpr_summary_read(CDPR_TEST_TMP "/summary.json", &back, &err));
         TEST_ASSERT_EQUAL_INT(sum.substeps, back.substeps);
         TEST_ASSERT_EQUAL_UINT(sum.max_rhs_per_period, back.max_rhs_per_period);
         TEST_ASSERT_EQUAL_DOUBLE(sum.max_err_norm, back.max_err_norm);

@@ -68,11 +68,11 @@ static void test_csv_header_and_row(void)
     const char *dir = CDPR_TEST_TMP "/csv";
     cdpr_scenario_t sc;
     scenario(&sc);
-    cdpr_sim_summary_t sum;
+    cdpr_summary_t sum;
     memset(&sum, 0, sizeof sum);
-    cdpr_sim_rec_t rec;
+    cdpr_record_t rec;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, dir, 2, &sum, &err),
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_record_open(&rec, &sc, NULL, dir, 2, &sum, &err),
                                   err.msg);
     /* Measured at (1, 2, 3) m, level; desired 0.5 m further along x, level. */
     cdpr_traj_sample_t des;
@@ -93,9 +93,9 @@ static void test_csv_header_and_row(void)
     const double l_ff[2] = {10.0, 20.0};
     const double payout[2] = {0.125, -0.25};
     const int segments[2] = {20, 21};
-    const cdpr_sim_row_t row = {0.5, &des, &meas, t_cabin, t_winch, l_ff, payout, segments};
-    cdpr_sim_rec_period(&rec, 0, 1, &row);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    const cdpr_record_row_t row = {0.5, &des, &meas, t_cabin, t_winch, l_ff, payout, segments};
+    cdpr_record_period(&rec, 0, 1, &row);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     /* The provenance first, as comments: made-up.yaml does not exist (no hash), no plant
      * parameters were given (no integrator): null. */
     char expected[2048];
@@ -125,7 +125,7 @@ static void test_csv_header_and_row(void)
     TEST_ASSERT_EQUAL_INT(21, sum.nodes_max);
 }
 
-static void fill(cdpr_sim_summary_t *s)
+static void fill(cdpr_summary_t *s)
 {
     memset(s, 0, sizeof *s);
     s->rms_error_m = 0.1;
@@ -154,7 +154,7 @@ static void fill(cdpr_sim_summary_t *s)
     s->steps_rejected = 20;
     s->rhs_evals = 21;
     s->settle_steps = 22;
-    s->status = CDPR_SIM_WARNINGS;
+    s->status = CDPR_SUMMARY_WARNINGS;
     snprintf(s->message, sizeof s->message, "a \"quoted\" note");
 }
 
@@ -164,9 +164,9 @@ static void test_summary_written_then_read_back_equal(void)
     const char *path = CDPR_TEST_TMP "/summary.json";
     cdpr_scenario_t sc;
     scenario(&sc);
-    cdpr_sim_summary_t a;
+    cdpr_summary_t a;
     fill(&a);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &a));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(path, &sc, &a));
     const char *text = slurp(path);
     TEST_ASSERT_NOT_NULL(strstr(text, "\"scenario\": \"scenarios/made-up.yaml\",\n"));
     TEST_ASSERT_NOT_NULL(strstr(text, "\"status\": \"warnings\",\n"));
@@ -174,10 +174,10 @@ static void test_summary_written_then_read_back_equal(void)
     TEST_ASSERT_NOT_NULL(strstr(text, "\"rms_error_m\": 0.10000000000000001,\n"));
     TEST_ASSERT_NOT_NULL(strstr(text, "\"control_period_s\": 0.01,\n"));
     TEST_ASSERT_NOT_NULL(strstr(text, "\"periods\": 1260,\n"));
-    cdpr_sim_summary_t b;
+    cdpr_summary_t b;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &b, &err), err.msg);
-    TEST_ASSERT_EQUAL(CDPR_SIM_WARNINGS, b.status);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(path, &b, &err), err.msg);
+    TEST_ASSERT_EQUAL(CDPR_SUMMARY_WARNINGS, b.status);
     const double *da[] = {&a.rms_error_m,
                           &a.max_error_m,
                           &a.final_error_m,
@@ -234,13 +234,13 @@ static void test_provenance_of_an_existing_scenario_file(void)
     cdpr_plant_params_t pp;
     cdpr_plant_params_default(&pp);
     pp.integrator = CDPR_PLANT_RKF45;
-    cdpr_sim_summary_t sum;
+    cdpr_summary_t sum;
     memset(&sum, 0, sizeof sum);
-    cdpr_sim_rec_t rec;
+    cdpr_record_t rec;
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(
-        CDPR_OK, cdpr_sim_rec_open(&rec, &sc, &pp, CDPR_TEST_TMP "/prov", 2, &sum, &err), err.msg);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+        CDPR_OK, cdpr_record_open(&rec, &sc, &pp, CDPR_TEST_TMP "/prov", 2, &sum, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     const char *abc = "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad";
     TEST_ASSERT_EQUAL_STRING(abc, sum.prov.scenario_sha256);
     TEST_ASSERT_EQUAL_STRING("rkf45", sum.prov.integrator);
@@ -257,7 +257,7 @@ static void test_provenance_of_an_existing_scenario_file(void)
 
     /* summary.json carries the same, and reads back. */
     const char *path = CDPR_TEST_TMP "/prov/summary.json";
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &sum));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(path, &sc, &sum));
     const char *text = slurp(path);
     char line[256];
     snprintf(line, sizeof line, "{\n  \"version\": \"%s\",\n  \"git_describe\": \"%s\",\n",
@@ -269,8 +269,8 @@ static void test_provenance_of_an_existing_scenario_file(void)
                                         "0ff61f20015ad\",\n"),
                                  text);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"integrator\": \"rkf45\",\n"), text);
-    cdpr_sim_summary_t back;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &back, &err), err.msg);
+    cdpr_summary_t back;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(path, &back, &err), err.msg);
     TEST_ASSERT_EQUAL_STRING(abc, back.prov.scenario_sha256);
     TEST_ASSERT_EQUAL_STRING("rkf45", back.prov.integrator);
     TEST_ASSERT_EQUAL_STRING(CDPR_VERSION_STRING, back.prov.version);
@@ -285,18 +285,18 @@ static void test_unknown_values_are_null_both_ways(void)
     const char *path = CDPR_TEST_TMP "/nulls.json";
     cdpr_scenario_t sc;
     scenario(&sc);
-    cdpr_sim_summary_t a;
+    cdpr_summary_t a;
     fill(&a);
-    a.capacity_hits = CDPR_SIM_UNKNOWN;
-    a.substep_limit_hits = CDPR_SIM_UNKNOWN;
-    a.min_length_periods = CDPR_SIM_UNKNOWN;
-    a.steps_accepted = CDPR_SIM_UNKNOWN;
-    a.steps_rejected = CDPR_SIM_UNKNOWN;
-    a.rhs_evals = CDPR_SIM_UNKNOWN;
+    a.capacity_hits = CDPR_SUMMARY_UNKNOWN;
+    a.substep_limit_hits = CDPR_SUMMARY_UNKNOWN;
+    a.min_length_periods = CDPR_SUMMARY_UNKNOWN;
+    a.steps_accepted = CDPR_SUMMARY_UNKNOWN;
+    a.steps_rejected = CDPR_SUMMARY_UNKNOWN;
+    a.rhs_evals = CDPR_SUMMARY_UNKNOWN;
     a.settle_steps = -1;
     a.settle_wall_time_s = (double)NAN;
     a.max_tension_N = (double)INFINITY; /* JSON has no infinity either */
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &a));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(path, &sc, &a));
     const char *text = slurp(path);
     static const char *const nulls[] = {"\"version\": null,\n",
                                         "\"git_describe\": null,\n",
@@ -319,15 +319,15 @@ static void test_unknown_values_are_null_both_ways(void)
     TEST_ASSERT_NOT_NULL(strstr(text, "\"node_insertions\": 11,\n"));
     TEST_ASSERT_NOT_NULL(strstr(text, "\"ik_failures\": 15,\n"));
     TEST_ASSERT_NOT_NULL(strstr(text, "\"periods\": 1260,\n"));
-    cdpr_sim_summary_t b;
+    cdpr_summary_t b;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &b, &err), err.msg);
-    TEST_ASSERT_TRUE(b.capacity_hits == CDPR_SIM_UNKNOWN);
-    TEST_ASSERT_TRUE(b.substep_limit_hits == CDPR_SIM_UNKNOWN);
-    TEST_ASSERT_TRUE(b.min_length_periods == CDPR_SIM_UNKNOWN);
-    TEST_ASSERT_TRUE(b.steps_accepted == CDPR_SIM_UNKNOWN);
-    TEST_ASSERT_TRUE(b.steps_rejected == CDPR_SIM_UNKNOWN);
-    TEST_ASSERT_TRUE(b.rhs_evals == CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(path, &b, &err), err.msg);
+    TEST_ASSERT_TRUE(b.capacity_hits == CDPR_SUMMARY_UNKNOWN);
+    TEST_ASSERT_TRUE(b.substep_limit_hits == CDPR_SUMMARY_UNKNOWN);
+    TEST_ASSERT_TRUE(b.min_length_periods == CDPR_SUMMARY_UNKNOWN);
+    TEST_ASSERT_TRUE(b.steps_accepted == CDPR_SUMMARY_UNKNOWN);
+    TEST_ASSERT_TRUE(b.steps_rejected == CDPR_SUMMARY_UNKNOWN);
+    TEST_ASSERT_TRUE(b.rhs_evals == CDPR_SUMMARY_UNKNOWN);
     TEST_ASSERT_TRUE(b.settle_steps < 0);
     TEST_ASSERT_TRUE(isnan(b.settle_wall_time_s));
     TEST_ASSERT_TRUE(isnan(b.max_tension_N));
@@ -341,12 +341,12 @@ static void test_unknown_values_are_null_both_ways(void)
     snprintf(b.message, sizeof b.message, "%s", a.message);
     char first[8192];
     snprintf(first, sizeof first, "%s", text);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &b));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(path, &sc, &b));
     TEST_ASSERT_EQUAL_STRING(first, slurp(path));
     /* The printed block says unknown instead of printing the sentinels. */
     FILE *f = fopen(CDPR_TEST_TMP "/nulls.txt", "w");
     TEST_ASSERT_NOT_NULL(f);
-    cdpr_sim_print_summary(f, "over LCM", &b);
+    cdpr_summary_print(f, "over LCM", &b);
     TEST_ASSERT_EQUAL_INT(0, fclose(f));
     const char *printed = slurp(CDPR_TEST_TMP "/nulls.txt");
     TEST_ASSERT_NULL_MESSAGE(strstr(printed, "18446744073709551615"), printed);
@@ -358,18 +358,18 @@ static void test_summary_without_provenance_keys_reads(void)
     /* A summary written before the provenance keys existed (tests/regression/paper-line.json). */
     char path[600];
     snprintf(path, sizeof path, "%s/tests/regression/paper-line.json", CDPR_SOURCE_DIR);
-    cdpr_sim_summary_t s;
+    cdpr_summary_t s;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &s, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(path, &s, &err), err.msg);
     TEST_ASSERT_EQUAL_STRING("", s.prov.version);
     TEST_ASSERT_EQUAL_STRING("", s.prov.scenario_sha256);
     TEST_ASSERT_EQUAL_INT(400, s.periods);
-    TEST_ASSERT_TRUE(s.rhs_evals > 0 && s.rhs_evals != CDPR_SIM_UNKNOWN);
+    TEST_ASSERT_TRUE(s.rhs_evals > 0 && s.rhs_evals != CDPR_SUMMARY_UNKNOWN);
     TEST_ASSERT_TRUE(isfinite(s.settle_wall_time_s));
 }
 
 /* One period of cable segment counts into the recorder (no CSV). */
-static void period(cdpr_sim_rec_t *rec, long k, int s1, int s2)
+static void period(cdpr_record_t *rec, long k, int s1, int s2)
 {
     cdpr_traj_sample_t des;
     memset(&des, 0, sizeof des);
@@ -379,19 +379,19 @@ static void period(cdpr_sim_rec_t *rec, long k, int s1, int s2)
     meas.cabin.q.w = 1.0;
     const double zero[2] = {0.0, 0.0};
     const int segments[2] = {s1, s2};
-    const cdpr_sim_row_t row = {0.01 * (double)k, &des, &meas, zero, zero, zero, zero, segments};
-    cdpr_sim_rec_period(rec, k, 0, &row);
+    const cdpr_record_row_t row = {0.01 * (double)k, &des, &meas, zero, zero, zero, zero, segments};
+    cdpr_record_period(rec, k, 0, &row);
 }
 
 static void test_node_events_from_segment_counts(void)
 {
     cdpr_scenario_t sc;
     scenario(&sc);
-    cdpr_sim_summary_t sum;
+    cdpr_summary_t sum;
     memset(&sum, 0, sizeof sum);
-    cdpr_sim_rec_t rec;
+    cdpr_record_t rec;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, NULL, 2, &sum, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_open(&rec, &sc, NULL, NULL, 2, &sum, &err));
     /* Cable 1: 20 -> 21 -> 21 -> 22 | gap of 2 periods | 20: 2 insertions, 2 removals (the
      * gap's net change). Cable 2: 18 throughout, then 19 and back to 18: 1 + 1. State 3 seen
      * again (a resent state) adds nothing. */
@@ -404,11 +404,11 @@ static void test_node_events_from_segment_counts(void)
     unsigned long ins = 0;
     unsigned long rem = 0;
     long missed = 0;
-    cdpr_sim_rec_node_events(&rec, &ins, &rem, &missed);
+    cdpr_record_node_events(&rec, &ins, &rem, &missed);
     TEST_ASSERT_EQUAL_UINT32(3, ins);
     TEST_ASSERT_EQUAL_UINT32(3, rem);
     TEST_ASSERT_EQUAL_INT32(2, missed);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     TEST_ASSERT_EQUAL_INT(18, sum.nodes_min);
     TEST_ASSERT_EQUAL_INT(22, sum.nodes_max);
 }
@@ -436,12 +436,12 @@ static void test_write_errors_are_io(void)
 {
     cdpr_scenario_t sc;
     scenario(&sc);
-    cdpr_sim_summary_t s;
+    cdpr_summary_t s;
     fill(&s);
     /* Outputs go to regular files only: a device is refused at the open, before any write. */
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_write_summary("/dev/full", &sc, &s));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_summary_write("/dev/full", &sc, &s));
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO,
-                          cdpr_sim_write_summary("/nonexistent-cdpr-dir/summary.json", &sc, &s));
+                          cdpr_summary_write("/nonexistent-cdpr-dir/summary.json", &sc, &s));
     cdpr_csv_t c;
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_open(&c, "/dev/full"));
     TEST_ASSERT_EQUAL_INT(EINVAL, c.error);
@@ -459,11 +459,11 @@ static void test_write_errors_are_io(void)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, open_st);
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO, close_st);
     /* The recorder in a directory that cannot be created (below a file). */
-    cdpr_sim_rec_t rec;
+    cdpr_record_t rec;
     cdpr_scenario_error_t err;
     memset(&s, 0, sizeof s);
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO,
-                          cdpr_sim_rec_open(&rec, &sc, NULL, "/dev/null/out", 6, &s, &err));
+                          cdpr_record_open(&rec, &sc, NULL, "/dev/null/out", 6, &s, &err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "/dev/null/out"), err.msg);
 }
 
@@ -477,9 +477,9 @@ static void test_outputs_refuse_a_fifo_without_blocking(void)
     TEST_ASSERT_EQUAL_INT(0, mkfifo(path, 0600));
     cdpr_scenario_t sc;
     scenario(&sc);
-    cdpr_sim_summary_t s;
+    cdpr_summary_t s;
     fill(&s);
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_write_summary(path, &sc, &s));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_summary_write(path, &sc, &s));
     cdpr_csv_t c;
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_open(&c, path));
     /* With a reader on the FIFO the open succeeds at once, and the file check refuses it. */
@@ -487,7 +487,7 @@ static void test_outputs_refuse_a_fifo_without_blocking(void)
     TEST_ASSERT_TRUE(rd >= 0);
     TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_csv_open(&c, path));
     TEST_ASSERT_EQUAL_INT(EINVAL, c.error);
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_sim_write_summary(path, &sc, &s));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_summary_write(path, &sc, &s));
     char b[16];
     TEST_ASSERT_TRUE(read(rd, b, sizeof b) <= 0); /* nothing written */
     (void)close(rd);
@@ -564,27 +564,27 @@ static void test_status_names_round_trip(void)
     mkdir(CDPR_TEST_TMP, 0775);
     const char *path = CDPR_TEST_TMP "/status.json";
     const struct {
-        cdpr_sim_status_t st;
+        cdpr_summary_status_t st;
         const char *name;
-    } all[] = {{CDPR_SIM_OK, "ok"},
-               {CDPR_SIM_WARNINGS, "warnings"},
-               {CDPR_SIM_FAILED, "failed"},
-               {CDPR_SIM_INTERRUPTED, "interrupted"},
-               {CDPR_SIM_IO_ERROR, "io_error"}};
+    } all[] = {{CDPR_SUMMARY_OK, "ok"},
+               {CDPR_SUMMARY_WARNINGS, "warnings"},
+               {CDPR_SUMMARY_FAILED, "failed"},
+               {CDPR_SUMMARY_INTERRUPTED, "interrupted"},
+               {CDPR_SUMMARY_IO_ERROR, "io_error"}};
     cdpr_scenario_t sc;
     scenario(&sc);
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) {
-        cdpr_sim_summary_t s;
+        cdpr_summary_t s;
         fill(&s);
         s.status = all[i].st;
-        TEST_ASSERT_EQUAL_STRING(all[i].name, cdpr_sim_status_name(all[i].st));
-        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &s));
+        TEST_ASSERT_EQUAL_STRING(all[i].name, cdpr_summary_status_name(all[i].st));
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(path, &sc, &s));
         char line[64];
         snprintf(line, sizeof line, "\"status\": \"%s\",", all[i].name);
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(slurp(path), line), line);
-        cdpr_sim_summary_t b;
+        cdpr_summary_t b;
         cdpr_scenario_error_t err;
-        TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &b, &err), err.msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(path, &b, &err), err.msg);
         TEST_ASSERT_EQUAL_INT_MESSAGE(all[i].st, b.status, all[i].name);
     }
 }
@@ -598,18 +598,18 @@ static void test_rows_at_output_instants_when_periods_are_skipped(void)
     cdpr_scenario_t sc;
     scenario(&sc);
     sc.output_rate_hz = 20.0;
-    cdpr_sim_summary_t sum;
+    cdpr_summary_t sum;
     memset(&sum, 0, sizeof sum);
-    cdpr_sim_rec_t rec;
+    cdpr_record_t rec;
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
-                          cdpr_sim_rec_open(&rec, &sc, NULL, CDPR_TEST_TMP "/skip", 2, &sum, &err));
+                          cdpr_record_open(&rec, &sc, NULL, CDPR_TEST_TMP "/skip", 2, &sum, &err));
     for (long k = 0; k <= 21; ++k) {
         if (k == 0 || k % 5 != 0) {
             period(&rec, k, 20, 20);
         }
     }
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     const char *text = slurp(CDPR_TEST_TMP "/skip/timeseries.csv");
     const long expected[] = {0, 6, 11, 16, 21};
     const char *p = strstr(text, "\nt_s,");
@@ -627,17 +627,14 @@ static void test_rows_at_output_instants_when_periods_are_skipped(void)
 static void test_read_errors(void)
 {
     mkdir(CDPR_TEST_TMP, 0775);
-    cdpr_sim_summary_t s;
+    cdpr_summary_t s;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT(CDPR_E_IO,
-                          cdpr_sim_read_summary(CDPR_TEST_TMP "/missing.json", &s, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_IO, cdpr_summary_read(CDPR_TEST_TMP "/missing.json", &s, &err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "missing.json"), err.msg);
     write_text(CDPR_TEST_TMP "/partial.json", "{\"status\": \"ok\"}\n");
-    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE,
-                          cdpr_sim_read_summary(CDPR_TEST_TMP "/partial.json", &s, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_summary_read(CDPR_TEST_TMP "/partial.json", &s, &err));
     write_text(CDPR_TEST_TMP "/empty.json", "");
-    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE,
-                          cdpr_sim_read_summary(CDPR_TEST_TMP "/empty.json", &s, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_summary_read(CDPR_TEST_TMP "/empty.json", &s, &err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "empty"), err.msg);
 }
 

@@ -480,7 +480,7 @@ static void test_bad_files_name_file_key_and_line(void)
             TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, rc, b->label);
             cdpr_sim_opts_t o;
             cdpr_sim_opts_default(&o);
-            cdpr_sim_summary_t sum;
+            cdpr_summary_t sum;
             rc = cdpr_sim_run(&sc, &o, &sum, &err);
         }
         /* A bad value or file, never an I/O error (the app's exit code 2 is checked below). */

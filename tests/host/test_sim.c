@@ -26,7 +26,7 @@ void tearDown(void) {}
 /* cdpr-sim SCENARIO --duration D [--max-trials N] --out OUT (max_trials 0: the file's):
  * cdpr_sim_run's status and the summary. */
 static cdpr_status_t run_status(const char *scenario, double duration, int max_trials,
-                                const char *out, cdpr_sim_summary_t *sum)
+                                const char *out, cdpr_summary_t *sum)
 {
     mkdir(CDPR_TEST_TMP, 0775);
     cdpr_scenario_t sc;
@@ -46,7 +46,7 @@ static cdpr_status_t run_status(const char *scenario, double duration, int max_t
     return cdpr_sim_run(&sc, &o, sum, &err);
 }
 
-static void run(const char *scenario, double duration, const char *out, cdpr_sim_summary_t *sum)
+static void run(const char *scenario, double duration, const char *out, cdpr_summary_t *sum)
 {
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, run_status(scenario, duration, 0, out, sum),
                                   sum->message);
@@ -124,7 +124,7 @@ static const case_t CASES[2] = {
     {"paper-line", 4.0, 1e-4, 1e-4, 0},
 };
 
-static int off_reference(const case_t *c, const cdpr_sim_summary_t *a);
+static int off_reference(const case_t *c, const cdpr_summary_t *a);
 
 static void regression(const case_t *c)
 {
@@ -134,8 +134,8 @@ static void regression(const case_t *c)
     snprintf(scenario, sizeof scenario, "%s/scenarios/%s.yaml", CDPR_SOURCE_DIR, c->name);
     snprintf(out_a, sizeof out_a, "%s/%s-a", CDPR_TEST_TMP, c->name);
     snprintf(out_b, sizeof out_b, "%s/%s-b", CDPR_TEST_TMP, c->name);
-    cdpr_sim_summary_t a;
-    cdpr_sim_summary_t b;
+    cdpr_summary_t a;
+    cdpr_summary_t b;
     run(scenario, c->duration_s, out_a, &a);
     run(scenario, c->duration_s, out_b, &b);
 
@@ -150,9 +150,9 @@ static void regression(const case_t *c)
     /* The written summary reads back to what the run reported (%.17g round-trips). */
     char sum_a[700];
     snprintf(sum_a, sizeof sum_a, "%s/summary.json", out_a);
-    cdpr_sim_summary_t back;
+    cdpr_summary_t back;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(sum_a, &back, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(sum_a, &back, &err), err.msg);
     TEST_ASSERT_EQUAL_DOUBLE(a.max_tension_N, back.max_tension_N);
     TEST_ASSERT_EQUAL_UINT32((unsigned)a.node_removals, (unsigned)back.node_removals);
     /* Its provenance: the scenario file's hash and the plant's integrator. */
@@ -165,13 +165,13 @@ static void regression(const case_t *c)
 }
 
 /* How many of a run's figures lie outside the case's tolerances around its reference. */
-static int off_reference(const case_t *c, const cdpr_sim_summary_t *a)
+static int off_reference(const case_t *c, const cdpr_summary_t *a)
 {
     char ref_path[600];
     snprintf(ref_path, sizeof ref_path, "%s/tests/regression/%s.json", CDPR_SOURCE_DIR, c->name);
-    cdpr_sim_summary_t ref;
+    cdpr_summary_t ref;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(ref_path, &ref, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(ref_path, &ref, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(ref.status, a->status);
     TEST_ASSERT_EQUAL_DOUBLE(ref.sim_time_s, a->sim_time_s);
     int off = 0;
@@ -219,7 +219,7 @@ static void test_regression_sees_a_1_percent_mass_change(void)
             (unsigned)tail, (unsigned)fwrite(at + strlen("mass_kg: 40.0"), 1, (size_t)tail, f));
         TEST_ASSERT_EQUAL_INT(0, fclose(f));
         free(text);
-        cdpr_sim_summary_t a;
+        cdpr_summary_t a;
         run(heavier, c->duration_s, out, &a);
         printf("%s with a 1 %% heavier cabin:\n", c->name);
         TEST_ASSERT_TRUE_MESSAGE(off_reference(c, &a) > 0, c->name);
@@ -236,7 +236,7 @@ static void test_paper_line_regression_and_rerun(void)
     regression(&CASES[1]);
 }
 
-/* Node events as a controller over LCM derives them (cdpr_sim_rec_node_events): the rows of
+/* Node events as a controller over LCM derives them (cdpr_record_node_events): the rows of
  * `csv` (the segment counts n1..nN, one row every few periods) fed to a fresh recorder. */
 static void node_events_from_csv(const char *csv, const cdpr_scenario_t *sc, unsigned long *ins,
                                  unsigned long *rem)
@@ -257,11 +257,11 @@ static void node_events_from_csv(const char *csv, const cdpr_scenario_t *sc, uns
         }
     }
     TEST_ASSERT_TRUE(n1 > 0 && nc == 6);
-    cdpr_sim_summary_t sum;
+    cdpr_summary_t sum;
     memset(&sum, 0, sizeof sum);
-    cdpr_sim_rec_t rec;
+    cdpr_record_t rec;
     cdpr_scenario_error_t err;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, sc, NULL, NULL, nc, &sum, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_open(&rec, sc, NULL, NULL, nc, &sum, &err));
     cdpr_traj_sample_t des;
     memset(&des, 0, sizeof des);
     des.motion.q.w = 1.0;
@@ -280,14 +280,14 @@ static void node_events_from_csv(const char *csv, const cdpr_scenario_t *sc, uns
                 segments[col - n1] = (int)strtol(tok, NULL, 10);
             }
         }
-        const cdpr_sim_row_t row = {t, &des, &meas, zero, zero, zero, zero, segments};
-        cdpr_sim_rec_period(&rec, lround(t / sc->period_s), 0, &row);
+        const cdpr_record_row_t row = {t, &des, &meas, zero, zero, zero, zero, segments};
+        cdpr_record_period(&rec, lround(t / sc->period_s), 0, &row);
     }
     fclose(f);
     long missed = 0;
-    cdpr_sim_rec_node_events(&rec, ins, rem, &missed);
+    cdpr_record_node_events(&rec, ins, rem, &missed);
     TEST_ASSERT_TRUE(missed > 0); /* the rows are every 2 periods: gaps are folded in */
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
 }
 
 static void test_deploy_retrieve_node_events(void)
@@ -329,9 +329,9 @@ static void test_deploy_retrieve_node_events(void)
     cdpr_sim_opts_t opt;
     cdpr_sim_opts_default(&opt);
     opt.out_dir = out;
-    cdpr_sim_summary_t s;
+    cdpr_summary_t s;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_run(&sc, &opt, &s, &err), err.msg);
-    TEST_ASSERT_EQUAL_INT(CDPR_SIM_OK, s.status);
+    TEST_ASSERT_EQUAL_INT(CDPR_SUMMARY_OK, s.status);
     TEST_ASSERT_EQUAL_UINT32((unsigned)(6 * k), (unsigned)s.node_removals);
     TEST_ASSERT_EQUAL_UINT32((unsigned)(6 * k), (unsigned)s.node_insertions);
     TEST_ASSERT_EQUAL_INT(sc.robot.segments - k, s.nodes_min);
@@ -357,8 +357,8 @@ static void test_summary_real_time_block_round_trip(void)
     static cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(scenario, &sc, &err), err.msg);
-    static cdpr_sim_summary_t sum;
-    static cdpr_sim_summary_t back;
+    static cdpr_summary_t sum;
+    static cdpr_summary_t back;
     memset(&sum, 0, sizeof sum);
     sum.rt.known = 1;
     sum.rt.seq = 8000;
@@ -378,8 +378,8 @@ static void test_summary_real_time_block_round_trip(void)
     char path[700];
     mkdir(CDPR_TEST_TMP, 0775);
     snprintf(path, sizeof path, "%s/rt-summary.json", CDPR_TEST_TMP);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &sum));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &back, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(path, &sc, &sum));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(path, &back, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(1, back.rt.known);
     TEST_ASSERT_EQUAL_INT(8000, back.rt.seq);
     TEST_ASSERT_EQUAL_INT(8001, back.rt.periods);
@@ -396,13 +396,13 @@ static void test_summary_real_time_block_round_trip(void)
     TEST_ASSERT_EQUAL_DOUBLE(161.25, back.rt.cpu_us_max);
     TEST_ASSERT_EQUAL_DOUBLE(4000.5, back.rt.wake_late_us_max);
     sum.rt.known = 0;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_summary(path, &sc, &sum));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_sim_read_summary(path, &back, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(path, &sc, &sum));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(path, &back, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(0, back.rt.known);
 }
 
 /* paper-line with integrator.max_trials = `trials`, 0.1 s: cdpr_sim_run's status, summary. */
-static cdpr_status_t run_line_trials(int trials, cdpr_sim_summary_t *sum)
+static cdpr_status_t run_line_trials(int trials, cdpr_summary_t *sum)
 {
     char scenario[600];
     char out[600];
@@ -416,9 +416,9 @@ static cdpr_status_t run_line_trials(int trials, cdpr_sim_summary_t *sum)
  * budget runs the same case through. */
 static void test_substep_limit_names_the_key_and_a_budget_that_works(void)
 {
-    static cdpr_sim_summary_t sum;
+    static cdpr_summary_t sum;
     TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT, run_line_trials(3, &sum));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_SIM_FAILED, sum.status, sum.message);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_SUMMARY_FAILED, sum.status, sum.message);
     TEST_MESSAGE(sum.message);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(sum.message, "CDPR_E_SUBSTEP_LIMIT"), sum.message);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(sum.message, "integrator.max_trials = 3 trials"),
@@ -429,7 +429,7 @@ static void test_substep_limit_names_the_key_and_a_budget_that_works(void)
     const long need = strtol(up + strlen("a period is up to "), &end, 10);
     TEST_ASSERT_TRUE_MESSAGE(end != NULL && *end == ' ' && need > 3 && need <= 100000, sum.message);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, run_line_trials((int)need, &sum));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_SIM_OK, sum.status, sum.message);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_SUMMARY_OK, sum.status, sum.message);
     TEST_ASSERT_EQUAL_INT(10, sum.periods);
 }
 

@@ -350,9 +350,9 @@ static void test_slack_demand_counted(void)
     TEST_ASSERT_EQUAL_INT(0, tracker.first_slack_cable);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.01, tracker.first_slack_t_s); /* the step at t = 0 */
     TEST_ASSERT_TRUE(tracker.first_slack_tension_N <= 0.0);
-    cdpr_sim_summary_t sum;
+    cdpr_summary_t sum;
     memset(&sum, 0, sizeof sum);
-    cdpr_sim_tracker_counts(&tracker, &sum);
+    cdpr_record_tracker_counts(&tracker, &sum);
     TEST_ASSERT_EQUAL_UINT32(5u, (unsigned)sum.slack_demand_periods[0]);
     TEST_ASSERT_EQUAL_INT(1, sum.first_slack_demand_cable);
 }
@@ -365,10 +365,10 @@ static void test_plant_slack_periods(void)
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT(
         CDPR_OK, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/paper-line.yaml", &sc, &err));
-    static cdpr_sim_rec_t rec;
-    cdpr_sim_summary_t sum;
+    static cdpr_record_t rec;
+    cdpr_summary_t sum;
     memset(&sum, 0, sizeof sum);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, NULL, 6, &sum, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_open(&rec, &sc, NULL, NULL, 6, &sum, &err));
     cdpr_traj_sample_t d;
     cdpr_traj_eval(&sc.traj, 0.0, &d);
     cdpr_tracker_meas_t meas;
@@ -391,10 +391,10 @@ static void test_plant_slack_periods(void)
             tc[4] = 0.0;
             tw[4] = 0.0;
         }
-        const cdpr_sim_row_t row = {0.01 * (double)ks[i], &d, &meas, tc, tw, lff, u, seg};
-        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_period(&rec, ks[i], i == 5, &row));
+        const cdpr_record_row_t row = {0.01 * (double)ks[i], &d, &meas, tc, tw, lff, u, seg};
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_period(&rec, ks[i], i == 5, &row));
     }
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     const unsigned long want[6] = {0, 2, 0, 0, 2, 0};
     for (int j = 0; j < 6; ++j) {
         TEST_ASSERT_EQUAL_UINT32((unsigned)want[j], (unsigned)sum.slack_periods[j]);
@@ -417,10 +417,10 @@ static void test_lap_statistics(void)
     sc.traj.type = CDPR_TRAJ_CYCLIC;
     sc.traj.duration_s = 0.5;
     sc.traj.pause_s = 0.0;
-    static cdpr_sim_rec_t rec;
-    static cdpr_sim_summary_t sum;
+    static cdpr_record_t rec;
+    static cdpr_summary_t sum;
     memset(&sum, 0, sizeof sum);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, NULL, 6, &sum, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_open(&rec, &sc, NULL, NULL, 6, &sum, &err));
     cdpr_traj_sample_t d;
     memset(&d, 0, sizeof d);
     d.motion.q.w = 1.0;
@@ -439,17 +439,17 @@ static void test_lap_statistics(void)
             e = 0.2;
         }
         meas.cabin.p_m = cdpr_v3(e, 0.0, 0.0);
-        const cdpr_sim_row_t row = {t, &d, &meas, tc, tc, lff, u, seg};
-        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_period(&rec, k, k == 25, &row));
+        const cdpr_record_row_t row = {t, &d, &meas, tc, tc, lff, u, seg};
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_period(&rec, k, k == 25, &row));
     }
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     TEST_ASSERT_EQUAL_INT(2, sum.n_laps);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.1, sum.lap_rms_m[0]);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, sqrt((0.09 + 0.16) / 2.0), sum.lap_rms_m[1]);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.4, sum.lap_max_m[1]);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.0, sum.lap_rms_rad[1]);
     (void)mkdir(CDPR_TEST_TMP, 0775);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_write_laps(CDPR_TEST_TMP "/laps.csv", &sum));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write_laps(CDPR_TEST_TMP "/laps.csv", &sum));
     FILE *f = fopen(CDPR_TEST_TMP "/laps.csv", "r");
     TEST_ASSERT_NOT_NULL(f);
     char line[256];
@@ -463,14 +463,14 @@ static void test_lap_statistics(void)
     fclose(f);
     /* Time going back: lap 0 again, the interrupted lap is not stored. */
     memset(&sum, 0, sizeof sum);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_open(&rec, &sc, NULL, NULL, 6, &sum, &err));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_open(&rec, &sc, NULL, NULL, 6, &sum, &err));
     const double ts[5] = {0.0, 0.5, 0.9, 0.1, 1.2}; /* 0.9 -> 0.1: a restart */
     for (int i = 0; i < 5; ++i) {
         meas.cabin.p_m = cdpr_v3(0.1, 0.0, 0.0);
-        const cdpr_sim_row_t row = {ts[i], &d, &meas, tc, tc, lff, u, seg};
-        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_period(&rec, i, i == 4, &row));
+        const cdpr_record_row_t row = {ts[i], &d, &meas, tc, tc, lff, u, seg};
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_period(&rec, i, i == 4, &row));
     }
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_sim_rec_close(&rec));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     TEST_ASSERT_EQUAL_INT(1, sum.n_laps); /* only the lap 0 after the restart, at t = 1.2 */
 }
 

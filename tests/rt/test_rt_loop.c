@@ -630,7 +630,7 @@ static void test_overruns_classified_and_policy(void)
     rt.tel.compute_ns_max = 19000;
     rt.tel.cpu_ns_max = 18000;
     rt.tel.overrun_stop = 1;
-    cdpr_sim_rt_t fig;
+    cdpr_summary_rt_t fig;
     cdpr_rt_summary_figures(&rt, &fig);
     TEST_ASSERT_EQUAL_INT(16, rt.diag_msg.deadline_misses);
     TEST_ASSERT_EQUAL_INT(1, fig.known);

@@ -10,7 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-cdpr_status_t cdpr_sim_plot(const char *prog, const char *script, const char *dir, const char *kind,
+cdpr_status_t cdpr_plot_run(const char *prog, const char *script, const char *dir, const char *kind,
                             const char *title)
 {
     struct stat sb;

@@ -68,7 +68,7 @@ static void errors(const cdpr_tracker_meas_t *meas, const cdpr_traj_sample_t *de
     smp->erot_rad = cdpr_v3_norm(cdpr_quat_to_rotvec(cdpr_quat_mul(des->motion.q, qi)));
 }
 
-static void csv_row(cdpr_sim_rec_t *rec, const cdpr_sim_row_t *row, const sample_t *smp)
+static void csv_row(cdpr_record_t *rec, const cdpr_record_row_t *row, const sample_t *smp)
 {
     cdpr_csv_t *c = &rec->csv;
     const int nc = rec->n_cables;
@@ -107,7 +107,7 @@ static void csv_row(cdpr_sim_rec_t *rec, const cdpr_sim_row_t *row, const sample
 
 /* The provenance as comment lines before the header (the keys of summary.json). */
 static void csv_provenance(cdpr_csv_t *c, const cdpr_scenario_t *sc,
-                           const cdpr_sim_provenance_t *pv)
+                           const cdpr_summary_provenance_t *pv)
 {
     cdpr_csv_comment(c, "version", pv->version);
     cdpr_csv_comment(c, "git_describe", pv->git_describe);
@@ -117,16 +117,16 @@ static void csv_provenance(cdpr_csv_t *c, const cdpr_scenario_t *sc,
     cdpr_csv_comment(c, "integrator", pv->integrator);
 }
 
-cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
-                                const cdpr_plant_params_t *pp, const char *out_dir, int n_cables,
-                                cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_record_open(cdpr_record_t *rec, const cdpr_scenario_t *sc,
+                               const cdpr_plant_params_t *pp, const char *out_dir, int n_cables,
+                               cdpr_summary_t *sum, cdpr_scenario_error_t *err)
 {
     memset(rec, 0, sizeof *rec);
     rec->prev_k = -1;
     rec->traj = sc->traj;
     rec->lap = -1;
     rec->last_row_k = -1;
-    cdpr_sim_provenance_init(&sum->prov, sc->path, pp);
+    cdpr_summary_provenance_init(&sum->prov, sc->path, pp);
     rec->n_cables = n_cables;
     rec->every = cdpr_scenario_output_every(sc);
     rec->duration_s = sc->duration_s;
@@ -166,12 +166,13 @@ cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
 /* The lap statistics: a lap is stored when the first period of the next lap arrives (so the
  * last, unfinished lap is not); time going back (a plant restart seen by a tracker) starts
  * the laps again without storing the interrupted one. */
-static void lap_period(cdpr_sim_rec_t *rec, double t_s, const sample_t *smp)
+static void lap_period(cdpr_record_t *rec, double t_s, const sample_t *smp)
 {
     const long lap = cdpr_traj_lap(&rec->traj, t_s);
     if (lap != rec->lap) {
-        cdpr_sim_summary_t *sum = rec->sum;
-        if (rec->lap >= 0 && lap > rec->lap && rec->lap_n > 0 && sum->n_laps < CDPR_SIM_MAX_LAPS) {
+        cdpr_summary_t *sum = rec->sum;
+        if (rec->lap >= 0 && lap > rec->lap && rec->lap_n > 0 &&
+            sum->n_laps < CDPR_SUMMARY_MAX_LAPS) {
             const double n = (double)rec->lap_n;
             sum->lap_rms_m[sum->n_laps] = sqrt(rec->lap_sum2_pos / n);
             sum->lap_rms_rad[sum->n_laps] = sqrt(rec->lap_sum2_rot / n);
@@ -192,9 +193,9 @@ static void lap_period(cdpr_sim_rec_t *rec, double t_s, const sample_t *smp)
     }
 }
 
-cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row)
+cdpr_status_t cdpr_record_period(cdpr_record_t *rec, long k, int last, const cdpr_record_row_t *row)
 {
-    cdpr_sim_summary_t *sum = rec->sum;
+    cdpr_summary_t *sum = rec->sum;
     const int nc = rec->n_cables;
     sample_t smp;
     errors(row->meas, row->des, &smp);
@@ -262,7 +263,7 @@ cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const c
     return (rec->csv.failed != 0) ? CDPR_E_IO : CDPR_OK;
 }
 
-void cdpr_sim_tracker_counts(const cdpr_tracker_t *tr, cdpr_sim_summary_t *sum)
+void cdpr_record_tracker_counts(const cdpr_tracker_t *tr, cdpr_summary_t *sum)
 {
     for (int j = 0; j < tr->model.p.n_cables && j < CDPR_MAX_CABLES; ++j) {
         sum->slack_demand_periods[j] = tr->slack_demand_periods[j];
@@ -275,8 +276,8 @@ void cdpr_sim_tracker_counts(const cdpr_tracker_t *tr, cdpr_sim_summary_t *sum)
         (tr->first_slack_cable >= 0) ? tr->first_slack_tension_N : (double)NAN;
 }
 
-void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
-                              unsigned long *removals, long *missed)
+void cdpr_record_node_events(const cdpr_record_t *rec, unsigned long *insertions,
+                             unsigned long *removals, long *missed)
 {
     *insertions = rec->seg_insertions;
     *removals = rec->seg_removals;
@@ -285,9 +286,9 @@ void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertio
     }
 }
 
-cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec)
+cdpr_status_t cdpr_record_close(cdpr_record_t *rec)
 {
-    cdpr_sim_summary_t *sum = rec->sum;
+    cdpr_summary_t *sum = rec->sum;
     sum->rms_error_m = (rec->n > 0) ? sqrt(rec->sum2_pos / (double)rec->n) : 0.0;
     sum->rms_error_rad = (rec->n > 0) ? sqrt(rec->sum2_rot / (double)rec->n) : 0.0;
     sum->rms_error_second_half_m =
@@ -304,14 +305,14 @@ cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec)
     return (rec->csv.failed != 0) ? CDPR_E_IO : CDPR_OK;
 }
 
-int cdpr_sim_rec_errno(const cdpr_sim_rec_t *rec)
+int cdpr_record_errno(const cdpr_record_t *rec)
 {
     return (rec->csv.failed != 0) ? rec->csv.error : 0;
 }
 
-void cdpr_sim_rec_io_error(const cdpr_sim_rec_t *rec, cdpr_scenario_error_t *err)
+void cdpr_record_io_error(const cdpr_record_t *rec, cdpr_scenario_error_t *err)
 {
-    const int e = cdpr_sim_rec_errno(rec);
+    const int e = cdpr_record_errno(rec);
     snprintf(err->msg, sizeof err->msg, "%s: write failed: %s",
              (rec->csv_path[0] != '\0') ? rec->csv_path : "timeseries.csv",
              (e != 0) ? strerror(e) : "unknown error");

@@ -20,7 +20,7 @@ typedef struct {
     cdpr_plant_t plant;
     cdpr_robot_t model; /* statics-only model for the feasibility checks */
     cdpr_tracker_t tracker;
-    cdpr_sim_rec_t rec;
+    cdpr_record_t rec;
 } sim_t;
 
 void cdpr_sim_opts_default(cdpr_sim_opts_t *o)
@@ -50,7 +50,7 @@ static void progress(const cdpr_sim_opts_t *o, double t, double total, double wa
 /* The trajectory's feasibility, the plant (IK lengths -> robot -> catenary placement ->
  * settle) and the controller. Returns CDPR_OK or the error with err filled. */
 static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double duration,
-                                cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+                                cdpr_summary_t *sum, cdpr_scenario_error_t *err)
 {
     /* The trajectory first (feasible, lengths within the limits; its error names the time and
      * pose): a statics check per 0.1 s, cheap next to the settle that follows. */
@@ -81,7 +81,7 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
     return CDPR_OK;
 }
 
-static void note(cdpr_sim_summary_t *sum, const char *what)
+static void note(cdpr_summary_t *sum, const char *what)
 {
     if (sum->message[0] == '\0') {
         snprintf(sum->message, sizeof sum->message, "%s", what);
@@ -115,12 +115,12 @@ static void failure_message(const cdpr_plant_t *p, double t, cdpr_status_t st, c
              t, cdpr_status_str(st), p->pp.max_trials, p->pp.max_attempts, h, need);
 }
 
-static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum);
+static void collect_counts(const sim_t *s, cdpr_summary_t *sum);
 
 /* The control loop. Returns CDPR_OK (reached the end) or the error that stopped it (a signal:
  * CDPR_E_INTERRUPTED; the CSV: CDPR_E_IO). */
 static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
-                          double duration, cdpr_sim_summary_t *sum, double wall0)
+                          double duration, cdpr_summary_t *sum, double wall0)
 {
     cdpr_plant_t *p = &s->plant;
     const cdpr_robot_t *r = &p->robot;
@@ -154,18 +154,18 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
         for (int j = 0; j < nc; ++j) {
             segments[j] = r->cable[j].n;
         }
-        const cdpr_sim_row_t row = {t,
-                                    &des,
-                                    &meas,
-                                    out.tension_cabin_N,
-                                    out.tension_winch_N,
-                                    l_ff,
-                                    r->in.payout_m_per_s,
-                                    segments};
-        if (cdpr_sim_rec_period(&s->rec, k, last, &row) != CDPR_OK) {
+        const cdpr_record_row_t row = {t,
+                                       &des,
+                                       &meas,
+                                       out.tension_cabin_N,
+                                       out.tension_winch_N,
+                                       l_ff,
+                                       r->in.payout_m_per_s,
+                                       segments};
+        if (cdpr_record_period(&s->rec, k, last, &row) != CDPR_OK) {
             snprintf(sum->message, sizeof sum->message,
                      "timeseries.csv: write failed at t = %.6g s: %s", t,
-                     strerror(cdpr_sim_rec_errno(&s->rec)));
+                     strerror(cdpr_record_errno(&s->rec)));
             rc = CDPR_E_IO;
             break;
         }
@@ -209,7 +209,7 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
 }
 
 /* The plant's and the controller's counts of the run into the summary. */
-static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum)
+static void collect_counts(const sim_t *s, cdpr_summary_t *sum)
 {
     const cdpr_plant_t *p = &s->plant;
     for (int j = 0; j < p->robot.p.n_cables; ++j) {
@@ -218,7 +218,7 @@ static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum)
         sum->capacity_hits += p->nodes.capacity_hits[j];
     }
     sum->ik_failures = s->tracker.ik_failures;
-    cdpr_sim_tracker_counts(&s->tracker, sum);
+    cdpr_record_tracker_counts(&s->tracker, sum);
     sum->substep_limit_hits = p->stats.substep_limit_hits;
     sum->min_length_periods = p->stats.min_length_periods;
     sum->max_rhs_per_period = p->stats.max_rhs_evals;
@@ -237,18 +237,18 @@ static void collect_counts(const sim_t *s, cdpr_sim_summary_t *sum)
 }
 
 /* Status of a run that reached its end or stopped (rc), with the first warning as message. */
-static void finish_status(cdpr_status_t rc, cdpr_sim_summary_t *sum)
+static void finish_status(cdpr_status_t rc, cdpr_summary_t *sum)
 {
     if (rc == CDPR_E_INTERRUPTED) {
-        sum->status = CDPR_SIM_INTERRUPTED;
+        sum->status = CDPR_SUMMARY_INTERRUPTED;
     } else if (rc == CDPR_E_IO) {
-        sum->status = CDPR_SIM_IO_ERROR;
+        sum->status = CDPR_SUMMARY_IO_ERROR;
     } else if (rc != CDPR_OK) {
-        sum->status = CDPR_SIM_FAILED;
+        sum->status = CDPR_SUMMARY_FAILED;
     } else if (sum->substep_limit_hits + sum->ik_failures + sum->capacity_hits +
                    sum->min_length_periods >
                0) {
-        sum->status = CDPR_SIM_WARNINGS;
+        sum->status = CDPR_SUMMARY_WARNINGS;
         if (sum->substep_limit_hits > 0) {
             note(sum, "substep limit hit (tolerance not met in some periods)");
         } else if (sum->ik_failures > 0) {
@@ -257,7 +257,7 @@ static void finish_status(cdpr_status_t rc, cdpr_sim_summary_t *sum)
             note(sum, "a winch was held at its minimum length");
         }
     } else {
-        sum->status = CDPR_SIM_OK;
+        sum->status = CDPR_SUMMARY_OK;
     }
 }
 
@@ -265,16 +265,16 @@ static void finish_status(cdpr_status_t rc, cdpr_sim_summary_t *sum)
  * summary.json even when the CSV failed (another file: it may fit; its status says io_error).
  * CDPR_OK or CDPR_E_IO with err naming the file(s) and strerror. */
 static cdpr_status_t write_outputs(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
-                                   cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+                                   cdpr_summary_t *sum, cdpr_scenario_error_t *err)
 {
     cdpr_status_t rc = CDPR_OK;
-    if (cdpr_sim_rec_close(&s->rec) != CDPR_OK) {
-        if (sum->status != CDPR_SIM_IO_ERROR) { /* failed at the final flush */
-            sum->status = CDPR_SIM_IO_ERROR;
+    if (cdpr_record_close(&s->rec) != CDPR_OK) {
+        if (sum->status != CDPR_SUMMARY_IO_ERROR) { /* failed at the final flush */
+            sum->status = CDPR_SUMMARY_IO_ERROR;
             snprintf(sum->message, sizeof sum->message, "timeseries.csv: write failed: %s",
-                     strerror(cdpr_sim_rec_errno(&s->rec)));
+                     strerror(cdpr_record_errno(&s->rec)));
         }
-        cdpr_sim_rec_io_error(&s->rec, err);
+        cdpr_record_io_error(&s->rec, err);
         rc = CDPR_E_IO;
     }
     if (o->out_dir == NULL) {
@@ -282,9 +282,9 @@ static cdpr_status_t write_outputs(sim_t *s, const cdpr_scenario_t *sc, const cd
     }
     char path[1100];
     if (cdpr_fs_path(path, sizeof path, o->out_dir, "summary.json") != CDPR_OK ||
-        cdpr_sim_write_summary(path, sc, sum) != CDPR_OK ||
+        cdpr_summary_write(path, sc, sum) != CDPR_OK ||
         cdpr_fs_path(path, sizeof path, o->out_dir, "laps.csv") != CDPR_OK ||
-        cdpr_sim_write_laps(path, sum) != CDPR_OK) {
+        cdpr_summary_write_laps(path, sum) != CDPR_OK) {
         const char *why = strerror(errno);
         if (rc != CDPR_OK) {
             const size_t n = strlen(err->msg);
@@ -297,11 +297,11 @@ static cdpr_status_t write_outputs(sim_t *s, const cdpr_scenario_t *sc, const cd
     return rc;
 }
 
-cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
-                           cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_summary_t *sum,
+                           cdpr_scenario_error_t *err)
 {
     memset(sum, 0, sizeof *sum);
-    sum->status = CDPR_SIM_FAILED;
+    sum->status = CDPR_SUMMARY_FAILED;
     const cdpr_status_t cs = cdpr_scenario_check(sc, err);
     if (cs != CDPR_OK) {
         return cs;
@@ -315,8 +315,8 @@ cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
     }
     cdpr_status_t rc = initialise(s, sc, duration, sum, err);
     if (rc == CDPR_OK) {
-        rc = cdpr_sim_rec_open(&s->rec, sc, &s->plant.pp, o->out_dir, s->plant.robot.p.n_cables,
-                               sum, err);
+        rc = cdpr_record_open(&s->rec, sc, &s->plant.pp, o->out_dir, s->plant.robot.p.n_cables, sum,
+                              err);
     }
     if (rc == CDPR_OK) {
         rc = loop(s, sc, o, duration, sum, wall0);

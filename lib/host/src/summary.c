@@ -19,36 +19,36 @@
 #define CDPR_HOST_BUILD_TYPE ""
 #endif
 
-/* 1 unless the count is CDPR_SIM_UNKNOWN. */
-#define KNOWN(count) (((count) != CDPR_SIM_UNKNOWN) ? 1 : 0)
+/* 1 unless the count is CDPR_SUMMARY_UNKNOWN. */
+#define KNOWN(count) (((count) != CDPR_SUMMARY_UNKNOWN) ? 1 : 0)
 
-const char *cdpr_sim_status_name(cdpr_sim_status_t st)
+const char *cdpr_summary_status_name(cdpr_summary_status_t st)
 {
     switch (st) {
-    case CDPR_SIM_OK:
+    case CDPR_SUMMARY_OK:
         return "ok";
-    case CDPR_SIM_WARNINGS:
+    case CDPR_SUMMARY_WARNINGS:
         return "warnings";
-    case CDPR_SIM_INTERRUPTED:
+    case CDPR_SUMMARY_INTERRUPTED:
         return "interrupted";
-    case CDPR_SIM_IO_ERROR:
+    case CDPR_SUMMARY_IO_ERROR:
         return "io_error";
     default:
         return "failed";
     }
 }
 
-/* The status of a name written by cdpr_sim_status_name (unknown names: failed). */
-static cdpr_sim_status_t status_of_name(const char *name)
+/* The status of a name written by cdpr_summary_status_name (unknown names: failed). */
+static cdpr_summary_status_t status_of_name(const char *name)
 {
-    static const cdpr_sim_status_t all[] = {CDPR_SIM_OK, CDPR_SIM_WARNINGS, CDPR_SIM_INTERRUPTED,
-                                            CDPR_SIM_IO_ERROR};
+    static const cdpr_summary_status_t all[] = {CDPR_SUMMARY_OK, CDPR_SUMMARY_WARNINGS,
+                                                CDPR_SUMMARY_INTERRUPTED, CDPR_SUMMARY_IO_ERROR};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) {
-        if (strcmp(name, cdpr_sim_status_name(all[i])) == 0) {
+        if (strcmp(name, cdpr_summary_status_name(all[i])) == 0) {
             return all[i];
         }
     }
-    return CDPR_SIM_FAILED;
+    return CDPR_SUMMARY_FAILED;
 }
 
 /* ---------------------------------------------------------------- writing summary.json */
@@ -80,8 +80,8 @@ static void json_string_or_null(FILE *f, const char *s)
     }
 }
 
-void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_path,
-                              const cdpr_plant_params_t *pp)
+void cdpr_summary_provenance_init(cdpr_summary_provenance_t *prov, const char *scenario_path,
+                                  const cdpr_plant_params_t *pp)
 {
     memset(prov, 0, sizeof *prov);
     snprintf(prov->version, sizeof prov->version, "%s", CDPR_VERSION_STRING);
@@ -127,7 +127,7 @@ static cdpr_status_t close_summary(FILE *f)
 }
 
 /* A per-cable count list ("key": [c1, ...]), or null when the cable count is unknown. */
-cdpr_status_t cdpr_sim_write_laps(const char *path, const cdpr_sim_summary_t *sum)
+cdpr_status_t cdpr_summary_write_laps(const char *path, const cdpr_summary_t *sum)
 {
     cdpr_csv_t csv;
     if (sum->n_laps <= 0) {
@@ -141,7 +141,7 @@ cdpr_status_t cdpr_sim_write_laps(const char *path, const cdpr_sim_summary_t *su
         cdpr_csv_name(&csv, head[i]);
     }
     cdpr_csv_end_row(&csv);
-    for (int i = 0; i < sum->n_laps && i < CDPR_SIM_MAX_LAPS; ++i) {
+    for (int i = 0; i < sum->n_laps && i < CDPR_SUMMARY_MAX_LAPS; ++i) {
         cdpr_csv_num(&csv, (double)(i + 1));
         cdpr_csv_num(&csv, sum->lap_rms_m[i]);
         cdpr_csv_num(&csv, sum->lap_max_m[i]);
@@ -159,7 +159,7 @@ cdpr_status_t cdpr_sim_write_laps(const char *path, const cdpr_sim_summary_t *su
 static void write_reals(FILE *f, const char *key, int n, const double *v)
 {
     fprintf(f, ",\n  \"%s\": [", key);
-    for (int i = 0; i < n && i < CDPR_SIM_MAX_LAPS; ++i) {
+    for (int i = 0; i < n && i < CDPR_SUMMARY_MAX_LAPS; ++i) {
         fprintf(f, "%s%.17g", (i == 0) ? "" : ", ", v[i]);
     }
     fputc(']', f);
@@ -179,7 +179,7 @@ static void write_counts(FILE *f, const char *key, int n, const unsigned long *c
 }
 
 /* The real-time plant's figures, "rt_*" keys (null when not known). */
-static void write_rt(FILE *f, const cdpr_sim_rt_t *rt)
+static void write_rt(FILE *f, const cdpr_summary_rt_t *rt)
 {
     const struct {
         const char *k;
@@ -212,15 +212,15 @@ static void write_rt(FILE *f, const cdpr_sim_rt_t *rt)
     }
 }
 
-cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
-                                     const cdpr_sim_summary_t *sum)
+cdpr_status_t cdpr_summary_write(const char *path, const cdpr_scenario_t *sc,
+                                 const cdpr_summary_t *sum)
 {
     FILE *f = cdpr_fs_fopen(path, "w", NULL, 0);
     if (f == NULL) {
         return CDPR_E_IO;
     }
     errno = 0;
-    const cdpr_sim_provenance_t *pv = &sum->prov;
+    const cdpr_summary_provenance_t *pv = &sum->prov;
     fprintf(f, "{\n  \"version\": ");
     json_string_or_null(f, pv->version);
     fprintf(f, ",\n  \"git_describe\": ");
@@ -238,7 +238,7 @@ cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc
     fprintf(f, ",\n  \"integrator\": ");
     json_string_or_null(f, pv->integrator);
     fprintf(f, ",\n  \"status\": ");
-    json_string(f, cdpr_sim_status_name(sum->status));
+    json_string(f, cdpr_summary_status_name(sum->status));
     fprintf(f, ",\n  \"message\": ");
     json_string(f, sum->message);
     const struct {
@@ -420,11 +420,11 @@ static double real_or_nan(const double *v)
     return (v != NULL) ? *v : (double)NAN;
 }
 
-/* A count, CDPR_SIM_UNKNOWN for null (or a value no count can have). */
+/* A count, CDPR_SUMMARY_UNKNOWN for null (or a value no count can have). */
 static unsigned long count_or_unknown(const double *v)
 {
-    return (v != NULL && *v >= 0.0 && *v < (double)CDPR_SIM_UNKNOWN) ? (unsigned long)*v
-                                                                     : CDPR_SIM_UNKNOWN;
+    return (v != NULL && *v >= 0.0 && *v < (double)CDPR_SUMMARY_UNKNOWN) ? (unsigned long)*v
+                                                                         : CDPR_SUMMARY_UNKNOWN;
 }
 
 static void string_or_empty(char *dst, size_t cap, const char *v)
@@ -434,7 +434,7 @@ static void string_or_empty(char *dst, size_t cap, const char *v)
 
 /* The real-time block: known when its state seq is (a file of a batch run, or written before
  * the block existed, has none). */
-static void rt_from_raw(const raw_summary_t *r, cdpr_sim_rt_t *rt)
+static void rt_from_raw(const raw_summary_t *r, cdpr_summary_rt_t *rt)
 {
     memset(rt, 0, sizeof *rt);
     if (r->rt_seq == NULL || !(*r->rt_seq >= 0.0)) {
@@ -457,11 +457,11 @@ static void rt_from_raw(const raw_summary_t *r, cdpr_sim_rt_t *rt)
     rt->wake_late_us_max = real_or_nan(r->rt_wake_late_us_max);
 }
 
-static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
+static void from_raw(const raw_summary_t *r, cdpr_summary_t *sum)
 {
     memset(sum, 0, sizeof *sum);
     sum->status = status_of_name(r->status);
-    cdpr_sim_provenance_t *pv = &sum->prov;
+    cdpr_summary_provenance_t *pv = &sum->prov;
     string_or_empty(pv->version, sizeof pv->version, r->version);
     string_or_empty(pv->git_describe, sizeof pv->git_describe, r->git_describe);
     string_or_empty(pv->build_type, sizeof pv->build_type, r->build_type);
@@ -511,8 +511,7 @@ static void from_raw(const raw_summary_t *r, cdpr_sim_summary_t *sum)
     rt_from_raw(r, &sum->rt);
 }
 
-cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
-                                    cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_summary_read(const char *path, cdpr_summary_t *sum, cdpr_scenario_error_t *err)
 {
     cdpr_yaml_log_t lg;
     void *data = NULL;
@@ -532,7 +531,7 @@ cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
 /* ---------------------------------------------------------------- the end-of-run block */
 
 /* The per-cable slack counts of the plant (recorded periods) and of the feed-forward. */
-static void print_slack(FILE *f, const cdpr_sim_summary_t *s)
+static void print_slack(FILE *f, const cdpr_summary_t *s)
 {
     if (fabs(s->rms_error_after_transfer_m - s->rms_error_m) > 0.0) {
         fprintf(f, "  after transfer  rms %.4g m (t >= controller.transfer_s)\n",
@@ -554,14 +553,14 @@ static void print_slack(FILE *f, const cdpr_sim_summary_t *s)
         fprintf(f, "  first slack demand: cable %d at t = %.4g s (%.4g N on the chords)\n",
                 s->first_slack_demand_cable, s->first_slack_demand_t_s, s->first_slack_demand_N);
     }
-    if (s->learning_updates != CDPR_SIM_UNKNOWN && s->learning_updates > 0) {
+    if (s->learning_updates != CDPR_SUMMARY_UNKNOWN && s->learning_updates > 0) {
         fprintf(f, "  learning        %lu laps learned, %lu knot values at the limit\n",
                 s->learning_updates, s->learning_saturations);
     }
 }
 
 /* RMS position error per complete lap (periodic trajectories), at most 12 shown. */
-static void print_laps(FILE *f, const cdpr_sim_summary_t *s)
+static void print_laps(FILE *f, const cdpr_summary_t *s)
 {
     if (s->n_laps <= 0) {
         return;
@@ -576,7 +575,7 @@ static void print_laps(FILE *f, const cdpr_sim_summary_t *s)
 }
 
 /* The real-time plant's work per period and its overruns, when known. */
-static void print_rt(FILE *f, const cdpr_sim_rt_t *rt)
+static void print_rt(FILE *f, const cdpr_summary_rt_t *rt)
 {
     if (rt->known == 0) {
         return;
@@ -593,9 +592,9 @@ static void print_rt(FILE *f, const cdpr_sim_rt_t *rt)
             (rt->overrun_stop != 0) ? "; the overrun policy stopped the plant" : "");
 }
 
-void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s)
+void cdpr_summary_print(FILE *f, const char *title, const cdpr_summary_t *s)
 {
-    fprintf(f, "%s: %s%s%s\n", title, cdpr_sim_status_name(s->status),
+    fprintf(f, "%s: %s%s%s\n", title, cdpr_summary_status_name(s->status),
             (s->message[0] != '\0') ? " - " : "", s->message);
     char initial[32];
     if (isfinite(s->initial_error_m)) {
@@ -610,21 +609,21 @@ void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t
             1e3 * s->max_error_rad);
     fprintf(f, "  tensions        %.4g .. %.4g N;  payout |u| <= %.3g m/s\n", s->min_tension_N,
             s->max_tension_N, s->max_payout_m_per_s);
-    if (s->node_insertions != CDPR_SIM_UNKNOWN && s->node_removals != CDPR_SIM_UNKNOWN) {
+    if (s->node_insertions != CDPR_SUMMARY_UNKNOWN && s->node_removals != CDPR_SUMMARY_UNKNOWN) {
         fprintf(f, "  node events     %lu insertions, %lu removals (segments %d..%d per cable)\n",
                 s->node_insertions, s->node_removals, s->nodes_min, s->nodes_max);
     } else {
         fprintf(f, "  node events     unknown (segments %d..%d per cable)\n", s->nodes_min,
                 s->nodes_max);
     }
-    if (s->rhs_evals != CDPR_SIM_UNKNOWN && s->rhs_evals > 0 &&
-        s->steps_accepted != CDPR_SIM_UNKNOWN && s->steps_rejected != CDPR_SIM_UNKNOWN &&
-        s->substep_limit_hits != CDPR_SIM_UNKNOWN) {
+    if (s->rhs_evals != CDPR_SUMMARY_UNKNOWN && s->rhs_evals > 0 &&
+        s->steps_accepted != CDPR_SUMMARY_UNKNOWN && s->steps_rejected != CDPR_SUMMARY_UNKNOWN &&
+        s->substep_limit_hits != CDPR_SUMMARY_UNKNOWN) {
         fprintf(f,
                 "  integrator      %lu steps, %lu rejected, %lu substep-limit periods, "
                 "%lu IK failures\n",
                 s->steps_accepted, s->steps_rejected, s->substep_limit_hits, s->ik_failures);
-        if (s->substeps > 0 && s->err_above_one_periods != CDPR_SIM_UNKNOWN) {
+        if (s->substeps > 0 && s->err_above_one_periods != CDPR_SUMMARY_UNKNOWN) {
             fprintf(f,
                     "  fixed cost      %d substeps, %lu RHS in every period (most %lu); error "
                     "norm max %.3g, above 1 in %lu periods\n",

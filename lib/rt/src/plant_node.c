@@ -794,7 +794,7 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
             t->min_length_periods);
 }
 
-void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_sim_rt_t *out)
+void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_summary_rt_t *out)
 {
     memset(out, 0, sizeof *out);
     out->known = 1;
@@ -814,7 +814,7 @@ void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_sim_rt_t
     out->wake_late_us_max = to_us(d->wake_late_ns_max);
 }
 
-void cdpr_rt_summary_figures(cdpr_rt_t *rt, cdpr_sim_rt_t *out)
+void cdpr_rt_summary_figures(cdpr_rt_t *rt, cdpr_summary_rt_t *out)
 {
     fill_diagnostics(rt);
     cdpr_rt_figures_from_diagnostics(&rt->diag_msg, out);

@@ -631,19 +631,19 @@ void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracke
         segments[j] = (int)ten->n_segments[j];
         r->max_payout_m_per_s = fmax(r->max_payout_m_per_s, fabs(ten->payout_m_per_s[j]));
     }
-    const cdpr_sim_row_t row = {m->t_s,
-                                &des,
-                                m,
-                                ten->tension_cabin_N,
-                                ten->tension_winch_N,
-                                c->l_ff_m,
-                                ten->payout_m_per_s,
-                                segments};
+    const cdpr_record_row_t row = {m->t_s,
+                                   &des,
+                                   m,
+                                   ten->tension_cabin_N,
+                                   ten->tension_winch_N,
+                                   c->l_ff_m,
+                                   ten->payout_m_per_s,
+                                   segments};
     const long k = (long)llround(m->t_s / r->period_s);
     /* The state at the end of the run gets its row, as in cdpr-sim; a CSV failure is kept in
-     * the recorder (cdpr_sim_rec_close reports it) and the controller keeps controlling. */
+     * the recorder (cdpr_record_close reports it) and the controller keeps controlling. */
     const int last = (m->t_s >= r->rec.duration_s - 0.5 * r->period_s) ? 1 : 0;
-    (void)cdpr_sim_rec_period(&r->rec, k, last, &row);
+    (void)cdpr_record_period(&r->rec, k, last, &row);
     r->last_t_s = m->t_s;
     r->periods++;
 }

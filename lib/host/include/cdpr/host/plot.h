@@ -12,7 +12,7 @@
 /// (cdpr_traj_type_name: circle, line or hold). Warnings go to stderr prefixed `prog`.
 /// Returns CDPR_OK when gnuplot succeeded, else CDPR_E_IO (no script, no gnuplot, gnuplot
 /// failed).
-cdpr_status_t cdpr_sim_plot(const char *prog, const char *script, const char *dir, const char *kind,
+cdpr_status_t cdpr_plot_run(const char *prog, const char *script, const char *dir, const char *kind,
                             const char *title);
 
 #endif /* CDPR_HOST_PLOT_H */

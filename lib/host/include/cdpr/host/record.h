@@ -11,7 +11,7 @@
 /// still writes run.output_rate_hz rows per second; when every period is seen this is
 /// k % every == 0), and the last. Rows are whole in the file even on a full device or a signal
 /// (csv.h); after the first write error no further row is written and the error (errno) is kept
-/// for the caller's message (cdpr_sim_rec_io_error).
+/// for the caller's message (cdpr_record_io_error).
 ///
 /// Host library; no allocation, no printing.
 #ifndef CDPR_HOST_RECORD_H
@@ -34,7 +34,7 @@ typedef struct {
     const double *l_ff_m;            ///< feed-forward lengths [m]
     const double *payout_m_per_s;    ///< payout rates [m/s]
     const int *segments;             ///< active segments per cable
-} cdpr_sim_row_t;
+} cdpr_record_row_t;
 
 /// Recorder: timeseries.csv (every output period and the last) and the summary's statistics.
 /// Fields are internal.
@@ -51,7 +51,7 @@ typedef struct {
     double lap_sum2_pos, lap_sum2_rot, lap_max;
     long lap_n;
     double transfer_s; ///< controller.transfer_s: rms_error_after_transfer_m counts t >= it
-    cdpr_sim_summary_t *sum;
+    cdpr_summary_t *sum;
     long prev_k; ///< period of the last recorded row (-1: none yet)
     int prev_segments[CDPR_MAX_CABLES];
     unsigned long seg_insertions, seg_removals; ///< node events seen in the segment counts
@@ -59,21 +59,22 @@ typedef struct {
     long next_row_k;     ///< first period of the next CSV row (the next output instant)
     long last_row_k;     ///< period of the last CSV row (-1: none)
     char csv_path[1100]; ///< out_dir/timeseries.csv ("" without outputs)
-} cdpr_sim_rec_t;
+} cdpr_record_t;
 
 /// Start recording into `sum` (zeroed by the caller) over the scenario's run.duration_s
 /// (rows every run.output_rate_hz) and, when out_dir is not NULL, into out_dir/timeseries.csv
-/// (the directory is created). Fills sum->prov (cdpr_sim_provenance_init: the scenario file
+/// (the directory is created). Fills sum->prov (cdpr_summary_provenance_init: the scenario file
 /// sc->path is hashed now; `pp` the plant's parameters, NULL when not known) and writes it as
 /// the CSV's comment lines. Returns CDPR_OK, or CDPR_E_IO with `err` naming the directory or
 /// file.
-cdpr_status_t cdpr_sim_rec_open(cdpr_sim_rec_t *rec, const cdpr_scenario_t *sc,
-                                const cdpr_plant_params_t *pp, const char *out_dir, int n_cables,
-                                cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err);
+cdpr_status_t cdpr_record_open(cdpr_record_t *rec, const cdpr_scenario_t *sc,
+                               const cdpr_plant_params_t *pp, const char *out_dir, int n_cables,
+                               cdpr_summary_t *sum, cdpr_scenario_error_t *err);
 
 /// Record period k (t_k = row->t_s); `last` forces a CSV row. Returns CDPR_OK, or CDPR_E_IO
 /// when the CSV has failed (now or earlier; the statistics are still kept).
-cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const cdpr_sim_row_t *row);
+cdpr_status_t cdpr_record_period(cdpr_record_t *rec, long k, int last,
+                                 const cdpr_record_row_t *row);
 
 /// Node events as the recorded rows show them: per cable, a rise of the segment count from one
 /// recorded period to the next is that many insertions, a fall that many removals (a node
@@ -82,22 +83,22 @@ cdpr_status_t cdpr_sim_rec_period(cdpr_sim_rec_t *rec, long k, int last, const c
 /// run). `missed` (may be NULL): periods not recorded between the first and the last recorded
 /// one; the events in such a gap count by their net change. Events before the first recorded
 /// period are not seen.
-void cdpr_sim_rec_node_events(const cdpr_sim_rec_t *rec, unsigned long *insertions,
-                              unsigned long *removals, long *missed);
+void cdpr_record_node_events(const cdpr_record_t *rec, unsigned long *insertions,
+                             unsigned long *removals, long *missed);
 
 /// The tracker's tension-awareness counts (slack demands per cable, the first one) into `sum`.
-void cdpr_sim_tracker_counts(const cdpr_tracker_t *tr, cdpr_sim_summary_t *sum);
+void cdpr_record_tracker_counts(const cdpr_tracker_t *tr, cdpr_summary_t *sum);
 
 /// Finish the statistics (RMS values) and close the CSV (its buffered whole rows written).
 /// Returns CDPR_OK, or CDPR_E_IO when a write or the close failed (then and later
-/// cdpr_sim_rec_io_error describes it). Safe to call twice.
-cdpr_status_t cdpr_sim_rec_close(cdpr_sim_rec_t *rec);
+/// cdpr_record_io_error describes it). Safe to call twice.
+cdpr_status_t cdpr_record_close(cdpr_record_t *rec);
 
 /// errno of the CSV's first failure (0: none).
-int cdpr_sim_rec_errno(const cdpr_sim_rec_t *rec);
+int cdpr_record_errno(const cdpr_record_t *rec);
 
 /// The CSV's failure as "DIR/timeseries.csv: write failed: REASON" (strerror of the kept errno)
 /// into err->msg.
-void cdpr_sim_rec_io_error(const cdpr_sim_rec_t *rec, cdpr_scenario_error_t *err);
+void cdpr_record_io_error(const cdpr_record_t *rec, cdpr_scenario_error_t *err);
 
 #endif /* CDPR_HOST_RECORD_H */

@@ -61,7 +61,7 @@ void cdpr_sim_opts_default(cdpr_sim_opts_t *o);
 ///    (CDPR_E_INFEASIBLE, CDPR_E_NO_CONVERGENCE), a settling failure, the controller's;
 /// `err` is written only when the run could not start or on an output error (when both the CSV
 /// and summary.json failed it names both).
-cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
-                           cdpr_sim_summary_t *sum, cdpr_scenario_error_t *err);
+cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, cdpr_summary_t *sum,
+                           cdpr_scenario_error_t *err);
 
 #endif /* CDPR_HOST_SIM_H */

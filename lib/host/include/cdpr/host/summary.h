@@ -5,7 +5,7 @@
 ///
 /// summary.json: one JSON object, keys in docs/scenarios.md; numbers printed with %.17g
 /// (round-trip exact). A value the writer cannot know (a count of the plant's integrator when
-/// the plant ran in another process) is null, never 0: CDPR_SIM_UNKNOWN in a count, a negative
+/// the plant ran in another process) is null, never 0: CDPR_SUMMARY_UNKNOWN in a count, a negative
 /// settle_steps, a non-finite double, "" in a provenance string. Host library; the reader
 /// allocates through libcyaml and frees it.
 #ifndef CDPR_HOST_SUMMARY_H
@@ -19,8 +19,8 @@
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sha256.h"
 
-/// An unknown count (unsigned long fields of cdpr_sim_summary_t): written as null.
-#define CDPR_SIM_UNKNOWN ULONG_MAX
+/// An unknown count (unsigned long fields of cdpr_summary_t): written as null.
+#define CDPR_SUMMARY_UNKNOWN ULONG_MAX
 
 /// Where a run's outputs come from (summary.json and the comment lines of timeseries.csv).
 /// "" is unknown (written as null).
@@ -30,28 +30,28 @@ typedef struct {
     char build_type[32];                       ///< CMAKE_BUILD_TYPE of the host library
     char scenario_sha256[CDPR_SHA256_HEX + 1]; ///< SHA-256 of the scenario file's bytes (hex)
     char integrator[32];                       ///< the plant's scheme ("rkf45")
-} cdpr_sim_provenance_t;
+} cdpr_summary_provenance_t;
 
 /// Provenance of a run of the scenario file `scenario_path` (its bytes are hashed now; ""
 /// when it cannot be read) with plant parameters `pp` (NULL: integrator unknown); version, git
 /// description and build type of this build.
-void cdpr_sim_provenance_init(cdpr_sim_provenance_t *prov, const char *scenario_path,
-                              const cdpr_plant_params_t *pp);
+void cdpr_summary_provenance_init(cdpr_summary_provenance_t *prov, const char *scenario_path,
+                                  const cdpr_plant_params_t *pp);
 
 /// Laps of a periodic trajectory the summary keeps statistics of (the first ones).
-#define CDPR_SIM_MAX_LAPS 100
+#define CDPR_SUMMARY_MAX_LAPS 100
 
-/// Run status (summary.json "status": the name of cdpr_sim_status_name).
+/// Run status (summary.json "status": the name of cdpr_summary_status_name).
 typedef enum {
-    CDPR_SIM_OK = 0,          ///< "ok": ran to the end, no warning
-    CDPR_SIM_WARNINGS = 1,    ///< "warnings": ran to the end; substep limit, IK failure, ...
-    CDPR_SIM_FAILED = 2,      ///< "failed": stopped early (integrator error); outputs hold what
-                              ///< was done
-    CDPR_SIM_INTERRUPTED = 3, ///< "interrupted": stopped by a signal (SIGINT, SIGTERM, SIGHUP);
-                              ///< outputs hold what was done
-    CDPR_SIM_IO_ERROR = 4     ///< "io_error": writing timeseries.csv failed; it holds the whole
-                              ///< rows written before, `message` says why
-} cdpr_sim_status_t;
+    CDPR_SUMMARY_OK = 0,          ///< "ok": ran to the end, no warning
+    CDPR_SUMMARY_WARNINGS = 1,    ///< "warnings": ran to the end; substep limit, IK failure, ...
+    CDPR_SUMMARY_FAILED = 2,      ///< "failed": stopped early (integrator error); outputs hold what
+                                  ///< was done
+    CDPR_SUMMARY_INTERRUPTED = 3, ///< "interrupted": stopped by a signal (SIGINT, SIGTERM, SIGHUP);
+                                  ///< outputs hold what was done
+    CDPR_SUMMARY_IO_ERROR = 4     ///< "io_error": writing timeseries.csv failed; it holds the whole
+                                  ///< rows written before, `message` says why
+} cdpr_summary_status_t;
 
 /// The real-time plant's figures in a summary: cdpr-rt's own telemetry (its in-process
 /// tracker), or the plant's newest `diagnostics_t` received by a controller over LCM. Not known
@@ -72,7 +72,7 @@ typedef struct {
     double cpu_us_p99;                 ///< the same in the periodic thread's CPU time: p99 [us]
     double cpu_us_max;                 ///< ... max [us]
     double wake_late_us_max;           ///< latest wake-up after the start-up [us]
-} cdpr_sim_rt_t;
+} cdpr_summary_rt_t;
 
 /// Summary of a run (outputs). Errors are |p - p_d| and the angle of q_d q^-1 over every
 /// control period t_k, k = 0..N (t_0 after settling). Unknown values: see the file comment.
@@ -118,50 +118,49 @@ typedef struct {
                                                          ///< or winch-end tension <= 0 (the plant)
     unsigned long slack_demand_periods[CDPR_MAX_CABLES]; ///< periods whose feed-forward
                                                          ///< demanded tension <= 0 of cable j
-    int first_slack_demand_cable;          ///< 1-based cable of the first slack demand (0: none)
-    double first_slack_demand_t_s;         ///< its time [s] (NaN: none)
-    double first_slack_demand_N;           ///< its straight-cable tension [N] (NaN: none)
-    unsigned long learning_updates;        ///< laps learned by the controller (tracker.h step 8)
-    unsigned long learning_saturations;    ///< learned knot values clamped to the limit
-    int n_laps;                            ///< complete laps of a periodic trajectory recorded
-                                           ///< (cdpr_traj_lap; at most CDPR_SIM_MAX_LAPS; 0: none)
-    double lap_rms_m[CDPR_SIM_MAX_LAPS];   ///< RMS position error of each complete lap [m]
-    double lap_max_m[CDPR_SIM_MAX_LAPS];   ///< largest position error of each lap [m]
-    double lap_rms_rad[CDPR_SIM_MAX_LAPS]; ///< RMS attitude error of each lap [rad]
-    cdpr_sim_rt_t rt;                      ///< the real-time plant's figures (rt.known)
-    cdpr_sim_status_t status;              ///< see cdpr_sim_status_t
-    char message[256];                     ///< what failed or warned, "" if nothing
-    cdpr_sim_provenance_t prov;            ///< where the outputs come from
-} cdpr_sim_summary_t;
+    int first_slack_demand_cable;       ///< 1-based cable of the first slack demand (0: none)
+    double first_slack_demand_t_s;      ///< its time [s] (NaN: none)
+    double first_slack_demand_N;        ///< its straight-cable tension [N] (NaN: none)
+    unsigned long learning_updates;     ///< laps learned by the controller (tracker.h step 8)
+    unsigned long learning_saturations; ///< learned knot values clamped to the limit
+    int n_laps;                         ///< complete laps of a periodic trajectory recorded
+                                        ///< (cdpr_traj_lap; at most CDPR_SUMMARY_MAX_LAPS; 0: none)
+    double lap_rms_m[CDPR_SUMMARY_MAX_LAPS];   ///< RMS position error of each complete lap [m]
+    double lap_max_m[CDPR_SUMMARY_MAX_LAPS];   ///< largest position error of each lap [m]
+    double lap_rms_rad[CDPR_SUMMARY_MAX_LAPS]; ///< RMS attitude error of each lap [rad]
+    cdpr_summary_rt_t rt;                      ///< the real-time plant's figures (rt.known)
+    cdpr_summary_status_t status;              ///< see cdpr_summary_status_t
+    char message[256];                         ///< what failed or warned, "" if nothing
+    cdpr_summary_provenance_t prov;            ///< where the outputs come from
+} cdpr_summary_t;
 
 /// Name of a status as written in summary.json ("ok", "warnings", "failed", "interrupted",
 /// "io_error"; "failed" for a value not in the enum).
-const char *cdpr_sim_status_name(cdpr_sim_status_t st);
+const char *cdpr_summary_status_name(cdpr_summary_status_t st);
 
 /// Write summary.json for `sum` of scenario `sc` to `path`. Returns CDPR_OK, or CDPR_E_IO
 /// (cannot create, or a write or the close failed; errno set: the first failure's). A regular
 /// file that could not be written whole is emptied (no torn JSON is left behind).
-cdpr_status_t cdpr_sim_write_summary(const char *path, const cdpr_scenario_t *sc,
-                                     const cdpr_sim_summary_t *sum);
+cdpr_status_t cdpr_summary_write(const char *path, const cdpr_scenario_t *sc,
+                                 const cdpr_summary_t *sum);
 
 /// Write `path` (laps.csv: columns lap, rms_m, max_m, rms_rad; one row per complete lap) when
 /// the summary has laps (sum->n_laps > 0; else nothing is written). Rows whole (csv.h).
 /// Returns CDPR_OK, or CDPR_E_IO with errno set.
-cdpr_status_t cdpr_sim_write_laps(const char *path, const cdpr_sim_summary_t *sum);
+cdpr_status_t cdpr_summary_write_laps(const char *path, const cdpr_summary_t *sum);
 
-/// Read a summary.json written by cdpr_sim_write_summary (JSON is YAML, so libcyaml reads it;
+/// Read a summary.json written by cdpr_summary_write (JSON is YAML, so libcyaml reads it;
 /// keys it does not know are ignored). Fills the numeric fields, the status (a name this
-/// library does not know reads as CDPR_SIM_FAILED) and the
+/// library does not know reads as CDPR_SUMMARY_FAILED) and the
 /// provenance (optional keys: files written before they existed have none); a null reads as
-/// unknown (CDPR_SIM_UNKNOWN, settle_steps -1, NaN, ""). Returns CDPR_OK, or with `err` naming
+/// unknown (CDPR_SUMMARY_UNKNOWN, settle_steps -1, NaN, ""). Returns CDPR_OK, or with `err` naming
 /// the file (and libcyaml's reason): CDPR_E_IO (cannot open), CDPR_E_PARSE (malformed, a key
 /// missing or of the wrong type, empty).
-cdpr_status_t cdpr_sim_read_summary(const char *path, cdpr_sim_summary_t *sum,
-                                    cdpr_scenario_error_t *err);
+cdpr_status_t cdpr_summary_read(const char *path, cdpr_summary_t *sum, cdpr_scenario_error_t *err);
 
 /// Print the end-of-run block of `s` to `f` (cdpr-sim's): "TITLE: status - message", then
 /// tracking error, tensions, node events, integrator (when its counts are unknown or zero --
 /// the plant ran elsewhere -- the controller's IK failures instead) and time.
-void cdpr_sim_print_summary(FILE *f, const char *title, const cdpr_sim_summary_t *s);
+void cdpr_summary_print(FILE *f, const char *title, const cdpr_summary_t *s);
 
 #endif /* CDPR_HOST_SUMMARY_H */

@@ -245,9 +245,9 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f);
 
 /// The real-time figures of a run's summary (summary.json "rt_*") from the telemetry as it is
 /// now (after cdpr_rt_run: the whole run). Not real-time safe (computes the percentiles).
-void cdpr_rt_summary_figures(cdpr_rt_t *rt, cdpr_sim_rt_t *out);
+void cdpr_rt_summary_figures(cdpr_rt_t *rt, cdpr_summary_rt_t *out);
 
 /// The same from a `diagnostics_t` (a controller's view of the plant, cdpr_rt_tracker_t).
-void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_sim_rt_t *out);
+void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_summary_rt_t *out);
 
 #endif /* CDPR_RT_PLANT_NODE_H */

@@ -269,7 +269,7 @@ void cdpr_rt_tracker_print_trust(FILE *f, const char *app, const cdpr_rt_tracker
 /// Recording what the controller sees (the tracker's timeseries.csv and summary, in
 /// cdpr-sim's format): use cdpr_rt_tracker_record_step as on_step with a cdpr_rt_record_t.
 typedef struct {
-    cdpr_sim_rec_t rec;        ///< recorder (cdpr_sim_rec_open before the run)
+    cdpr_record_t rec;         ///< recorder (cdpr_record_open before the run)
     const cdpr_traj_t *traj;   ///< desired trajectory
     double period_s;           ///< control period
     double max_payout_m_per_s; ///< largest |payout| seen
@@ -281,7 +281,7 @@ typedef struct {
 /// rates and node counts come from the tensions message (the plant's values at that state).
 /// Rows at run.output_rate_hz by plant time (record.h: a row when the state's time reaches the
 /// next output instant, so states the node skipped do not cost rows) and at the run's end. A
-/// CSV write failure stops the rows, not the controller; cdpr_sim_rec_close reports it.
+/// CSV write failure stops the rows, not the controller; cdpr_record_close reports it.
 void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracker_cmd_t *c,
                                  const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
                                  void *ctx);
