@@ -361,7 +361,15 @@ int main(int argc, char **argv)
         }
     }
     if (verdict != 0) {
+        if (!isnan(at_s) || cable >= 0.0 || check != 0 || zoh != 0) {
+            return cdpr_app_exit_code(cdpr_app_usage_error(
+                "cdpr-design", "--verdict takes no --at, --step-test, --check or --zoh (it "
+                               "checks at the apps' pose and writes nothing)"));
+        }
         return run_verdict(argc, argv, &ov, quiet);
+    }
+    if (quiet != 0) {
+        return cdpr_app_exit_code(cdpr_app_usage_error("cdpr-design", "--quiet is for --verdict"));
     }
     if (argc - optind != 2) {
         return cdpr_app_exit_code(cdpr_app_usage_error("cdpr-design", "SCENARIO and OUT expected"));

@@ -189,6 +189,11 @@ static int parse(int argc, char **argv, options_t *o)
         (void)cdpr_app_usage_error("cdpr-rt", "--tracker-out needs --with-tracker");
         return -1;
     }
+    if (o->check_design != 0 && o->with_tracker == 0) {
+        /* without the in-process tracker there is no controller here to check */
+        (void)cdpr_app_usage_error("cdpr-rt", "--check-design needs --with-tracker");
+        return -1;
+    }
     return 0;
 }
 

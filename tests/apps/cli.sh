@@ -57,5 +57,16 @@ if [ -n "$arg_opt" ]; then
     usage_error "option '$arg_opt' requires an argument" "$arg_opt"
 fi
 
+# Combinations an app refuses (nothing is loaded: the scenario need not exist).
+case "$name" in
+cdpr-rt)
+    usage_error "--check-design needs --with-tracker" x.yaml --check-design
+    ;;
+cdpr-design)
+    usage_error "--verdict takes no --at, --step-test, --check or --zoh (it checks at the apps' pose and writes nothing)" x.yaml --verdict --at 1
+    usage_error "--quiet is for --verdict" x.yaml out --quiet
+    ;;
+esac
+
 [ "$fail" -eq 0 ] || exit 1
 echo "PASS: $name --version, --help, usage errors"

@@ -12,7 +12,6 @@
 #include "cdpr/host/feasibility.h"
 #include "cdpr/host/fs.h"
 #include "cdpr/host/plant.h"
-#include "cdpr/statics.h"
 #include "cdpr/winch.h"
 
 /* Everything a run needs, allocated once (about 250 kB at the default capacities). */
