@@ -326,8 +326,8 @@ static int table_step(const options_t *o)
         cdpr_diag_t diag;
         if (cdpr_rkf45_init(&c.ours, &p, work, (int)(sizeof work / sizeof work[0]),
                             CDPR_ROBOT_STATE_MAX, robot.dim, &diag) != CDPR_OK ||
-            cdpr_gsl_stepper_init(&c.gsl, cdpr_robot_rhs, &robot, (size_t)robot.dim, p.rtol,
-                                  p.atol) != CDPR_OK) {
+            cdpr_gsl_stepper_init(&c.gsl, cdpr_robot_rhs, &robot, (size_t)robot.dim, p.step.rtol,
+                                  p.step.atol) != CDPR_OK) {
             fprintf(stderr, "cdpr-bench: integrator init failed\n");
             return -1;
         }
@@ -357,12 +357,12 @@ static int table_adaptive(const options_t *o)
         seq_ctx_t c;
         c.dim = robot.dim;
         cdpr_rkf45_params_default(&c.ours_params);
-        c.ours_params.h_init_s = SEQ_H0_S;
+        c.ours_params.step.h_init_s = SEQ_H0_S;
         cdpr_diag_t diag;
         if (cdpr_rkf45_init(&c.ours, &c.ours_params, work, (int)(sizeof work / sizeof work[0]),
                             CDPR_ROBOT_STATE_MAX, robot.dim, &diag) != CDPR_OK ||
             cdpr_gsl_stepper_init(&c.gsl, cdpr_robot_rhs, &robot, (size_t)robot.dim,
-                                  c.ours_params.rtol, c.ours_params.atol) != CDPR_OK) {
+                                  c.ours_params.step.rtol, c.ours_params.step.atol) != CDPR_OK) {
             fprintf(stderr, "cdpr-bench: integrator init failed\n");
             return -1;
         }

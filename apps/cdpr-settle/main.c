@@ -176,8 +176,8 @@ static cdpr_status_t settle_release(const options_t *o, int n, result_t *res)
     const int dim = cdpr_robot_state_dim(&robot);
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
-    sp.rtol = 1e-7;
-    sp.atol = 1e-9;
+    sp.step.rtol = 1e-7;
+    sp.step.atol = 1e-9;
     cdpr_rkf45_t solver;
     if (cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),
                         CDPR_ROBOT_STATE_MAX, dim, &d) != CDPR_OK) {

@@ -218,7 +218,7 @@ static int init_model(void)
     params.start = CDPR_PLANT_START_CATENARY;
     params.ik.force_tol_N = STATICS_FORCE_N;
     params.ik.span_tol_m = STATICS_SPAN_M;
-    params.rkf45.rtol = RTOL;
+    params.rkf45.step.rtol = RTOL;
     params.atol.position_m = ATOL;
     params.atol.velocity_m_per_s = ATOL;
     params.atol.quaternion = ATOL;
@@ -229,8 +229,8 @@ static int init_model(void)
 #else
     params.integrator = CDPR_PLANT_ROS34PW2;
 #endif
-    params.ros.rtol = CDPR_R(1e-3);
-    params.ros.h_init_s = DT_S;
+    params.ros.step.rtol = CDPR_R(1e-3);
+    params.ros.step.h_init_s = DT_S;
     params.atol.position_m = CDPR_R(1e-4);
     params.atol.velocity_m_per_s = CDPR_R(1e-2);
     params.atol.quaternion = CDPR_R(1e-6);

@@ -167,7 +167,7 @@ static void accuracy_case(const char *name)
      * section would otherwise give ROS34PW2 their RKF45 tolerances and 2000 trials, no
      * real-time setting at all. */
     case_params(name, (int)CDPR_PLANT_ROS34PW2, &pp);
-    pp.ros.rtol = 1e-3;
+    pp.ros.step.rtol = 1e-3;
     pp.atol.position_m = 1e-4;
     pp.atol.velocity_m_per_s = 1e-2;
     pp.atol.quaternion = 1e-6;
@@ -175,7 +175,7 @@ static void accuracy_case(const char *name)
     pp.max_trials = 4;
     init_or_fail(&g_ada, &pp);
     case_params(name, (int)CDPR_PLANT_RKF45, &pp);
-    pp.rkf45.rtol = 1e-10;
+    pp.rkf45.step.rtol = 1e-10;
     pp.atol.position_m = 1e-10;
     pp.atol.velocity_m_per_s = 1e-9;
     pp.atol.quaternion = 1e-12;

@@ -49,13 +49,13 @@ static inline void test_paper_plant_params(cdpr_plant_params_t *pp, int segments
 #ifdef CDPR_REAL_IS_FLOAT
     /* float resolves the strain of EA = 2 MN ropes to ~1e-7 (0.24 N per segment): ask the
      * integrator for what float can honour (docs/firmware.md). */
-    pp->rkf45.rtol = CDPR_R(1e-4);
+    pp->rkf45.step.rtol = CDPR_R(1e-4);
     pp->atol.position_m = CDPR_R(1e-4);
     pp->atol.velocity_m_per_s = CDPR_R(1e-4);
     pp->atol.quaternion = CDPR_R(1e-4);
     pp->atol.rate_rad_per_s = CDPR_R(1e-4);
 #endif
-    pp->rkf45.h_max_s = CDPR_R(0.01);
+    pp->rkf45.step.h_max_s = CDPR_R(0.01);
     pp->period_s = CDPR_R(0.01);
     pp->max_trials = 400;
 }
@@ -68,9 +68,9 @@ static inline void test_paper_rt_params(cdpr_plant_params_t *pp, cdpr_plant_inte
                                         double vtol)
 {
     pp->integrator = m;
-    pp->ros.rtol = CDPR_R(1e-3);
-    pp->ros.h_max_s = CDPR_R(0.01);
-    pp->ros.h_init_s = CDPR_R(1e-3);
+    pp->ros.step.rtol = CDPR_R(1e-3);
+    pp->ros.step.h_max_s = CDPR_R(0.01);
+    pp->ros.step.h_init_s = CDPR_R(1e-3);
     pp->atol.position_m = CDPR_R(1e-4);
     pp->atol.velocity_m_per_s = (cdpr_real_t)vtol;
     pp->atol.quaternion = CDPR_R(1e-6);

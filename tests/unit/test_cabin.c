@@ -500,8 +500,8 @@ static void init_rk(cdpr_rkf45_t *s, double tol)
 {
     cdpr_rkf45_params_t p;
     cdpr_rkf45_params_default(&p);
-    p.rtol = tol;
-    p.atol = tol;
+    p.step.rtol = tol;
+    p.step.atol = tol;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rkf45_init(s, &p, rk_work, (int)(sizeof rk_work / sizeof rk_work[0]),
                                           CDPR_CABIN_STATE_DIM, CDPR_CABIN_STATE_DIM, NULL));

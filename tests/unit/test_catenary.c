@@ -282,8 +282,8 @@ static void settle_chain(int n, double Hr, double var, settled_t *out)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_place_straight(&robot, &m, y));
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
-    sp.rtol = 1e-7;
-    sp.atol = 1e-9;
+    sp.step.rtol = 1e-7;
+    sp.step.atol = 1e-9;
     cdpr_rkf45_t solver;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),

@@ -58,8 +58,8 @@ static void init_sim(sim_t *s)
     cdpr_robot_fill_atol(&s->robot, 1e-6, 1e-5, 1e-8, 1e-6, s->atol);
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
-    sp.rtol = 1e-6;
-    sp.atol_vec = s->atol;
+    sp.step.rtol = 1e-6;
+    sp.step.atol_vec = s->atol;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_init(&s->solver, &sp, s->work,
                                                    (int)(sizeof s->work / sizeof s->work[0]),
                                                    CDPR_ROBOT_STATE_MAX, s->robot.dim, NULL));

@@ -121,8 +121,8 @@ static void run(double t_end, double rtol, double *drift, double *rise, double *
     cdpr_robot_fill_atol(&robot, rtol, rtol, rtol, rtol, atol_v);
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
-    sp.rtol = rtol;
-    sp.atol_vec = atol_v;
+    sp.step.rtol = rtol;
+    sp.step.atol_vec = atol_v;
     cdpr_rkf45_t s;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rkf45_init(&s, &sp, work, (int)(sizeof work / sizeof work[0]),

@@ -160,10 +160,10 @@ static void ours_init(cdpr_rkf45_t *s, const tol_t *tol)
 {
     cdpr_rkf45_params_t p;
     cdpr_rkf45_params_default(&p);
-    p.rtol = tol->rtol;
-    p.atol = tol->atol;
-    p.atol_vec = tol->atol_vec;
-    p.h_init_s = H0_S;
+    p.step.rtol = tol->rtol;
+    p.step.atol = tol->atol;
+    p.step.atol_vec = tol->atol_vec;
+    p.step.h_init_s = H0_S;
     cdpr_diag_t diag;
     TEST_ASSERT_EQUAL_INT(
         CDPR_OK, cdpr_rkf45_init(s, &p, work, WORK_LEN, CDPR_ROBOT_STATE_MAX, robot.dim, &diag));

@@ -183,7 +183,7 @@ static void test_period_is_the_documented_sequence_bit_for_bit(void)
     static cdpr_real_t atol[CDPR_ROBOT_STATE_MAX];
     const cdpr_real_t rates[6] = {CDPR_R(3.0),  CDPR_R(0.0), CDPR_R(0.0),
                                   CDPR_R(-2.0), CDPR_R(0.0), CDPR_R(0.0)};
-    other.rk.p.atol_vec = atol; /* the copy's integrator must not read the plant's array */
+    other.rk.p.step.atol_vec = atol; /* the copy's integrator must not read the plant's array */
     cdpr_robot_fill_atol(&other.robot, pp.atol.position_m, pp.atol.velocity_m_per_s,
                          pp.atol.quaternion, pp.atol.rate_rad_per_s, atol);
     other.rk.work = other.work;
@@ -269,7 +269,7 @@ static void test_bad_parameters_are_named_and_nothing_steps(void)
     b.winch[3].u_max_m_per_s = CDPR_R(0.0);
     expect_bad(&b, CDPR_E_NOT_POSITIVE, "u_max_m_per_s");
     b = pp;
-    b.rkf45.rtol = CDPR_R(-1.0);
+    b.rkf45.step.rtol = CDPR_R(-1.0);
     expect_bad(&b, CDPR_E_OUT_OF_RANGE, "rkf45");
     /* Above the exit points: no equilibrium with every cable pulling. */
     b = pp;

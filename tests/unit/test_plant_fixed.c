@@ -131,7 +131,7 @@ static void test_fixed_at_least_as_close_as_adaptive(void)
     cdpr_plant_params_t pp;
     test_paper_plant_params(&pp, 16);
     pp.integrator = CDPR_PLANT_RKF45;
-    pp.rkf45.rtol = CDPR_R(1e-10);
+    pp.rkf45.step.rtol = CDPR_R(1e-10);
     pp.atol.position_m = CDPR_R(1e-10);
     pp.atol.velocity_m_per_s = CDPR_R(1e-9);
     pp.atol.quaternion = CDPR_R(1e-12);

@@ -66,7 +66,7 @@ static void ros_params(cdpr_plant_params_t *pp)
 static void ref_params(cdpr_plant_params_t *pp)
 {
     pp->integrator = CDPR_PLANT_RKF45;
-    pp->rkf45.rtol = CDPR_R(1e-10);
+    pp->rkf45.step.rtol = CDPR_R(1e-10);
     pp->atol.position_m = CDPR_R(1e-10);
     pp->atol.velocity_m_per_s = CDPR_R(1e-9);
     pp->atol.quaternion = CDPR_R(1e-12);
@@ -192,7 +192,7 @@ static void test_node_events_conserve_length(void)
     pp.period_s = CDPR_R(0.01);
     pp.max_trials = 20;
 #ifdef CDPR_REAL_IS_FLOAT
-    pp.ros.rtol = CDPR_R(1e-3);
+    pp.ros.step.rtol = CDPR_R(1e-3);
 #endif
     init_plant(&plant, &pp);
     cdpr_plant_meas_t m0;
@@ -215,7 +215,7 @@ static void test_node_events_conserve_length(void)
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-9, 2e-4), sum_u0, (double)(m1.length_m[0] - m0.length_m[0]));
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-9, 2e-4), sum_u3, (double)(m1.length_m[3] - m0.length_m[3]));
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-9, 2e-4), 0.0, (double)(m1.length_m[1] - m0.length_m[1]));
-    TEST_ASSERT_TRUE(plant.ros.stats.factorisations > 0u);
+    TEST_ASSERT_TRUE(plant.ros.lin.factorisations > 0u);
 }
 
 /* Reruns are bit-identical; stepping allocates nothing. */
@@ -325,10 +325,10 @@ static void test_release_against_tight_reference_and_energy(void)
         cdpr_rkf45_t rk;
         cdpr_rkf45_params_t sp;
         cdpr_rkf45_params_default(&sp);
-        sp.rtol = CDPR_R(1e-10);
-        sp.atol = CDPR_R(1e-12);
-        sp.h_max_s = CDPR_R(0.01);
-        sp.h_min_s = CDPR_R(1e-14);
+        sp.step.rtol = CDPR_R(1e-10);
+        sp.step.atol = CDPR_R(1e-12);
+        sp.step.h_max_s = CDPR_R(0.01);
+        sp.step.h_min_s = CDPR_R(1e-14);
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_init(&rk, &sp, rwork,
                                                        (int)(sizeof rwork / sizeof rwork[0]),
                                                        CDPR_ROBOT_STATE_MAX, rel.dim, NULL));
@@ -348,11 +348,11 @@ static void test_release_against_tight_reference_and_energy(void)
     cdpr_ros_t ros;
     cdpr_ros_params_t rp;
     cdpr_ros_params_default(&rp);
-    rp.rtol = CDPR_R(1e-6);
+    rp.step.rtol = CDPR_R(1e-6);
     static cdpr_real_t atol[CDPR_ROBOT_STATE_MAX];
     cdpr_robot_fill_atol(&rel, CDPR_R(1e-6), CDPR_R(1e-5), CDPR_R(1e-8), CDPR_R(1e-6), atol);
-    rp.atol_vec = atol;
-    rp.h_max_s = CDPR_R(0.01);
+    rp.step.atol_vec = atol;
+    rp.step.h_max_s = CDPR_R(0.01);
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_ros_init(&ros, &rp, rwork, (int)(sizeof rwork / sizeof rwork[0]),
                                         CDPR_ROBOT_STATE_MAX, rel.dim, NULL));
@@ -426,8 +426,8 @@ static void test_work_is_the_integrators_counters(void)
             TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.steps_accepted, w.steps_accepted);
             TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.steps_rejected, w.steps_rejected);
             TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.rhs_evals, w.rhs_evals);
-            TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.factorisations, w.factorisations);
-            TEST_ASSERT_EQUAL_UINT32(plant.ros.stats.solves, w.solves);
+            TEST_ASSERT_EQUAL_UINT32(plant.ros.lin.factorisations, w.factorisations);
+            TEST_ASSERT_EQUAL_UINT32(plant.ros.lin.solves, w.solves);
             TEST_ASSERT_TRUE(w.factorisations > 0u && w.solves >= w.factorisations);
         }
     }

@@ -111,8 +111,8 @@ static cdpr_rkf45_params_t params_tol(double tol)
 {
     cdpr_rkf45_params_t p;
     cdpr_rkf45_params_default(&p);
-    p.rtol = tol;
-    p.atol = tol;
+    p.step.rtol = tol;
+    p.step.atol = tol;
     return p;
 }
 
@@ -156,7 +156,7 @@ static double osc_max_error(double tol, double h_init, double omega, double t_en
 {
     osc_t ctx = {omega};
     cdpr_rkf45_params_t p = params_tol(tol);
-    p.h_init_s = h_init;
+    p.step.h_init_s = h_init;
     init_solver(&p, 2);
     cdpr_real_t t = 0.0, y[2] = {1.0, 0.0};
     double emax = 0.0;
@@ -249,7 +249,7 @@ static void test_step_size_law_step_by_step(void)
                 fac = 0.9 * pow(e, -(0.2 - 0.75 * 0.04)) * pow(err_prev, 0.04);
             }
             fac = fmin(fmax(fac, 0.2), 5.0);
-            const double want = fmin(fmax(h * fac, (double)p.h_min_s), (double)p.h_max_s);
+            const double want = fmin(fmax(h * fac, (double)p.step.h_min_s), (double)p.step.h_max_s);
             TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 2e-5) * want, want, (double)solver.h_s);
             checked++;
         }
@@ -373,7 +373,7 @@ static void test_advance_substep_limit(void)
      * already an equal step (0.5 s); its refusal ends the call at once: 6 RHS calls, not 12,
      * and the step size stays where it was (the refused 0.5 s step does not raise it). */
     TEST_ASSERT_EQUAL_UINT(6u, (unsigned)solver.stats.rhs_evals);
-    TEST_ASSERT_TRUE(solver.h_s <= p.h_init_s);
+    TEST_ASSERT_TRUE(solver.h_s <= p.step.h_init_s);
     TEST_ASSERT_EQUAL_INT(1, solver.retry);
     TEST_ASSERT_EQUAL_STRING("CDPR_E_SUBSTEP_LIMIT", cdpr_status_str(st));
 
@@ -461,7 +461,7 @@ static void test_advance_sufficient_budget_does_not_matter(void)
      * over 0.37 s, starting from a deliberately large h_init so that trials are rejected too. */
     osc_t ctx = {10.0};
     cdpr_rkf45_params_t p = params_tol(TOL(1e-8, 1e-5));
-    p.h_init_s = 0.5;
+    p.step.h_init_s = 0.5;
     const cdpr_real_t dt = 0.37;
     cdpr_rkf45_t runs[2];
     cdpr_real_t ys[2][2];
@@ -510,7 +510,7 @@ static void test_advance_failure_keeps_learned_step_and_repeat_advances(void)
     const int trials = 3;
     decay_t ctx = {1000.0};
     cdpr_rkf45_params_t p = params_tol(tol);
-    p.h_init_s = 1e-2;
+    p.step.h_init_s = 1e-2;
     init_solver(&p, 1);
     cdpr_real_t t = 0.0, y[1] = {1.0};
     TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT,
@@ -522,7 +522,7 @@ static void test_advance_failure_keeps_learned_step_and_repeat_advances(void)
 
     /* Counter-check: the same repeat with the entry step size fails again. */
     cdpr_rkf45_t restored = solver;
-    restored.h_s = p.h_init_s;
+    restored.h_s = p.step.h_init_s;
     cdpr_real_t t_r = 0.0, y_r[1] = {1.0};
     TEST_ASSERT_EQUAL_INT(CDPR_E_SUBSTEP_LIMIT,
                           cdpr_rkf45_advance(&restored, rhs_decay, &ctx, &t_r, y_r, dt, trials));
@@ -541,8 +541,9 @@ static void test_advance_failure_keeps_learned_step_and_repeat_advances(void)
     /* Accuracy against exp(-lambda t), within the bound of the next test: each forced step
      * within force_err_max (atol + rtol |y|max), |y|max = 1; the passing ones 100 tol. */
     const double exact = exp(-1000.0 * (double)dt);
-    const double bound = (double)solver.stats.forced_steps * (double)p.force_err_max * 2.0 * tol +
-                         GLOBAL_FACTOR * tol;
+    const double bound =
+        (double)solver.stats.forced_steps * (double)p.step.force_err_max * 2.0 * tol +
+        GLOBAL_FACTOR * tol;
     TEST_ASSERT_DOUBLE_WITHIN(bound, exact, y[0]);
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-3, 1e-2), exact, y[0]); /* measured 2.3e-4 (5.7e-3) */
 }
@@ -609,7 +610,7 @@ static void test_advance_forced_steps_accuracy(void)
         if (st == CDPR_WARN_SUBSTEP_LIMIT) {
             warned++;
             const double bound =
-                (double)solver.stats.forced_steps * (double)p.force_err_max * 2.0 * tol;
+                (double)solver.stats.forced_steps * (double)p.step.force_err_max * 2.0 * tol;
             TEST_ASSERT_TRUE(e <= bound);
             worst_warned = (e > worst_warned) ? e : worst_warned;
         } else {
@@ -622,7 +623,7 @@ static void test_advance_forced_steps_accuracy(void)
     TEST_ASSERT_EQUAL_UINT(0u, (unsigned)solver.stats.substep_limit_failures);
 
     /* force_err_max = 1: never a forced step; OK or a transactional failure. */
-    p.force_err_max = 1.0;
+    p.step.force_err_max = 1.0;
     init_solver(&p, 1);
     t = 0.0;
     y[0] = 1.0;
@@ -659,7 +660,7 @@ static void test_advance_rejects_a_trial_above_tolerance(void)
                               cdpr_rkf45_trial(&solver, rhs_decay, &ctx, 0.0, y0, dt, yo, &err));
     }
     TEST_ASSERT_TRUE(err > 1.0 && err < 100.0);
-    p.h_init_s = dt;
+    p.step.h_init_s = dt;
     init_solver(&p, 1);
     cdpr_real_t t = 0.0, y[1] = {1.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, dt, 1000));
@@ -778,7 +779,7 @@ static void test_nan_from_large_steps_is_rejected_not_fatal(void)
 {
     unsigned long nan_calls = 0;
     cdpr_rkf45_params_t p = params_tol(1e-9);
-    p.h_init_s = 1.0; /* the first trials produce NaN stages */
+    p.step.h_init_s = 1.0; /* the first trials produce NaN stages */
     init_solver(&p, 1);
     cdpr_real_t t = 0.0, y[1] = {1.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
@@ -796,8 +797,8 @@ static void test_step_too_small_is_refused(void)
     /* lambda = 1e6 needs h ~ 3e-6, but h_min = 1e-3: the step cannot succeed. */
     decay_t ctx = {1.0e6};
     cdpr_rkf45_params_t p = params_tol(1e-6);
-    p.h_min_s = 1e-3;
-    p.h_init_s = 1e-3;
+    p.step.h_min_s = 1e-3;
+    p.step.h_init_s = 1e-3;
     init_solver(&p, 1);
     cdpr_real_t t = 0.0, y[1] = {1.0};
     TEST_ASSERT_EQUAL_INT(CDPR_E_STEP_TOO_SMALL,
@@ -842,7 +843,7 @@ typedef struct {
     cdpr_status_t expected;
 } bad_param_t;
 
-#define FIELD(name) offsetof(cdpr_rkf45_params_t, name), #name
+#define FIELD(name) offsetof(cdpr_rkf45_params_t, step.name), #name
 
 static const bad_param_t bad_params[] = {
     {FIELD(rtol), NAN_D, CDPR_E_NOT_FINITE},
@@ -926,19 +927,33 @@ static void test_valid_edge_parameters(void)
     /* rtol = 0 is allowed (pure absolute control), h_max = h_min, h_init > h_max clamps. */
     cdpr_rkf45_params_t p;
     cdpr_rkf45_params_default(&p);
-    p.rtol = 0.0;
+    p.step.rtol = 0.0;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_params_validate(&p, 1, NULL));
-    p.h_max_s = p.h_min_s;
+    p.step.h_max_s = p.step.h_min_s;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_params_validate(&p, 1, NULL));
     cdpr_rkf45_params_default(&p);
-    p.force_err_max = 1.0; /* no forced steps at all */
+    p.step.force_err_max = 1.0; /* no forced steps at all */
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_params_validate(&p, 1, NULL));
     /* The documented default: (safety / shrink_min)^5 of the default safety and shrink_min. */
     cdpr_rkf45_params_default(&p);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, pow(0.9 / 0.2, 5.0), p.force_err_max);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, pow(0.9 / 0.2, 5.0), p.step.force_err_max);
+    /* The shared block (step_control.h): exact powers 4.5^q, q < 1 taken as 1; the same
+     * values and the same validation whatever scheme takes it. */
+    cdpr_step_control_t sc;
+    cdpr_step_control_default(&sc, 5);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, (double)p.step.force_err_max, sc.force_err_max);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 1845.28125, sc.force_err_max);
+    cdpr_step_control_default(&sc, 3);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 91.125, sc.force_err_max);
+    cdpr_step_control_default(&sc, 0);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 4.5, sc.force_err_max);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_step_control_validate(&sc, 1, NULL));
+    cdpr_diag_t dn;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_step_control_validate(NULL, 1, &dn));
+    TEST_ASSERT_EQUAL_STRING("step", dn.field);
     cdpr_rkf45_params_default(&p);
-    p.h_init_s = 10.0;
-    p.h_max_s = 0.5;
+    p.step.h_init_s = 10.0;
+    p.step.h_max_s = 0.5;
     init_solver(&p, 1);
     TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.5, solver.h_s);
     /* NULL params. */
@@ -995,7 +1010,7 @@ static void test_atol_vec_bad_entry_index(void)
         atol[cases[i].index] = cases[i].value;
         cdpr_rkf45_params_t p;
         cdpr_rkf45_params_default(&p);
-        p.atol_vec = atol;
+        p.step.atol_vec = atol;
         cdpr_diag_t d;
         TEST_ASSERT_EQUAL_INT(cases[i].expected, cdpr_rkf45_params_validate(&p, 6, &d));
         TEST_ASSERT_EQUAL_STRING("atol_vec", d.field);
@@ -1009,7 +1024,7 @@ static void test_atol_vec_bad_entry_index(void)
     cdpr_real_t atol[6] = {1e-8, 1e-8, 1e-8, 1e-8, 1e-8, NAN_R};
     cdpr_rkf45_params_t p;
     cdpr_rkf45_params_default(&p);
-    p.atol_vec = atol;
+    p.step.atol_vec = atol;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_params_validate(&p, 5, NULL));
 }
 
@@ -1024,15 +1039,15 @@ static void test_atol_vec_is_used(void)
     static cdpr_real_t av_loose[1] = {1.0};
     cdpr_rkf45_params_t p;
     cdpr_rkf45_params_default(&p);
-    p.rtol = 0.0;
-    p.atol = 1e-12;
-    p.atol_vec = av_tight;
+    p.step.rtol = 0.0;
+    p.step.atol = 1e-12;
+    p.step.atol_vec = av_tight;
     init_solver(&p, 1);
     cdpr_real_t t = 0.0, y[1] = {1.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_advance(&solver, rhs_decay, &ctx, &t, y, 1.0, 10000));
     const unsigned long tight_steps = solver.stats.steps_accepted;
-    p.atol = 1e-12; /* scalar value must be ignored when atol_vec is given */
-    p.atol_vec = av_loose;
+    p.step.atol = 1e-12; /* scalar value must be ignored when atol_vec is given */
+    p.step.atol_vec = av_loose;
     init_solver(&p, 1);
     t = 0.0;
     y[0] = 1.0;
@@ -1062,10 +1077,10 @@ static void test_set_dim(void)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_set_dim(&solver, 2));
     cdpr_real_t t = 0.0, y[2] = {1.0, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_advance(&solver, rhs_osc, &osc, &t, y, 1.0, 10000));
-    TEST_ASSERT_TRUE(solver.h_s > p.h_init_s); /* grew from 1e-4 */
-    TEST_ASSERT_TRUE(solver.h_ok_s > 0.0);     /* steps passed the error test */
+    TEST_ASSERT_TRUE(solver.h_s > p.step.h_init_s); /* grew from 1e-4 */
+    TEST_ASSERT_TRUE(solver.h_ok_s > 0.0);          /* steps passed the error test */
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_rkf45_set_dim(&solver, 1));
-    TEST_ASSERT_DOUBLE_WITHIN(0.0, p.h_init_s, solver.h_s);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, p.step.h_init_s, solver.h_s);
     TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, solver.h_ok_s); /* nothing known for the new system */
     y[0] = 1.0;
     y[1] = 12345.0; /* sentinel outside the active dimension */
@@ -1106,7 +1121,7 @@ typedef struct {
     cdpr_real_t t;
     cdpr_real_t y[2];
     cdpr_real_t h;
-    cdpr_rkf45_stats_t stats;
+    cdpr_step_stats_t stats;
 } run_result_t;
 
 static run_result_t run_oscillator(void)

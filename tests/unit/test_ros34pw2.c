@@ -158,8 +158,8 @@ static cdpr_ros_params_t params_tol(double tol)
 {
     cdpr_ros_params_t p;
     cdpr_ros_params_default(&p);
-    p.rtol = (cdpr_real_t)tol;
-    p.atol = (cdpr_real_t)tol;
+    p.step.rtol = (cdpr_real_t)tol;
+    p.step.atol = (cdpr_real_t)tol;
     return p;
 }
 
@@ -298,9 +298,9 @@ static void test_damped_oscillator_against_closed_form(void)
             emax[k] = fmax(emax[k], e);
         }
         steps[k] = solver.stats.steps_accepted;
-        TEST_ASSERT_EQUAL_UINT(solver.stats.factorisations,
+        TEST_ASSERT_EQUAL_UINT(solver.lin.factorisations,
                                solver.stats.steps_accepted + solver.stats.steps_rejected);
-        TEST_ASSERT_EQUAL_UINT(4UL * solver.stats.factorisations, solver.stats.solves);
+        TEST_ASSERT_EQUAL_UINT(4UL * solver.lin.factorisations, solver.lin.solves);
         TEST_ASSERT_TRUE(emax[k] < 100.0 * tols[k]);
     }
     TEST_ASSERT_TRUE(emax[1] < emax[0]);
@@ -476,18 +476,19 @@ static void test_advance_exact_interval_and_work_bound(void)
         dense_t d = dense(2, jac_pr, 1.0, &L);
         const cdpr_ros_problem_t pb = problem(rhs_pr, (void *)&L, &d);
         cdpr_ros_params_t p = params_tol(1e-4);
-        p.h_init_s = 0.01;
+        p.step.h_init_s = 0.01;
         init_solver(&p, 2);
         cdpr_real_t t = 0.0;
         cdpr_real_t y[2] = {1.0, 1.0};
         for (int k = 0; k < 50; ++k) {
-            const cdpr_ros_stats_t before = solver.stats;
+            const cdpr_step_stats_t before = solver.stats;
+            const cdpr_ros_lin_stats_t lin_before = solver.lin;
             const cdpr_status_t st = cdpr_ros_advance(&solver, &pb, &t, y, 0.01, budgets[b]);
             TEST_ASSERT_TRUE(st == CDPR_OK || st == CDPR_WARN_SUBSTEP_LIMIT ||
                              st == CDPR_E_SUBSTEP_LIMIT);
-            const unsigned long fac = solver.stats.factorisations - before.factorisations;
+            const unsigned long fac = solver.lin.factorisations - lin_before.factorisations;
             TEST_ASSERT_TRUE(fac <= (unsigned long)budgets[b]);
-            TEST_ASSERT_TRUE(solver.stats.solves - before.solves <=
+            TEST_ASSERT_TRUE(solver.lin.solves - lin_before.solves <=
                              4UL * (unsigned long)budgets[b]);
             TEST_ASSERT_TRUE(solver.stats.rhs_evals - before.rhs_evals <=
                              4UL * (unsigned long)budgets[b]);
@@ -506,7 +507,7 @@ static void test_advance_refuses_above_force_err_max(void)
     dense_t d = dense(2, jac_osc, 1.0, &o);
     const cdpr_ros_problem_t pb = problem(rhs_osc, (void *)&o, &d);
     cdpr_ros_params_t p = params_tol(1e-10);
-    p.force_err_max = 1.0;
+    p.step.force_err_max = 1.0;
     init_solver(&p, 2);
     cdpr_real_t t = 0.25;
     cdpr_real_t y[2] = {0.3, -0.7};
@@ -519,7 +520,7 @@ static void test_advance_refuses_above_force_err_max(void)
     TEST_ASSERT_EQUAL_UINT(1u, solver.stats.substep_limit_failures);
     TEST_ASSERT_EQUAL_UINT(1u, solver.stats.failures);
     /* With forced steps allowed (a large bound) the same call passes with a warning. */
-    solver.p.force_err_max = 1e30;
+    solver.p.step.force_err_max = 1e30;
     TEST_ASSERT_EQUAL_INT(CDPR_WARN_SUBSTEP_LIMIT, cdpr_ros_advance(&solver, &pb, &t, y, 0.5, 2));
     TEST_ASSERT_TRUE(solver.stats.forced_steps >= 1u);
 }
@@ -534,7 +535,7 @@ static void test_factorisation_reuse(void)
     const cdpr_ros_problem_t pb = problem(rhs_pr, (void *)&L, &d);
     cdpr_ros_params_t p = params_tol(TOL(1e-6, 1e-4));
     p.jac_reuse_max = 4;
-    p.h_init_s = 0.01;
+    p.step.h_init_s = 0.01;
     init_solver(&p, 2);
     cdpr_real_t t = 0.0;
     cdpr_real_t y[2] = {1.0, 1.0};
@@ -543,16 +544,16 @@ static void test_factorisation_reuse(void)
     }
     const unsigned long trials = solver.stats.steps_accepted + solver.stats.steps_rejected;
     TEST_ASSERT_EQUAL_UINT(100u, trials);
-    TEST_ASSERT_EQUAL_UINT(20u, solver.stats.factorisations);
-    TEST_ASSERT_EQUAL_INT(d.factor_calls, (int)solver.stats.factorisations);
+    TEST_ASSERT_EQUAL_UINT(20u, solver.lin.factorisations);
+    TEST_ASSERT_EQUAL_INT(d.factor_calls, (int)solver.lin.factorisations);
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-5, 1e-3), exp(-1.0), (double)y[0]);
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-5, 1e-3), cos(1.0), (double)y[1]);
     cdpr_ros_invalidate(&solver);
     TEST_ASSERT_TRUE(cdpr_ros_advance(&solver, &pb, &t, y, 0.01, 1) >= 0);
-    TEST_ASSERT_EQUAL_UINT(21u, solver.stats.factorisations);
+    TEST_ASSERT_EQUAL_UINT(21u, solver.lin.factorisations);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_ros_set_dim(&solver, 2));
     TEST_ASSERT_TRUE(cdpr_ros_advance(&solver, &pb, &t, y, 0.01, 1) >= 0);
-    TEST_ASSERT_EQUAL_UINT(22u, solver.stats.factorisations);
+    TEST_ASSERT_EQUAL_UINT(22u, solver.lin.factorisations);
     p.jac_reuse_max = -1;
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_ros_params_validate(&p, 2, NULL));
 }
@@ -570,7 +571,7 @@ static void test_factorisation_reuse_window(void)
         const cdpr_ros_problem_t pb = problem(rhs_pr, (void *)&L, &d);
         cdpr_ros_params_t p = params_tol(TOL(1e-6, 1e-4));
         p.jac_reuse_max = 4;
-        p.h_init_s = 0.01;
+        p.step.h_init_s = 0.01;
         init_solver(&p, 2);
         cdpr_real_t t = 0.0;
         cdpr_real_t y[2] = {1.0, 1.0};
@@ -579,7 +580,7 @@ static void test_factorisation_reuse_window(void)
             TEST_ASSERT_TRUE(cdpr_ros_advance(&solver, &pb, &t, y, (cdpr_real_t)dt, 1) >= 0);
         }
         TEST_ASSERT_EQUAL_UINT(20u, solver.stats.steps_accepted + solver.stats.steps_rejected);
-        TEST_ASSERT_EQUAL_UINT(want[c], solver.stats.factorisations);
+        TEST_ASSERT_EQUAL_UINT(want[c], solver.lin.factorisations);
     }
 }
 
@@ -597,7 +598,7 @@ static void test_singular_w_leaves_state_bit_identical(void)
         d.fail_solve_at = (which == 2) ? 2 : ((which == 3) ? 7 : 0);
         const cdpr_ros_problem_t pb = problem(rhs_osc, (void *)&o, &d);
         cdpr_ros_params_t p = params_tol(1e-8);
-        p.h_init_s = 1e-3;
+        p.step.h_init_s = 1e-3;
         init_solver(&p, 2);
         cdpr_real_t t = 0.125;
         cdpr_real_t y[2] = {0.5, 0.25};
@@ -609,7 +610,7 @@ static void test_singular_w_leaves_state_bit_identical(void)
         TEST_ASSERT_EQUAL_INT(CDPR_E_SINGULAR, st);
         TEST_ASSERT_EQUAL_MEMORY(y_before, y, sizeof y);
         TEST_ASSERT_EQUAL_MEMORY(&t_before, &t, sizeof t);
-        TEST_ASSERT_EQUAL_UINT(1u, solver.stats.singular_failures);
+        TEST_ASSERT_EQUAL_UINT(1u, solver.lin.singular_failures);
         TEST_ASSERT_EQUAL_UINT(1u, solver.stats.failures);
     }
 }
@@ -653,7 +654,7 @@ static void test_nan_and_refusing_rhs(void)
     unsigned long nan_calls = 0;
     cdpr_ros_problem_t pb = problem(rhs_nan_far, &nan_calls, &d);
     cdpr_ros_params_t p = params_tol(1e-8);
-    p.h_init_s = 1.0;
+    p.step.h_init_s = 1.0;
     init_solver(&p, 1);
     const cdpr_real_t t0 = 0.0;
     cdpr_real_t t = t0;
@@ -694,22 +695,22 @@ static void test_invalid_arguments_and_parameters(void)
     cdpr_diag_t dg;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_ros_params_validate(&p, 1, &dg));
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_ros_params_validate(NULL, 1, &dg));
-    p.rtol = -1.0;
+    p.step.rtol = -1.0;
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_ros_params_validate(&p, 1, &dg));
     TEST_ASSERT_EQUAL_STRING("rtol", dg.field);
     cdpr_ros_params_default(&p);
-    p.safety = 1.0;
+    p.step.safety = 1.0;
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_ros_params_validate(&p, 1, &dg));
     cdpr_ros_params_default(&p);
-    p.force_err_max = 0.5;
+    p.step.force_err_max = 0.5;
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_ros_params_validate(&p, 1, &dg));
     cdpr_ros_params_default(&p);
-    p.h_min_s = 2.0;
+    p.step.h_min_s = 2.0;
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE, cdpr_ros_params_validate(&p, 1, &dg));
     TEST_ASSERT_EQUAL_STRING("h_max_s", dg.field);
     cdpr_ros_params_default(&p);
     const cdpr_real_t bad_atol[2] = {1e-6, 0.0};
-    p.atol_vec = bad_atol;
+    p.step.atol_vec = bad_atol;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_POSITIVE, cdpr_ros_params_validate(&p, 2, &dg));
     TEST_ASSERT_EQUAL_INT(1, dg.index);
     cdpr_ros_params_default(&p);
@@ -737,7 +738,7 @@ static void test_invalid_arguments_and_parameters(void)
 
 /* ---------------------------------------------------------------- allocation, determinism */
 
-static void run_osc(cdpr_real_t *y_out, cdpr_ros_stats_t *st_out)
+static void run_osc(cdpr_real_t *y_out, cdpr_step_stats_t *st_out, cdpr_ros_lin_stats_t *lin_out)
 {
     const osc_t o = {5.0, 0.02};
     dense_t d = dense(2, jac_osc, 1.0, &o);
@@ -754,6 +755,7 @@ static void run_osc(cdpr_real_t *y_out, cdpr_ros_stats_t *st_out)
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_ros_step(&solver, &pb, &t, y_out, 2.0));
     }
     *st_out = solver.stats;
+    *lin_out = solver.lin;
 }
 
 static void test_no_heap_allocation(void)
@@ -762,9 +764,10 @@ static void test_no_heap_allocation(void)
         TEST_IGNORE_MESSAGE(cdpr_alloc_unavailable_reason());
     }
     cdpr_real_t y[2];
-    cdpr_ros_stats_t st;
+    cdpr_step_stats_t st;
+    cdpr_ros_lin_stats_t lin;
     cdpr_alloc_reset();
-    run_osc(y, &st);
+    run_osc(y, &st, &lin);
     TEST_ASSERT_EQUAL_UINT(0u, cdpr_alloc_count());
 }
 
@@ -785,15 +788,15 @@ static void test_fixed_equal_steps_exact_work(void)
     cdpr_real_t yt[2] = {1.0, 2.0};
     double emax = 0.0;
     for (int k = 0; k < 50; ++k) {
-        const unsigned long fac0 = solver.stats.factorisations;
+        const unsigned long fac0 = solver.lin.factorisations;
         const unsigned long rhs0 = solver.stats.rhs_evals;
-        const unsigned long sol0 = solver.stats.solves;
+        const unsigned long sol0 = solver.lin.solves;
         cdpr_real_t en = -1.0;
         const cdpr_real_t tk = t;
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_ros_fixed(&solver, &pb, &t, y, 0.01, 5, &en));
-        TEST_ASSERT_EQUAL_UINT(5u, solver.stats.factorisations - fac0);
+        TEST_ASSERT_EQUAL_UINT(5u, solver.lin.factorisations - fac0);
         TEST_ASSERT_EQUAL_UINT(20u, solver.stats.rhs_evals - rhs0);
-        TEST_ASSERT_EQUAL_UINT(20u, solver.stats.solves - sol0);
+        TEST_ASSERT_EQUAL_UINT(20u, solver.lin.solves - sol0);
         TEST_ASSERT_TRUE(en >= 0.0 && isfinite(en));
         /* The same five steps by hand, one trial each from the fixed call's own times. */
         double worst = 0.0;
@@ -843,13 +846,15 @@ static void test_fixed_equal_steps_exact_work(void)
 static void test_two_identical_runs_are_bit_identical(void)
 {
     cdpr_real_t y1[2], y2[2];
-    cdpr_ros_stats_t s1, s2;
-    run_osc(y1, &s1);
-    run_osc(y2, &s2);
+    cdpr_step_stats_t s1, s2;
+    cdpr_ros_lin_stats_t l1, l2;
+    run_osc(y1, &s1, &l1);
+    run_osc(y2, &s2, &l2);
     TEST_ASSERT_EQUAL_MEMORY(y1, y2, sizeof y1);
     TEST_ASSERT_EQUAL_UINT(s1.steps_accepted, s2.steps_accepted);
     TEST_ASSERT_EQUAL_UINT(s1.rhs_evals, s2.rhs_evals);
-    TEST_ASSERT_EQUAL_UINT(s1.solves, s2.solves);
+    TEST_ASSERT_EQUAL_UINT(l1.solves, l2.solves);
+    TEST_ASSERT_EQUAL_UINT(l1.factorisations, l2.factorisations);
 }
 
 int main(void)

@@ -61,10 +61,10 @@ static void solver(double rtol)
 {
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
-    sp.rtol = (cdpr_real_t)rtol;
-    sp.atol = (cdpr_real_t)(rtol * 1e-2);
-    sp.h_max_s = CDPR_R(0.01);
-    sp.h_min_s = CDPR_R(1e-14);
+    sp.step.rtol = (cdpr_real_t)rtol;
+    sp.step.atol = (cdpr_real_t)(rtol * 1e-2);
+    sp.step.h_max_s = CDPR_R(0.01);
+    sp.step.h_min_s = CDPR_R(1e-14);
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rkf45_init(&rk, &sp, work, (int)(sizeof work / sizeof work[0]),
                                           CDPR_ROBOT_STATE_MAX, robot.dim, NULL));

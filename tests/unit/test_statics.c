@@ -228,8 +228,8 @@ static void settle_vs_statics(int segments, const cdpr_statics_result_t *res, do
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_place_catenary(&robot, res, y));
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
-    sp.rtol = 1e-9;
-    sp.atol = 1e-10;
+    sp.step.rtol = 1e-9;
+    sp.step.atol = 1e-10;
     cdpr_rkf45_t s;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rkf45_init(&s, &sp, work, (int)(sizeof work / sizeof work[0]),

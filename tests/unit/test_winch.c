@@ -48,8 +48,8 @@ static void build_with(int n, double length, double damping)
     cdpr_rkf45_params_t sp;
     cdpr_rkf45_params_default(&sp);
     /* float: requests float can honour on coordinates of ~20 m (u_f |y| = 1.2e-6). */
-    sp.rtol = TOL(1e-7, 1e-5);
-    sp.atol = TOL(1e-8, 1e-5);
+    sp.step.rtol = TOL(1e-7, 1e-5);
+    sp.step.atol = TOL(1e-8, 1e-5);
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rkf45_init(&solver, &sp, work, (int)(sizeof work / sizeof work[0]),
                                           CDPR_ROBOT_STATE_MAX, robot.dim, NULL));

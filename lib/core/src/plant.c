@@ -41,8 +41,8 @@ void cdpr_plant_params_default(cdpr_plant_params_t *pp)
 #endif
     cdpr_settle_default(&pp->settle);
     cdpr_rkf45_params_default(&pp->settle_rkf45);
-    pp->settle_rkf45.rtol = CDPR_R(1e-9);
-    pp->settle_rkf45.atol = CDPR_R(1e-10);
+    pp->settle_rkf45.step.rtol = CDPR_R(1e-9);
+    pp->settle_rkf45.step.atol = CDPR_R(1e-10);
     pp->integrator = CDPR_PLANT_RKF45;
     cdpr_rkf45_params_default(&pp->rkf45);
     cdpr_ros_params_default(&pp->ros);
@@ -108,8 +108,8 @@ cdpr_status_t cdpr_plant_init_model(cdpr_plant_t *p, const cdpr_plant_params_t *
     p->ready = 0;
     CDPR_TRY(cdpr_plant_params_validate(pp, diag));
     p->pp = *pp;
-    p->pp.rkf45.atol_vec = NULL;
-    p->pp.ros.atol_vec = NULL;
+    p->pp.rkf45.step.atol_vec = NULL;
+    p->pp.ros.step.atol_vec = NULL;
     p->params = pp->robot;
     CDPR_TRY(cdpr_robot_init(&p->robot, &p->params, diag));
     const cdpr_status_t st = cdpr_statics_ik(&p->robot, &pp->initial, &pp->ik, &p->initial);
@@ -220,7 +220,7 @@ static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
     fill_atol(p);
     if (p->pp.integrator != CDPR_PLANT_RKF45) {
         cdpr_ros_params_t rp = p->pp.ros;
-        rp.atol_vec = p->atol;
+        rp.step.atol_vec = p->atol;
         (void)cdpr_robot_w_init(&p->w, &p->robot); /* cannot fail: both pointers are valid */
         const cdpr_status_t st =
             cdpr_ros_init(&p->ros, &rp, p->work, CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX,
@@ -231,7 +231,7 @@ static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
         return CDPR_OK;
     }
     cdpr_rkf45_params_t ip = p->pp.rkf45;
-    ip.atol_vec = p->atol;
+    ip.step.atol_vec = p->atol;
     const cdpr_status_t st =
         cdpr_rkf45_init(&p->rk, &ip, p->work, CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX,
                         CDPR_ROBOT_STATE_MAX, p->robot.dim, diag);
@@ -289,8 +289,8 @@ void cdpr_plant_work(const cdpr_plant_t *p, cdpr_plant_work_t *w)
         w->steps_rejected = p->ros.stats.steps_rejected;
         w->nonfinite_rejected = p->ros.stats.nonfinite_rejected;
         w->rhs_evals = p->ros.stats.rhs_evals;
-        w->factorisations = p->ros.stats.factorisations;
-        w->solves = p->ros.stats.solves;
+        w->factorisations = p->ros.lin.factorisations;
+        w->solves = p->ros.lin.solves;
     }
 }
 
@@ -405,8 +405,8 @@ static void work_counts(const cdpr_plant_t *p, unsigned long *rhs, unsigned long
 {
     if (p->pp.integrator != CDPR_PLANT_RKF45) {
         *rhs = p->ros.stats.rhs_evals;
-        *fac = p->ros.stats.factorisations;
-        *sol = p->ros.stats.solves;
+        *fac = p->ros.lin.factorisations;
+        *sol = p->ros.lin.solves;
     } else {
         *rhs = p->rk.stats.rhs_evals;
         *fac = 0U;

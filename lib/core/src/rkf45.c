@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "check.h"
+#include "step.h"
 
 /* Nodes c_i and the Butcher tableau a_ij. */
 #define C2  CDPR_R(1.0) / CDPR_R(4.0)
@@ -54,16 +55,7 @@ static cdpr_real_t *slot(const cdpr_rkf45_t *s, int k)
 
 void cdpr_rkf45_params_default(cdpr_rkf45_params_t *p)
 {
-    p->rtol = CDPR_R(1e-6);
-    p->atol = CDPR_R(1e-8);
-    p->atol_vec = NULL;
-    p->h_init_s = CDPR_R(1e-4);
-    p->h_min_s = CDPR_R(1e-12);
-    p->h_max_s = CDPR_R(1.0);
-    p->safety = CDPR_R(0.9);
-    p->shrink_min = CDPR_R(0.2);
-    p->grow_max = CDPR_R(5.0);
-    p->force_err_max = CDPR_R(1845.28125); /* (safety / shrink_min)^5 = 4.5^5 */
+    cdpr_step_control_default(&p->step, 5); /* error estimate O(h^5) */
     p->pi_beta = CDPR_R(0.0);
 }
 
@@ -72,9 +64,7 @@ cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, 
     if (p == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "rkf45", -1);
     }
-    const check_step_t sc = {p->rtol,    p->atol,   p->atol_vec,   p->h_init_s, p->h_min_s,
-                             p->h_max_s, p->safety, p->shrink_min, p->grow_max, p->force_err_max};
-    CDPR_TRY(check_step_control(&sc, dim, diag));
+    CDPR_TRY(cdpr_step_control_validate(&p->step, dim, diag));
     CDPR_TRY(check_nonnegative(p->pi_beta, "pi_beta", -1, diag));
     if (p->pi_beta > CDPR_R(0.2)) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "pi_beta", -1);
@@ -85,36 +75,18 @@ cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, 
 cdpr_status_t cdpr_rkf45_init(cdpr_rkf45_t *s, const cdpr_rkf45_params_t *p, cdpr_real_t *work,
                               int work_len, int dim_max, int dim, cdpr_diag_t *diag)
 {
-    if (s == NULL || work == NULL) {
-        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, (s == NULL) ? "solver" : "work", -1);
-    }
-    if (dim_max < 1) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "dim_max", dim_max);
-    }
-    if (dim < 1 || dim > dim_max) {
-        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "dim", dim);
-    }
-    if ((long)work_len < (long)CDPR_RKF45_WORK_PER_DIM * (long)dim_max) {
-        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "work_len", work_len);
-    }
+    CDPR_TRY(step_init_check(s, work, work_len, CDPR_RKF45_WORK_PER_DIM, dim_max, dim, diag));
     CDPR_TRY(cdpr_rkf45_params_validate(p, dim, diag));
     s->p = *p;
     s->work = work;
     s->dim_max = dim_max;
     s->dim = dim;
-    s->h_s = (p->h_init_s < p->h_max_s) ? p->h_init_s : p->h_max_s;
+    s->h_s = step_first(&p->step);
     s->h_ok_s = CDPR_R(0.0);
     s->retry = 0;
     s->last_err = CDPR_R(0.0);
     s->err_prev = CDPR_R(1e-4);
-    s->stats.steps_accepted = 0;
-    s->stats.steps_rejected = 0;
-    s->stats.nonfinite_rejected = 0;
-    s->stats.rhs_evals = 0;
-    s->stats.forced_steps = 0;
-    s->stats.substep_limit_hits = 0;
-    s->stats.substep_limit_failures = 0;
-    s->stats.failures = 0;
+    step_stats_reset(&s->stats);
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -124,8 +96,8 @@ cdpr_status_t cdpr_rkf45_set_dim(cdpr_rkf45_t *s, int dim)
         return CDPR_E_CAPACITY;
     }
     s->dim = dim;
-    if (s->h_s > s->p.h_init_s) {
-        s->h_s = s->p.h_init_s;
+    if (s->h_s > s->p.step.h_init_s) {
+        s->h_s = s->p.step.h_init_s;
     }
     s->h_ok_s = CDPR_R(0.0);
     s->err_prev = CDPR_R(1e-4);
@@ -180,9 +152,9 @@ static cdpr_status_t trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_real_
     CDPR_TRY(eval(s, f, ctx, t + C6 * h, yt, k6));
 
     /* New state, error estimate, weighted max-norm and finiteness in one pass. */
-    const cdpr_real_t rtol = s->p.rtol;
-    const cdpr_real_t *av = s->p.atol_vec;
-    const cdpr_real_t atol = s->p.atol;
+    const cdpr_real_t rtol = s->p.step.rtol;
+    const cdpr_real_t *av = s->p.step.atol_vec;
+    const cdpr_real_t atol = s->p.step.atol;
     cdpr_real_t emax = CDPR_R(0.0);
     int bad = 0;
     for (int i = 0; i < n; ++i) {
@@ -216,29 +188,10 @@ cdpr_status_t cdpr_rkf45_trial(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_r
     return trial(s, f, ctx, t, y, h, y_out, err, 0);
 }
 
-static int all_finite(const cdpr_real_t *v, int n)
-{
-    for (int i = 0; i < n; ++i) {
-        if (!isfinite(v[i])) {
-            return 0;
-        }
-    }
-    return 1;
-}
-
-static cdpr_real_t clamp(cdpr_real_t x, cdpr_real_t lo, cdpr_real_t hi)
-{
-    return (x < lo) ? lo : ((x > hi) ? hi : x);
-}
-
 /* Step-size factor from the error norm (error ~ h^5 for the embedded 4th-order estimate). */
-static cdpr_real_t step_factor(const cdpr_rkf45_t *s, cdpr_real_t err)
+static cdpr_real_t rk_factor(const cdpr_rkf45_t *s, cdpr_real_t err)
 {
-    if (!(err > CDPR_R(0.0))) {
-        return s->p.grow_max;
-    }
-    const cdpr_real_t fac = s->p.safety * CDPR_POW(err, CDPR_R(-0.2));
-    return clamp(fac, s->p.shrink_min, s->p.grow_max);
+    return step_factor(&s->p.step, err, CDPR_R(-0.2));
 }
 
 /* Step-size factor after an accepted step. Elementary controller (the same bits as
@@ -249,14 +202,15 @@ static cdpr_real_t accept_factor(cdpr_rkf45_t *s, cdpr_real_t err)
 {
     cdpr_real_t fac;
     if (!(s->p.pi_beta > CDPR_R(0.0))) {
-        fac = step_factor(s, err);
+        fac = rk_factor(s, err);
     } else {
         const cdpr_real_t beta = s->p.pi_beta;
         const cdpr_real_t e = (err > CDPR_R(1e-4)) ? err : CDPR_R(1e-4);
         const cdpr_real_t expo = CDPR_R(0.2) - (CDPR_R(0.75) * beta);
-        const cdpr_real_t raw = (s->p.safety * CDPR_POW(e, -expo)) * CDPR_POW(s->err_prev, beta);
+        const cdpr_real_t raw =
+            (s->p.step.safety * CDPR_POW(e, -expo)) * CDPR_POW(s->err_prev, beta);
         s->err_prev = e;
-        fac = clamp(raw, s->p.shrink_min, s->p.grow_max);
+        fac = step_clamp(raw, s->p.step.shrink_min, s->p.step.grow_max);
     }
     return fac;
 }
@@ -265,14 +219,7 @@ static cdpr_real_t accept_factor(cdpr_rkf45_t *s, cdpr_real_t err)
  * f(t, y) is not), no smaller step can help. */
 static int start_is_bad(const cdpr_rkf45_t *s, const cdpr_real_t *y)
 {
-    return (all_finite(y, s->dim) == 0) || (all_finite(slot(s, K1), s->dim) == 0);
-}
-
-static void copy(cdpr_real_t *dst, const cdpr_real_t *src, int n)
-{
-    for (int i = 0; i < n; ++i) {
-        dst[i] = src[i];
-    }
+    return (step_all_finite(y, s->dim) == 0) || (step_all_finite(slot(s, K1), s->dim) == 0);
 }
 
 /* Record a step of size h accepted by the error test (rkf45.h, h_ok_s): it replaces h_ok_s
@@ -296,7 +243,7 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
     /* Bounded: every rejection multiplies h by at most `safety` < 1, and h_min ends it. */
     for (;;) {
         const cdpr_real_t remaining = t_end - *t;
-        cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        cdpr_real_t h = step_bounded(&s->p.step, s->h_s);
         const int last = (h >= remaining) ? 1 : 0;
         if (last != 0) {
             h = remaining;
@@ -313,47 +260,28 @@ cdpr_status_t cdpr_rkf45_step(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr_re
                 return CDPR_E_STATE_NOT_FINITE;
             }
             s->stats.nonfinite_rejected++;
-            s->h_s = h * s->p.shrink_min;
+            s->h_s = h * s->p.step.shrink_min;
         } else if (err <= CDPR_R(1.0)) {
-            copy(y, yn, s->dim);
+            step_copy(y, yn, s->dim);
             *t = (last != 0) ? t_end : *t + h;
             s->stats.steps_accepted++;
             note_accepted(s, h, !last); /* a step shortened to reach t_end only raises it */
-            const cdpr_real_t h_next = clamp(h * accept_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            const cdpr_real_t h_next = step_bounded(&s->p.step, h * accept_factor(s, err));
             /* A step clipped to reach t_end says little about the natural step size. */
             s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
             return CDPR_OK;
         } else {
             s->stats.steps_rejected++;
-            s->h_s = h * step_factor(s, err);
+            s->h_s = h * rk_factor(s, err);
         }
-        if (s->h_s < s->p.h_min_s) {
-            s->h_s = s->p.h_min_s;
-            if (h <= s->p.h_min_s) {
+        if (s->h_s < s->p.step.h_min_s) {
+            s->h_s = s->p.step.h_min_s;
+            if (h <= s->p.step.h_min_s) {
                 s->stats.failures++;
                 return CDPR_E_STEP_TOO_SMALL;
             }
         }
     }
-}
-
-/* 1 if `budget` accepted steps starting at h, each growing by grow_max (capped at h_max),
- * could cover `remaining`. The adaptive steps are given up for equal steps only when even
- * this cannot reach t_end: a step size that collapsed at a kink of the RHS (a slack segment
- * turning taut) recovers geometrically and is given the chance. O(budget), no RHS calls. */
-static int can_reach(const cdpr_rkf45_t *s, cdpr_real_t h, int budget, cdpr_real_t remaining)
-{
-    cdpr_real_t sum = CDPR_R(0.0);
-    cdpr_real_t hi = (h < s->p.h_max_s) ? h : s->p.h_max_s;
-    for (int i = 0; i < budget; ++i) {
-        sum += hi;
-        if (sum >= remaining) {
-            return 1;
-        }
-        hi *= s->p.grow_max;
-        hi = (hi < s->p.h_max_s) ? hi : s->p.h_max_s;
-    }
-    return 0;
 }
 
 /* Next step size after a rejected trial of size h: h * factor. An equal step of advance was
@@ -385,7 +313,7 @@ typedef struct {
 static cdpr_real_t advance_plan(const cdpr_rkf45_t *s, advance_t *a, int budget,
                                 cdpr_real_t remaining, int *last)
 {
-    cdpr_real_t h = clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+    cdpr_real_t h = step_bounded(&s->p.step, s->h_s);
     const cdpr_real_t h_eq = remaining / (cdpr_real_t)budget;
     if (a->equal == 0) {
         /* Equal steps when the adaptive ones no longer fit even growing at grow_max, or,
@@ -395,7 +323,8 @@ static cdpr_real_t advance_plan(const cdpr_rkf45_t *s, advance_t *a, int budget,
                                  (budget == 1 || remaining / (cdpr_real_t)(budget - 1) > s->h_ok_s))
                                     ? 1
                                     : 0;
-        if (budget == 1 || last_chance != 0 || can_reach(s, h, budget, remaining) == 0) {
+        if (budget == 1 || last_chance != 0 ||
+            step_can_reach(&s->p.step, h, budget, remaining) == 0) {
             a->equal = 1;
         }
     }
@@ -415,7 +344,7 @@ static cdpr_real_t advance_plan(const cdpr_rkf45_t *s, advance_t *a, int budget,
 static void advance_accept(cdpr_rkf45_t *s, advance_t *a, cdpr_real_t *y, const cdpr_real_t *yn,
                            cdpr_real_t h, int last, cdpr_real_t err)
 {
-    copy(y, yn, s->dim);
+    step_copy(y, yn, s->dim);
     a->have_k1 = 0;
     a->tc = (last != 0) ? a->t_end : a->tc + h;
     s->stats.steps_accepted++;
@@ -429,7 +358,7 @@ static void advance_accept(cdpr_rkf45_t *s, advance_t *a, cdpr_real_t *y, const 
         note_accepted(s, h, a->fresh & own);
         a->fresh &= !own;
     }
-    const cdpr_real_t h_next = clamp(h * accept_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+    const cdpr_real_t h_next = step_bounded(&s->p.step, h * accept_factor(s, err));
     s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
 }
 
@@ -446,22 +375,22 @@ static cdpr_status_t advance_judge(cdpr_rkf45_t *s, advance_t *a, cdpr_real_t *y
             st = CDPR_E_STATE_NOT_FINITE;
         } else {
             s->stats.nonfinite_rejected++;
-            s->h_s = shrink_after(s, h, s->p.shrink_min, a->equal);
+            s->h_s = shrink_after(s, h, s->p.step.shrink_min, a->equal);
         }
-    } else if (err <= CDPR_R(1.0) || (a->equal != 0 && err <= s->p.force_err_max)) {
+    } else if (err <= CDPR_R(1.0) || (a->equal != 0 && err <= s->p.step.force_err_max)) {
         /* An equal step that misses the tolerance is accepted ("forced") only within
          * force_err_max: a mode that the step amplifies is refused as soon as its share of
          * the error estimate reaches that bound, whatever the budget. */
         advance_accept(s, a, y, yn, h, last, err);
     } else {
         s->stats.steps_rejected++;
-        s->h_s = shrink_after(s, h, step_factor(s, err), a->equal);
+        s->h_s = shrink_after(s, h, rk_factor(s, err), a->equal);
     }
-    if ((st == CDPR_OK) && (s->h_s < s->p.h_min_s)) {
-        if (h <= s->p.h_min_s) {
+    if ((st == CDPR_OK) && (s->h_s < s->p.step.h_min_s)) {
+        if (h <= s->p.step.h_min_s) {
             st = CDPR_E_STEP_TOO_SMALL;
         } else {
-            s->h_s = s->p.h_min_s;
+            s->h_s = s->p.step.h_min_s;
         }
     }
     if ((st == CDPR_OK) && (a->equal != 0) && (a->have_k1 != 0)) {
@@ -479,7 +408,7 @@ static cdpr_status_t advance_finish(cdpr_rkf45_t *s, const advance_t *a, cdpr_st
                                     cdpr_real_t *t, cdpr_real_t *y)
 {
     if (st < 0) {
-        copy(y, slot(s, YBAK), s->dim);
+        step_copy(y, slot(s, YBAK), s->dim);
         *t = a->t0;
         if (st == CDPR_E_SUBSTEP_LIMIT) {
             /* Keep h_s and h_ok_s as learned: the next call starts from them instead of
@@ -508,7 +437,7 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
         !(dt > CDPR_R(0.0)) || max_trials < 1) {
         return CDPR_E_INVALID_ARG;
     }
-    if (all_finite(y, s->dim) == 0) {
+    if (step_all_finite(y, s->dim) == 0) {
         s->stats.failures++;
         return CDPR_E_STATE_NOT_FINITE;
     }
@@ -524,7 +453,7 @@ cdpr_status_t cdpr_rkf45_advance(cdpr_rkf45_t *s, cdpr_rhs_fn f, void *ctx, cdpr
     a.retry = s->retry;
     a.fresh = !a.retry;
     a.missed = 0;
-    copy(slot(s, YBAK), y, s->dim);
+    step_copy(slot(s, YBAK), y, s->dim);
 
     cdpr_status_t st = CDPR_OK;
     while ((st == CDPR_OK) && (a.tc < a.t_end)) {

@@ -24,6 +24,7 @@
 #include <stddef.h>
 
 #include "check.h"
+#include "step.h"
 
 #define GAMMA CDPR_R(0.435866521508459)
 /* Stage times alpha_i = sum_j alpha_ij. */
@@ -70,16 +71,7 @@ static cdpr_real_t *ros_slot(const cdpr_ros_t *s, int k)
 
 void cdpr_ros_params_default(cdpr_ros_params_t *p)
 {
-    p->rtol = CDPR_R(1e-6);
-    p->atol = CDPR_R(1e-8);
-    p->atol_vec = NULL;
-    p->h_init_s = CDPR_R(1e-4);
-    p->h_min_s = CDPR_R(1e-12);
-    p->h_max_s = CDPR_R(1.0);
-    p->safety = CDPR_R(0.9);
-    p->shrink_min = CDPR_R(0.2);
-    p->grow_max = CDPR_R(5.0);
-    p->force_err_max = CDPR_R(91.125); /* (safety / shrink_min)^3 = 4.5^3 */
+    cdpr_step_control_default(&p->step, 3); /* error estimate O(h^3) */
     p->jac_reuse_max = 0;
 }
 
@@ -88,9 +80,7 @@ cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr
     if (p == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "ros", -1);
     }
-    const check_step_t sc = {p->rtol,    p->atol,   p->atol_vec,   p->h_init_s, p->h_min_s,
-                             p->h_max_s, p->safety, p->shrink_min, p->grow_max, p->force_err_max};
-    CDPR_TRY(check_step_control(&sc, dim, diag));
+    CDPR_TRY(cdpr_step_control_validate(&p->step, dim, diag));
     if (p->jac_reuse_max < 0) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "jac_reuse_max", -1);
     }
@@ -100,39 +90,21 @@ cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr
 cdpr_status_t cdpr_ros_init(cdpr_ros_t *s, const cdpr_ros_params_t *p, cdpr_real_t *work,
                             int work_len, int dim_max, int dim, cdpr_diag_t *diag)
 {
-    if (s == NULL || work == NULL) {
-        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, (s == NULL) ? "solver" : "work", -1);
-    }
-    if (dim_max < 1) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "dim_max", dim_max);
-    }
-    if (dim < 1 || dim > dim_max) {
-        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "dim", dim);
-    }
-    if ((long)work_len < (long)CDPR_ROS_WORK_PER_DIM * (long)dim_max) {
-        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "work_len", work_len);
-    }
+    CDPR_TRY(step_init_check(s, work, work_len, CDPR_ROS_WORK_PER_DIM, dim_max, dim, diag));
     CDPR_TRY(cdpr_ros_params_validate(p, dim, diag));
     s->p = *p;
     s->work = work;
     s->dim_max = dim_max;
     s->dim = dim;
-    s->h_s = (p->h_init_s < p->h_max_s) ? p->h_init_s : p->h_max_s;
+    s->h_s = step_first(&p->step);
     s->last_err = CDPR_R(0.0);
     s->w_gh = CDPR_R(0.0);
     s->w_valid = 0;
     s->w_uses = 0;
-    s->stats.steps_accepted = 0;
-    s->stats.steps_rejected = 0;
-    s->stats.nonfinite_rejected = 0;
-    s->stats.rhs_evals = 0;
-    s->stats.factorisations = 0;
-    s->stats.solves = 0;
-    s->stats.forced_steps = 0;
-    s->stats.substep_limit_hits = 0;
-    s->stats.substep_limit_failures = 0;
-    s->stats.singular_failures = 0;
-    s->stats.failures = 0;
+    step_stats_reset(&s->stats);
+    s->lin.factorisations = 0;
+    s->lin.solves = 0;
+    s->lin.singular_failures = 0;
     return cdpr_diag_set(diag, CDPR_OK, "", -1);
 }
 
@@ -165,7 +137,7 @@ static cdpr_status_t ros_eval(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_
 static cdpr_status_t ros_solve(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, const cdpr_real_t *b,
                                cdpr_real_t *x)
 {
-    s->stats.solves++;
+    s->lin.solves++;
     if (pb->solve(pb->lin_ctx, b, x) < 0) {
         s->w_valid = 0;
         return CDPR_E_SINGULAR;
@@ -184,7 +156,7 @@ static cdpr_status_t ros_prepare_w(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, 
         s->w_uses++;
         return CDPR_OK;
     }
-    s->stats.factorisations++;
+    s->lin.factorisations++;
     s->w_valid = 0;
     if (pb->factor(pb->lin_ctx, t, y, gh) < 0) {
         return CDPR_E_SINGULAR;
@@ -211,7 +183,7 @@ static inline cdpr_real_t ros_finish(const cdpr_ros_t *s, const cdpr_real_t *y, 
     const cdpr_real_t *restrict v3 = ros_slot(s, U3);
     const cdpr_real_t *restrict v4 = ros_slot(s, U4);
     const cdpr_real_t *restrict y4 = ros_slot(s, YTMP);
-    const cdpr_real_t rtol = s->p.rtol;
+    const cdpr_real_t rtol = s->p.step.rtol;
     cdpr_real_t emax = CDPR_R(0.0);
     cdpr_real_t sum = CDPR_R(0.0);
     for (int i = 0; i < n; ++i) {
@@ -296,9 +268,9 @@ static cdpr_status_t ros_try(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
 
     /* Stiffly accurate (m_i = a_4i, m_4 = 1): y_new = (stage 4's state) + gamma h v4. */
     const cdpr_real_t ge[4] = {gh * E1, gh * E2, gh * E3, gh * E4};
-    const cdpr_real_t *av = s->p.atol_vec;
+    const cdpr_real_t *av = s->p.step.atol_vec;
     const cdpr_real_t emax = (av != NULL) ? ros_finish(s, y, y_out, gh, ge, av, 1)
-                                          : ros_finish(s, y, y_out, gh, ge, &s->p.atol, 0);
+                                          : ros_finish(s, y, y_out, gh, ge, &s->p.step.atol, 0);
     s->last_err = emax;
     if (err != NULL) {
         *err = emax;
@@ -313,43 +285,17 @@ cdpr_status_t cdpr_ros_trial(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     return ros_try(s, pb, t, y, h, y_out, err, 0);
 }
 
-static int ros_all_finite(const cdpr_real_t *v, int n)
-{
-    for (int i = 0; i < n; ++i) {
-        if (!isfinite(v[i])) {
-            return 0;
-        }
-    }
-    return 1;
-}
-
-static cdpr_real_t ros_clamp(cdpr_real_t x, cdpr_real_t lo, cdpr_real_t hi)
-{
-    return (x < lo) ? lo : ((x > hi) ? hi : x);
-}
-
 /* Step-size factor from the error norm (error ~ h^3 for the embedded order-2 estimate). */
 static cdpr_real_t ros_step_factor(const cdpr_ros_t *s, cdpr_real_t err)
 {
-    if (!(err > CDPR_R(0.0))) {
-        return s->p.grow_max;
-    }
-    const cdpr_real_t fac = s->p.safety * CDPR_POW(err, CDPR_R(-1.0) / CDPR_R(3.0));
-    return ros_clamp(fac, s->p.shrink_min, s->p.grow_max);
+    return step_factor(&s->p.step, err, CDPR_R(-1.0) / CDPR_R(3.0));
 }
 
 /* A trial that produced NaN/Inf from a non-finite start (y or f(t, y)): no smaller step can
  * help. */
 static int ros_start_is_bad(const cdpr_ros_t *s, const cdpr_real_t *y)
 {
-    return (ros_all_finite(y, s->dim) == 0) || (ros_all_finite(ros_slot(s, F1), s->dim) == 0);
-}
-
-static void ros_copy(cdpr_real_t *dst, const cdpr_real_t *src, int n)
-{
-    for (int i = 0; i < n; ++i) {
-        dst[i] = src[i];
-    }
+    return (step_all_finite(y, s->dim) == 0) || (step_all_finite(ros_slot(s, F1), s->dim) == 0);
 }
 
 static int ros_problem_ok(const cdpr_ros_problem_t *pb)
@@ -362,7 +308,7 @@ static cdpr_status_t ros_failed(cdpr_ros_t *s, cdpr_status_t st)
 {
     s->stats.failures++;
     if (st == CDPR_E_SINGULAR) {
-        s->stats.singular_failures++;
+        s->lin.singular_failures++;
     }
     return st;
 }
@@ -374,7 +320,7 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
         !isfinite(t_end) || !(t_end > *t)) {
         return CDPR_E_INVALID_ARG;
     }
-    if (ros_all_finite(y, s->dim) == 0) {
+    if (step_all_finite(y, s->dim) == 0) {
         return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
     }
     cdpr_real_t *yn = ros_slot(s, YNEW);
@@ -383,7 +329,7 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
      * ends it. */
     for (;;) {
         const cdpr_real_t remaining = t_end - *t;
-        cdpr_real_t h = ros_clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
+        cdpr_real_t h = step_bounded(&s->p.step, s->h_s);
         const int last = (h >= remaining) ? 1 : 0;
         if (last != 0) {
             h = remaining;
@@ -399,13 +345,12 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
                 return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
             }
             s->stats.nonfinite_rejected++;
-            s->h_s = h * s->p.shrink_min;
+            s->h_s = h * s->p.step.shrink_min;
         } else if (err <= CDPR_R(1.0)) {
-            ros_copy(y, yn, s->dim);
+            step_copy(y, yn, s->dim);
             *t = (last != 0) ? t_end : *t + h;
             s->stats.steps_accepted++;
-            const cdpr_real_t h_next =
-                ros_clamp(h * ros_step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+            const cdpr_real_t h_next = step_bounded(&s->p.step, h * ros_step_factor(s, err));
             /* A step clipped to reach t_end says little about the natural step size. */
             s->h_s = (last != 0 && h_next < s->h_s) ? s->h_s : h_next;
             return CDPR_OK;
@@ -413,30 +358,13 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
             s->stats.steps_rejected++;
             s->h_s = h * ros_step_factor(s, err);
         }
-        if (s->h_s < s->p.h_min_s) {
-            s->h_s = s->p.h_min_s;
-            if (h <= s->p.h_min_s) {
+        if (s->h_s < s->p.step.h_min_s) {
+            s->h_s = s->p.step.h_min_s;
+            if (h <= s->p.step.h_min_s) {
                 return ros_failed(s, CDPR_E_STEP_TOO_SMALL);
             }
         }
     }
-}
-
-/* 1 if `budget` accepted steps starting at h, each growing by grow_max (capped at h_max),
- * could cover `remaining`. O(budget), no RHS calls. */
-static int ros_can_reach(const cdpr_ros_t *s, cdpr_real_t h, int budget, cdpr_real_t remaining)
-{
-    cdpr_real_t sum = CDPR_R(0.0);
-    cdpr_real_t hi = (h < s->p.h_max_s) ? h : s->p.h_max_s;
-    for (int i = 0; i < budget; ++i) {
-        sum += hi;
-        if (sum >= remaining) {
-            return 1;
-        }
-        hi *= s->p.grow_max;
-        hi = (hi < s->p.h_max_s) ? hi : s->p.h_max_s;
-    }
-    return 0;
 }
 
 /* Where one cdpr_ros_advance is in its interval (internal). */
@@ -455,8 +383,8 @@ typedef struct {
 static cdpr_real_t ros_pick_step(const cdpr_ros_t *s, ros_walk_t *w, int budget)
 {
     const cdpr_real_t remaining = w->t_end - w->tc;
-    cdpr_real_t h = ros_clamp(s->h_s, s->p.h_min_s, s->p.h_max_s);
-    if (w->equal == 0 && (budget == 1 || ros_can_reach(s, h, budget, remaining) == 0)) {
+    cdpr_real_t h = step_bounded(&s->p.step, s->h_s);
+    if (w->equal == 0 && (budget == 1 || step_can_reach(&s->p.step, h, budget, remaining) == 0)) {
         w->equal = 1;
     }
     if (w->equal != 0) {
@@ -481,9 +409,9 @@ static cdpr_status_t ros_judge(cdpr_ros_t *s, ros_walk_t *w, cdpr_real_t *y, con
             return CDPR_E_SUBSTEP_LIMIT; /* an equal step cannot shrink */
         }
         s->stats.nonfinite_rejected++;
-        s->h_s = h * s->p.shrink_min;
-    } else if (err <= CDPR_R(1.0) || (w->equal != 0 && err <= s->p.force_err_max)) {
-        ros_copy(y, yn, s->dim);
+        s->h_s = h * s->p.step.shrink_min;
+    } else if (err <= CDPR_R(1.0) || (w->equal != 0 && err <= s->p.step.force_err_max)) {
+        step_copy(y, yn, s->dim);
         w->have_f1 = 0;
         w->tc = (w->last != 0) ? w->t_end : w->tc + h;
         s->stats.steps_accepted++;
@@ -491,8 +419,7 @@ static cdpr_status_t ros_judge(cdpr_ros_t *s, ros_walk_t *w, cdpr_real_t *y, con
             s->stats.forced_steps++;
             w->forced++;
         }
-        const cdpr_real_t h_next =
-            ros_clamp(h * ros_step_factor(s, err), s->p.h_min_s, s->p.h_max_s);
+        const cdpr_real_t h_next = step_bounded(&s->p.step, h * ros_step_factor(s, err));
         s->h_s = (w->last != 0 && h_next < s->h_s) ? s->h_s : h_next;
     } else {
         s->stats.steps_rejected++;
@@ -503,11 +430,11 @@ static cdpr_status_t ros_judge(cdpr_ros_t *s, ros_walk_t *w, cdpr_real_t *y, con
             return CDPR_E_SUBSTEP_LIMIT; /* the rest no longer fits in the budget */
         }
     }
-    if (s->h_s < s->p.h_min_s) {
-        if (h <= s->p.h_min_s) {
+    if (s->h_s < s->p.step.h_min_s) {
+        if (h <= s->p.step.h_min_s) {
             st = CDPR_E_STEP_TOO_SMALL;
         } else {
-            s->h_s = s->p.h_min_s;
+            s->h_s = s->p.step.h_min_s;
         }
     }
     return st;
@@ -524,7 +451,7 @@ static cdpr_status_t ros_interval_entry(cdpr_ros_t *s, const cdpr_ros_problem_t 
         !isfinite(dt) || !(dt > CDPR_R(0.0)) || count < 1) {
         return CDPR_E_INVALID_ARG;
     }
-    if (ros_all_finite(y, s->dim) == 0) {
+    if (step_all_finite(y, s->dim) == 0) {
         return ros_failed(s, CDPR_E_STATE_NOT_FINITE);
     }
     return CDPR_OK;
@@ -542,7 +469,7 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
     const cdpr_real_t t0 = *t;
     const cdpr_real_t h_saved = s->h_s;
     ros_walk_t w = {t0, t0 + dt, 0, 0, 0, 0};
-    ros_copy(yb, y, s->dim);
+    step_copy(yb, y, s->dim);
 
     cdpr_status_t st = CDPR_OK;
     int trials = 0;
@@ -561,7 +488,7 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
         ++trials;
     }
     if (st < 0) {
-        ros_copy(y, yb, s->dim);
+        step_copy(y, yb, s->dim);
         *t = t0;
         if (st == CDPR_E_SUBSTEP_LIMIT) {
             s->stats.substep_limit_failures++;
@@ -588,7 +515,7 @@ cdpr_status_t cdpr_ros_fixed(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     cdpr_real_t *yb = ros_slot(s, YBAK);
     const cdpr_real_t t0 = *t;
     const cdpr_real_t h = dt / (cdpr_real_t)n;
-    ros_copy(yb, y, s->dim);
+    step_copy(yb, y, s->dim);
     cdpr_real_t emax = CDPR_R(0.0);
     cdpr_status_t st = CDPR_OK;
     for (int i = 0; i < n && st == CDPR_OK; ++i) {
@@ -610,7 +537,7 @@ cdpr_status_t cdpr_ros_fixed(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
     }
     s->w_valid = 0;
     if (st != CDPR_OK) {
-        ros_copy(y, yb, s->dim);
+        step_copy(y, yb, s->dim);
         *t = t0;
         return ros_failed(s, st);
     }

@@ -63,11 +63,11 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
     pp->initial = cdpr_cabin_motion_at_pose(pose);
     pp->wind_m_per_s = cdpr_v3(rig.wind_m_per_s[0], rig.wind_m_per_s[1], rig.wind_m_per_s[2]);
     const cdpr_scenario_integrator_t *in = &sc->integrator;
-    pp->rkf45.rtol = in->rtol;
-    pp->rkf45.h_max_s = in->h_max_s;
+    pp->rkf45.step.rtol = in->rtol;
+    pp->rkf45.step.h_max_s = in->h_max_s;
     pp->integrator = in->method;
-    pp->ros.rtol = in->rtol;
-    pp->ros.h_max_s = in->h_max_s;
+    pp->ros.step.rtol = in->rtol;
+    pp->ros.step.h_max_s = in->h_max_s;
     pp->atol.position_m = in->atol_position_m;
     pp->atol.velocity_m_per_s = in->atol_velocity_m_per_s;
     pp->atol.quaternion = in->atol_quaternion;

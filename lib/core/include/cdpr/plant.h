@@ -215,7 +215,7 @@ void cdpr_plant_params_default(cdpr_plant_params_t *pp);
 const char *cdpr_plant_integrator_name(cdpr_plant_integrator_t integrator);
 
 /// The integrator's work since cdpr_plant_init, whatever the scheme (outputs): what the
-/// integrators' own counters (cdpr_rkf45_stats_t, cdpr_ros_stats_t) hold, so a caller need not
+/// integrators' own counters (cdpr_step_stats_t, cdpr_ros_lin_stats_t) hold, so a caller need not
 /// pick them by the scheme. RKF45 has no factorisations or solves (0).
 typedef struct {
     cdpr_plant_integrator_t integrator; ///< the scheme (cdpr_plant_integrator_name)

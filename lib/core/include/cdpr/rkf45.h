@@ -16,6 +16,7 @@
 
 #include "cdpr/config.h"
 #include "cdpr/status.h"
+#include "cdpr/step_control.h"
 
 /// Workspace reals needed per state component: k1..k6, trial state, new state, backup.
 #define CDPR_RKF45_WORK_PER_DIM 9
@@ -27,19 +28,10 @@ typedef cdpr_status_t (*cdpr_rhs_fn)(cdpr_real_t t, const cdpr_real_t *y, cdpr_r
 
 /// Integrator settings (inputs). Defaults from cdpr_rkf45_params_default().
 typedef struct {
-    cdpr_real_t rtol;            ///< relative tolerance (>= 0); default 1e-6
-    cdpr_real_t atol;            ///< absolute tolerance used when atol_vec is NULL (> 0); 1e-8
-    const cdpr_real_t *atol_vec; ///< optional per-component absolute tolerances (each > 0)
-    cdpr_real_t h_init_s;        ///< first step [s] (> 0); default 1e-4
-    cdpr_real_t h_min_s;         ///< smallest step before CDPR_E_STEP_TOO_SMALL [s] (> 0); 1e-12
-    cdpr_real_t h_max_s;         ///< largest step [s] (>= h_min_s); default 1.0
-    cdpr_real_t safety;          ///< step-size safety factor in (0, 1); default 0.9
-    cdpr_real_t shrink_min;      ///< smallest step ratio after a rejection, in (0, 1); default 0.2
-    cdpr_real_t grow_max;        ///< largest step ratio after an acceptance (> 1); default 5
-    /// Largest error norm of a "forced" step of cdpr_rkf45_advance (finite, >= 1; 1 forbids
-    /// them). Default 1845.28125 = (safety / shrink_min)^5 of the defaults: the largest error
-    /// that the step-size formula corrects with a single rejection.
-    cdpr_real_t force_err_max;
+    /// Step control (step_control.h); default cdpr_step_control_default(&step, 5): rtol 1e-6,
+    /// atol 1e-8, h_init_s 1e-4, h_min_s 1e-12, h_max_s 1, safety 0.9, shrink_min 0.2,
+    /// grow_max 5, force_err_max 1845.28125 = 4.5^5 (forced steps of cdpr_rkf45_advance).
+    cdpr_step_control_t step;
     /// Step-size controller after an accepted step: 0 (default) the elementary
     /// h * clamp(safety err^-1/5, shrink_min, grow_max); in (0, 0.2] Gustafsson's PI controller
     /// h * clamp(safety err^-(1/5 - 0.75 pi_beta) err_prev^pi_beta, ...) (Hairer's DOPRI5 form;
@@ -47,19 +39,6 @@ typedef struct {
     /// the elementary factor either way. 0 gives the same bits as before the option existed.
     cdpr_real_t pi_beta;
 } cdpr_rkf45_params_t;
-
-/// Counters (plain fields, read-only for users; reset by cdpr_rkf45_init).
-typedef struct {
-    unsigned long steps_accepted;     ///< accepted steps
-    unsigned long steps_rejected;     ///< trials rejected by the error test
-    unsigned long nonfinite_rejected; ///< trials rejected because they produced NaN/Inf
-    unsigned long rhs_evals;          ///< calls of f
-    unsigned long forced_steps;       ///< steps accepted without meeting the tolerance (advance)
-    unsigned long substep_limit_hits; ///< advance calls that returned CDPR_WARN_SUBSTEP_LIMIT
-    unsigned long substep_limit_failures; ///< advance calls that returned CDPR_E_SUBSTEP_LIMIT
-    unsigned long failures;               ///< step/advance calls that returned an error other than
-                                          ///< CDPR_E_INVALID_ARG (state restored)
-} cdpr_rkf45_stats_t;
 
 /// Solver object (caller-owned).
 typedef struct {
@@ -75,9 +54,9 @@ typedef struct {
     /// init and set_dim. An advance call with retry = 1 sizes its equal steps by it.
     cdpr_real_t h_ok_s;
     int retry; ///< 1 after advance returned CDPR_E_SUBSTEP_LIMIT, until an advance call succeeds
-    cdpr_real_t last_err; ///< error norm of the last trial (<= 1: it passed the error test)
-    cdpr_real_t err_prev; ///< error norm of the last accepted step (PI controller; >= 1e-4)
-    cdpr_rkf45_stats_t stats;
+    cdpr_real_t last_err;    ///< error norm of the last trial (<= 1: it passed the error test)
+    cdpr_real_t err_prev;    ///< error norm of the last accepted step (PI controller; >= 1e-4)
+    cdpr_step_stats_t stats; ///< counters (step_control.h), reset by init
 } cdpr_rkf45_t;
 
 /// Documented defaults. O(1), cannot fail.
@@ -87,11 +66,8 @@ void cdpr_rkf45_params_default(cdpr_rkf45_params_t *p);
 /// O(dim) with atol_vec, else O(1). Returns, for the first bad field (`diag`, may be NULL,
 /// names it by its member name; index -1, or the component for atol_vec):
 /// - CDPR_E_INVALID_ARG: p is NULL ("rkf45").
-/// - CDPR_E_NOT_FINITE: a field, or an atol_vec entry, is NaN/Inf.
-/// - CDPR_E_NOT_POSITIVE: atol, an atol_vec entry, h_init_s, h_min_s, h_max_s, safety or
-///   shrink_min <= 0.
-/// - CDPR_E_OUT_OF_RANGE: rtol < 0, h_max_s < h_min_s, safety >= 1, shrink_min >= 1,
-///   grow_max <= 1, force_err_max < 1, or pi_beta outside [0, 0.2].
+/// - every error of cdpr_step_control_validate(&p->step, dim, diag);
+/// - CDPR_E_NOT_FINITE or CDPR_E_OUT_OF_RANGE: pi_beta NaN/Inf or outside [0, 0.2].
 /// CDPR_OK (diag: status OK, field "", index -1) otherwise.
 cdpr_status_t cdpr_rkf45_params_validate(const cdpr_rkf45_params_t *p, int dim, cdpr_diag_t *diag);
 

@@ -35,6 +35,7 @@
 #include "cdpr/config.h"
 #include "cdpr/rkf45.h"
 #include "cdpr/status.h"
+#include "cdpr/step_control.h"
 
 /// Workspace reals needed per state component: u1..u4, stage state, f(t, y), stage right-hand
 /// side, new state, backup.
@@ -63,19 +64,10 @@ typedef struct {
 
 /// Integrator settings (inputs). Defaults from cdpr_ros_params_default().
 typedef struct {
-    cdpr_real_t rtol;            ///< relative tolerance (>= 0); default 1e-6
-    cdpr_real_t atol;            ///< absolute tolerance used when atol_vec is NULL (> 0); 1e-8
-    const cdpr_real_t *atol_vec; ///< optional per-component absolute tolerances (each > 0)
-    cdpr_real_t h_init_s;        ///< first step [s] (> 0); default 1e-4
-    cdpr_real_t h_min_s;         ///< smallest step before CDPR_E_STEP_TOO_SMALL [s] (> 0); 1e-12
-    cdpr_real_t h_max_s;         ///< largest step [s] (>= h_min_s); default 1.0
-    cdpr_real_t safety;          ///< step-size safety factor in (0, 1); default 0.9
-    cdpr_real_t shrink_min;      ///< smallest step ratio after a rejection, in (0, 1); default 0.2
-    cdpr_real_t grow_max;        ///< largest step ratio after an acceptance (> 1); default 5
-    /// Largest error norm of a "forced" equal step of cdpr_ros_advance (finite, >= 1; 1 forbids
-    /// them). Default 91.125 = (safety / shrink_min)^3 of the defaults: the largest error that
-    /// the step-size formula corrects with a single rejection.
-    cdpr_real_t force_err_max;
+    /// Step control (step_control.h); default cdpr_step_control_default(&step, 3): rtol 1e-6,
+    /// atol 1e-8, h_init_s 1e-4, h_min_s 1e-12, h_max_s 1, safety 0.9, shrink_min 0.2,
+    /// grow_max 5, force_err_max 91.125 = 4.5^3 (forced equal steps of cdpr_ros_advance).
+    cdpr_step_control_t step;
     /// Reuse one factorisation for up to this many further trials while gamma h is unchanged
     /// within a relative 1e-3 (>= 0; 0: factor every trial, the default). A W-method keeps its
     /// order with a lagged J; the caller must not change what its factor callback reads (its W
@@ -83,34 +75,26 @@ typedef struct {
     int jac_reuse_max;
 } cdpr_ros_params_t;
 
-/// Counters (plain fields, read-only for users; reset by cdpr_ros_init).
+/// Counters of the linear algebra (plain fields, read-only for users; reset by cdpr_ros_init).
 typedef struct {
-    unsigned long steps_accepted;         ///< accepted steps
-    unsigned long steps_rejected;         ///< trials rejected by the error test
-    unsigned long nonfinite_rejected;     ///< trials rejected because they produced NaN/Inf
-    unsigned long rhs_evals;              ///< calls of f
-    unsigned long factorisations;         ///< calls of factor
-    unsigned long solves;                 ///< calls of solve
-    unsigned long forced_steps;           ///< equal steps accepted above the tolerance (advance)
-    unsigned long substep_limit_hits;     ///< advance calls that returned CDPR_WARN_SUBSTEP_LIMIT
-    unsigned long substep_limit_failures; ///< advance calls that returned CDPR_E_SUBSTEP_LIMIT
-    unsigned long singular_failures;      ///< calls ended by factor or solve (CDPR_E_SINGULAR)
-    unsigned long failures;               ///< step/advance calls that returned an error other than
-                                          ///< CDPR_E_INVALID_ARG (state restored)
-} cdpr_ros_stats_t;
+    unsigned long factorisations;    ///< calls of factor
+    unsigned long solves;            ///< calls of solve
+    unsigned long singular_failures; ///< calls ended by factor or solve (CDPR_E_SINGULAR)
+} cdpr_ros_lin_stats_t;
 
 /// Solver object (caller-owned).
 typedef struct {
-    cdpr_ros_params_t p;  ///< validated copy
-    cdpr_real_t *work;    ///< caller workspace
-    int dim_max;          ///< capacity of the workspace in state components
-    int dim;              ///< current dimension (<= dim_max)
-    cdpr_real_t h_s;      ///< step size to try next [s]
-    cdpr_real_t last_err; ///< error norm of the last trial (<= 1: it passed the error test)
-    cdpr_real_t w_gh;     ///< gamma h of the factorisation in force [s]
-    int w_valid;          ///< 1 while the caller's W may be reused (jac_reuse_max > 0)
-    int w_uses;           ///< trials that reused it since it was made
-    cdpr_ros_stats_t stats;
+    cdpr_ros_params_t p;      ///< validated copy
+    cdpr_real_t *work;        ///< caller workspace
+    int dim_max;              ///< capacity of the workspace in state components
+    int dim;                  ///< current dimension (<= dim_max)
+    cdpr_real_t h_s;          ///< step size to try next [s]
+    cdpr_real_t last_err;     ///< error norm of the last trial (<= 1: it passed the error test)
+    cdpr_real_t w_gh;         ///< gamma h of the factorisation in force [s]
+    int w_valid;              ///< 1 while the caller's W may be reused (jac_reuse_max > 0)
+    int w_uses;               ///< trials that reused it since it was made
+    cdpr_step_stats_t stats;  ///< counters (step_control.h), reset by init
+    cdpr_ros_lin_stats_t lin; ///< linear-algebra counters, reset by init
 } cdpr_ros_t;
 
 /// Documented defaults. O(1), cannot fail.
@@ -120,11 +104,8 @@ void cdpr_ros_params_default(cdpr_ros_params_t *p);
 /// O(dim) with atol_vec, else O(1). Returns, for the first bad field (`diag`, may be NULL,
 /// names it by its member name; index -1, or the component for atol_vec):
 /// - CDPR_E_INVALID_ARG: p is NULL ("ros").
-/// - CDPR_E_NOT_FINITE: a field, or an atol_vec entry, is NaN/Inf.
-/// - CDPR_E_NOT_POSITIVE: atol, an atol_vec entry, h_init_s, h_min_s, h_max_s, safety or
-///   shrink_min <= 0.
-/// - CDPR_E_OUT_OF_RANGE: rtol < 0, h_max_s < h_min_s, safety >= 1, shrink_min >= 1,
-///   grow_max <= 1, force_err_max < 1, or jac_reuse_max < 0.
+/// - every error of cdpr_step_control_validate(&p->step, dim, diag);
+/// - CDPR_E_OUT_OF_RANGE: jac_reuse_max < 0.
 /// CDPR_OK (diag: status OK, field "", index -1) otherwise.
 cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr_diag_t *diag);
 
@@ -178,7 +159,7 @@ cdpr_status_t cdpr_ros_trial(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_r
 /// - CDPR_E_STATE_NOT_FINITE: y or f(t, y) is not finite.
 /// - CDPR_E_STEP_TOO_SMALL: a trial of size <= h_min_s was rejected.
 /// - CDPR_E_RHS: f refused.
-/// - CDPR_E_SINGULAR: factor or solve refused (also counted in stats.singular_failures).
+/// - CDPR_E_SINGULAR: factor or solve refused (also counted in lin.singular_failures).
 cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
                             cdpr_real_t *y, cdpr_real_t t_end);
 
@@ -206,7 +187,7 @@ cdpr_status_t cdpr_ros_step(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_re
 /// - Other errors (y, *t bit-identical; s->h_s not raised; counted in stats.failures):
 ///   CDPR_E_STATE_NOT_FINITE (y or f(t, y) not finite), CDPR_E_STEP_TOO_SMALL (a trial of
 ///   size <= h_min_s rejected), CDPR_E_RHS (f refused), CDPR_E_SINGULAR (factor or solve
-///   refused; also counted in stats.singular_failures).
+///   refused; also counted in lin.singular_failures).
 cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
                                cdpr_real_t *y, cdpr_real_t dt, int max_trials);
 
@@ -227,7 +208,7 @@ cdpr_status_t cdpr_ros_advance(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr
 /// - CDPR_E_STATE_NOT_FINITE: y on entry, or the result of a step, is not finite (a step's is
 ///   also counted in stats.nonfinite_rejected).
 /// - CDPR_E_RHS (f refused), CDPR_E_SINGULAR (factor or solve refused; also counted in
-///   stats.singular_failures).
+///   lin.singular_failures).
 /// On every error but CDPR_E_INVALID_ARG: y and *t bit-identical to entry, *err_max not written,
 /// counted in stats.failures. The step-size state (h_s) is never touched.
 cdpr_status_t cdpr_ros_fixed(cdpr_ros_t *s, const cdpr_ros_problem_t *pb, cdpr_real_t *t,
