@@ -307,6 +307,44 @@ static int run_verdict(int argc, char **argv, const cdpr_scenario_overrides_t *o
     return 0;
 }
 
+/* The command line of cdpr-design. */
+typedef struct {
+    double at_s;  /* --at, NaN: not given */
+    double cable; /* --step-test, < 0: not given */
+    int check, zoh, verdict, quiet;
+    cdpr_scenario_overrides_t ov;
+} options_t;
+
+/* The options of cdpr-design (cdpr_app_option_fn). */
+static int take(int c, const char *arg, void *ctx)
+{
+    options_t *o = ctx;
+    const int ov = cdpr_app_override_opt("cdpr-design", c, arg, &o->ov);
+    if (ov != 1) {
+        return ov;
+    }
+    cdpr_status_t bad = CDPR_OK;
+    if (c == 'a') {
+        bad = cdpr_cli_number("cdpr-design", "at", arg, 0.0, 1e6, &o->at_s);
+    } else if (c == 's') {
+        bad = cdpr_cli_number("cdpr-design", "step-test", arg, 0.0, 5.0, &o->cable);
+        bad = (bad == CDPR_OK && floor(o->cable) < o->cable)
+                  ? cdpr_app_usage_error("cdpr-design", "--step-test: a winch 0..5")
+                  : bad;
+    } else if (c == 'c') {
+        o->check = 1;
+    } else if (c == 'z') {
+        o->zoh = 1;
+    } else if (c == 'v') {
+        o->verdict = 1;
+    } else if (c == 'q') {
+        o->quiet = 1;
+    } else {
+        return 1;
+    }
+    return (bad != CDPR_OK) ? -1 : 0;
+}
+
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"at", required_argument, NULL, 'a'},
@@ -318,48 +356,21 @@ int main(int argc, char **argv)
                                              CDPR_APP_OVERRIDE_OPTIONS,
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
-    double at_s = (double)NAN;
-    double cable = -1.0;
-    int check = 0;
-    int zoh = 0;
-    int verdict = 0;
-    int quiet = 0;
-    cdpr_scenario_overrides_t ov;
-    cdpr_scenario_overrides_none(&ov);
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
-        const int ovr = cdpr_app_override_opt("cdpr-design", c, optarg, &ov);
-        if (ovr != 0) {
-            if (ovr < 0) {
-                return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
-            }
-            continue;
-        }
-        cdpr_status_t bad = CDPR_OK;
-        if (c == 'a') {
-            bad = cdpr_cli_number("cdpr-design", "at", optarg, 0.0, 1e6, &at_s);
-        } else if (c == 's') {
-            bad = cdpr_cli_number("cdpr-design", "step-test", optarg, 0.0, 5.0, &cable);
-            bad = (bad == CDPR_OK && floor(cable) < cable)
-                      ? cdpr_app_usage_error("cdpr-design", "--step-test: a winch 0..5")
-                      : bad;
-        } else if (c == 'c') {
-            check = 1;
-        } else if (c == 'z') {
-            zoh = 1;
-        } else if (c == 'v') {
-            verdict = 1;
-        } else if (c == 'q') {
-            quiet = 1;
-        } else {
-            return cdpr_app_exit_code(
-                cdpr_app_other_option("cdpr-design", c, argv, longopts, usage));
-        }
-        if (bad != CDPR_OK) {
-            return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
-        }
+    options_t o;
+    memset(&o, 0, sizeof o);
+    o.at_s = (double)NAN;
+    o.cable = -1.0;
+    cdpr_scenario_overrides_none(&o.ov);
+    if (cdpr_app_parse("cdpr-design", argc, argv, longopts, usage, take, &o) != 0) {
+        return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }
+    const double at_s = o.at_s;
+    const double cable = o.cable;
+    const int check = o.check;
+    const int zoh = o.zoh;
+    const int verdict = o.verdict;
+    const int quiet = o.quiet;
+    const cdpr_scenario_overrides_t ov = o.ov;
     if (verdict != 0) {
         if (!isnan(at_s) || cable >= 0.0 || check != 0 || zoh != 0) {
             return cdpr_app_exit_code(cdpr_app_usage_error(

@@ -89,6 +89,79 @@ static void usage(FILE *f)
            "            SIGINT/SIGTERM/SIGHUP: telemetry, --tracker-out \"interrupted\", exit 1\n");
 }
 
+/* The options of cdpr-rt (cdpr_app_option_fn). */
+static int take(int c, const char *arg, void *ctx)
+{
+    options_t *o = ctx;
+    const int ov = cdpr_app_override_opt("cdpr-rt", c, arg, &o->ov);
+    if (ov != 1) {
+        return ov;
+    }
+    int bad = 0;
+    double v = 0.0;
+    switch (c) {
+    case 'l':
+        o->rt.lockstep = 1;
+        break;
+    case 'L':
+        bad = (int)cdpr_cli_real("cdpr-rt", "lockstep-timeout", arg, &o->rt.lockstep_timeout_s);
+        break;
+    case 'R':
+        o->rt.realtime = 1;
+        break;
+    case 'P':
+        /* Whole and within an int here; its range is cdpr_rt_init's. */
+        bad =
+            (int)cdpr_cli_number("cdpr-rt", "priority", arg, (double)INT_MIN, (double)INT_MAX, &v);
+        bad = (bad == 0 && floor(v) < v)
+                  ? (int)cdpr_app_usage_error("cdpr-rt", "--priority: a whole number")
+                  : bad;
+        o->rt.rt_priority = (int)v;
+        break;
+    case 'w':
+        bad = (int)cdpr_cli_real("cdpr-rt", "watchdog", arg, &o->rt.lcm.watchdog_timeout_s);
+        break;
+    case 's':
+        bad = (int)cdpr_cli_real("cdpr-rt", "start-delay", arg, &o->rt.start_delay_s);
+        break;
+    case 'U':
+        bad = (int)cdpr_cli_real("cdpr-rt", "startup", arg, &o->rt.startup_s);
+        break;
+    case 'X':
+    case 'Y':
+        /* Whole, >= 0 and within a long. */
+        bad = (int)cdpr_cli_number("cdpr-rt", (c == 'X') ? "max-misses" : "max-misses-in-row", arg,
+                                   0.0, 1e15, &v);
+        bad = (bad == 0 && floor(v) < v)
+                  ? (int)cdpr_app_usage_error("cdpr-rt", "--%s: a whole number",
+                                              (c == 'X') ? "max-misses" : "max-misses-in-row")
+                  : bad;
+        *((c == 'X') ? &o->rt.max_misses : &o->rt.max_misses_in_row) = (long)v;
+        break;
+    case 'u':
+        o->rt.lcm.url = arg;
+        break;
+    case 'p':
+        o->rt.lcm.channel_prefix = arg;
+        break;
+    case 't':
+        o->with_tracker = 1;
+        break;
+    case 'o':
+        o->tracker_out = arg;
+        break;
+    case CDPR_APP_OPT_CHECK_DESIGN:
+        o->check_design = 1;
+        break;
+    case 'q':
+        o->quiet = 1;
+        break;
+    default:
+        return 1;
+    }
+    return (bad != 0) ? -1 : 0;
+}
+
 static int parse(int argc, char **argv, options_t *o)
 {
     static const struct option longopts[] = {CDPR_APP_OVERRIDE_OPTIONS,
@@ -109,80 +182,8 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"quiet", no_argument, NULL, 'q'},
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
-    int c;
-    double v = 0.0;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
-        const int ov = cdpr_app_override_opt("cdpr-rt", c, optarg, &o->ov);
-        if (ov != 0) {
-            if (ov < 0) {
-                return -1;
-            }
-            continue;
-        }
-        int bad = 0;
-        switch (c) {
-        case 'l':
-            o->rt.lockstep = 1;
-            break;
-        case 'L':
-            bad = (int)cdpr_cli_real("cdpr-rt", "lockstep-timeout", optarg,
-                                     &o->rt.lockstep_timeout_s);
-            break;
-        case 'R':
-            o->rt.realtime = 1;
-            break;
-        case 'P':
-            /* Whole and within an int here; its range is cdpr_rt_init's. */
-            bad = (int)cdpr_cli_number("cdpr-rt", "priority", optarg, (double)INT_MIN,
-                                       (double)INT_MAX, &v);
-            bad = (bad == 0 && floor(v) < v) ? 1 : bad;
-            o->rt.rt_priority = (int)v;
-            break;
-        case 'w':
-            bad = (int)cdpr_cli_real("cdpr-rt", "watchdog", optarg, &o->rt.lcm.watchdog_timeout_s);
-            break;
-        case 's':
-            bad = (int)cdpr_cli_real("cdpr-rt", "start-delay", optarg, &o->rt.start_delay_s);
-            break;
-        case 'U':
-            bad = (int)cdpr_cli_real("cdpr-rt", "startup", optarg, &o->rt.startup_s);
-            break;
-        case 'X':
-        case 'Y':
-            /* Whole, >= 0 and within a long. */
-            bad = (int)cdpr_cli_number("cdpr-rt", (c == 'X') ? "max-misses" : "max-misses-in-row",
-                                       optarg, 0.0, 1e15, &v);
-            bad = (bad == 0 && floor(v) < v) ? 1 : bad;
-            *((c == 'X') ? &o->rt.max_misses : &o->rt.max_misses_in_row) = (long)v;
-            break;
-        case 'u':
-            o->rt.lcm.url = optarg;
-            break;
-        case 'p':
-            o->rt.lcm.channel_prefix = optarg;
-            break;
-        case 't':
-            o->with_tracker = 1;
-            break;
-        case 'o':
-            o->tracker_out = optarg;
-            break;
-        case CDPR_APP_OPT_CHECK_DESIGN:
-            o->check_design = 1;
-            break;
-        case 'q':
-            o->quiet = 1;
-            break;
-        default:
-            (void)cdpr_app_other_option("cdpr-rt", c, argv, longopts, usage);
-            return -1;
-        }
-        if (bad != 0) {
-            return -1;
-        }
-    }
-    if (cdpr_app_scenario_operand("cdpr-rt", argc, argv, &o->scenario) != CDPR_OK) {
+    if (cdpr_app_parse("cdpr-rt", argc, argv, longopts, usage, take, o) != 0 ||
+        cdpr_app_scenario_operand("cdpr-rt", argc, argv, &o->scenario) != CDPR_OK) {
         return -1;
     }
     if (o->tracker_out != NULL && o->with_tracker == 0) {

@@ -73,6 +73,10 @@ static void usage(FILE *f)
 static int parse_segments(const char *s, options_t *o)
 {
     char buf[128];
+    if (strlen(s) >= sizeof buf) {
+        fprintf(stderr, "cdpr-settle: --segments: longer than %zu characters\n", sizeof buf - 1);
+        return -1;
+    }
     snprintf(buf, sizeof buf, "%s", s);
     o->n_runs = 0;
     for (char *tok = strtok(buf, ","); tok != NULL; tok = strtok(NULL, ",")) {
@@ -85,7 +89,44 @@ static int parse_segments(const char *s, options_t *o)
         }
         o->segments[o->n_runs++] = (int)v;
     }
-    return (o->n_runs > 0) ? 0 : -1;
+    if (o->n_runs == 0) {
+        fprintf(stderr, "cdpr-settle: --segments: no value in '%s'\n", s);
+        return -1;
+    }
+    return 0;
+}
+
+/* The options of cdpr-settle (cdpr_app_option_fn). */
+static int take(int c, const char *arg, void *ctx)
+{
+    options_t *o = ctx;
+    int rc = 0;
+    switch (c) {
+    case 'o':
+        o->out_dir = arg;
+        break;
+    case 'L':
+        rc = (int)cdpr_cli_real("cdpr-settle", "length", arg, &o->length_m);
+        break;
+    case 's':
+        rc = (int)cdpr_cli_real("cdpr-settle", "span", arg, &o->span_m);
+        break;
+    case 'H':
+        rc = (int)cdpr_cli_real("cdpr-settle", "height", arg, &o->height_m);
+        break;
+    case 'e':
+        rc = (int)cdpr_cli_real("cdpr-settle", "ea", arg, &o->ea_N);
+        break;
+    case 'r':
+        rc = (int)cdpr_cli_real("cdpr-settle", "rho", arg, &o->rho_kg_per_m);
+        break;
+    case 'n':
+        rc = parse_segments(arg, o);
+        break;
+    default:
+        return 1;
+    }
+    return (rc != 0) ? -1 : 0;
 }
 
 static int parse(int argc, char **argv, options_t *o)
@@ -99,39 +140,8 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"segments", required_argument, NULL, 'n'},
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
-        int rc = 0;
-        switch (c) {
-        case 'o':
-            o->out_dir = optarg;
-            break;
-        case 'L':
-            rc = (int)cdpr_cli_real("cdpr-settle", "length", optarg, &o->length_m);
-            break;
-        case 's':
-            rc = (int)cdpr_cli_real("cdpr-settle", "span", optarg, &o->span_m);
-            break;
-        case 'H':
-            rc = (int)cdpr_cli_real("cdpr-settle", "height", optarg, &o->height_m);
-            break;
-        case 'e':
-            rc = (int)cdpr_cli_real("cdpr-settle", "ea", optarg, &o->ea_N);
-            break;
-        case 'r':
-            rc = (int)cdpr_cli_real("cdpr-settle", "rho", optarg, &o->rho_kg_per_m);
-            break;
-        case 'n':
-            rc = parse_segments(optarg, o);
-            break;
-        default:
-            (void)cdpr_app_other_option("cdpr-settle", c, argv, longopts, usage);
-            return -1;
-        }
-        if (rc != 0) {
-            return -1;
-        }
+    if (cdpr_app_parse("cdpr-settle", argc, argv, longopts, usage, take, o) != 0) {
+        return -1;
     }
     if (optind < argc) {
         (void)cdpr_app_usage_error("cdpr-settle", "unexpected argument '%s'", argv[optind]);

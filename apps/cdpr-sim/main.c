@@ -68,6 +68,42 @@ static void usage(FILE *f)
             g_default_script);
 }
 
+/* The options of cdpr-sim (cdpr_app_option_fn). */
+static int take(int c, const char *arg, void *ctx)
+{
+    options_t *o = ctx;
+    const int ov = cdpr_app_override_opt("cdpr-sim", c, arg, &o->ov);
+    if (ov != 1) {
+        return ov;
+    }
+    switch (c) {
+    case 'o':
+        o->out_dir = arg;
+        break;
+    case 'n':
+        o->plot = 0;
+        break;
+    case 's':
+        o->plot_script = arg;
+        break;
+    case 'p':
+        o->progress = 1;
+        break;
+    case 'q':
+        o->quiet = 1;
+        break;
+    case 'u':
+        o->check_design = -1;
+        break;
+    case CDPR_APP_OPT_CHECK_DESIGN:
+        o->check_design = 1;
+        break;
+    default:
+        return 1;
+    }
+    return 0;
+}
+
 static int parse(int argc, char **argv, options_t *o)
 {
     static const struct option longopts[] = {
@@ -82,44 +118,8 @@ static int parse(int argc, char **argv, options_t *o)
         CDPR_APP_CHECK_DESIGN_OPTION,
         CDPR_APP_STD_OPTIONS,
         {NULL, 0, NULL, 0}};
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
-        const int ov = cdpr_app_override_opt("cdpr-sim", c, optarg, &o->ov);
-        if (ov != 0) {
-            if (ov < 0) {
-                return -1;
-            }
-            continue;
-        }
-        switch (c) {
-        case 'o':
-            o->out_dir = optarg;
-            break;
-        case 'n':
-            o->plot = 0;
-            break;
-        case 's':
-            o->plot_script = optarg;
-            break;
-        case 'p':
-            o->progress = 1;
-            break;
-        case 'q':
-            o->quiet = 1;
-            break;
-        case 'u':
-            o->check_design = -1;
-            break;
-        case CDPR_APP_OPT_CHECK_DESIGN:
-            o->check_design = 1;
-            break;
-        default:
-            (void)cdpr_app_other_option("cdpr-sim", c, argv, longopts, usage);
-            return -1;
-        }
-    }
-    if (cdpr_app_scenario_operand("cdpr-sim", argc, argv, &o->scenario) != CDPR_OK) {
+    if (cdpr_app_parse("cdpr-sim", argc, argv, longopts, usage, take, o) != 0 ||
+        cdpr_app_scenario_operand("cdpr-sim", argc, argv, &o->scenario) != CDPR_OK) {
         return -1;
     }
     if (o->out_dir == NULL) {

@@ -91,6 +91,46 @@ static void usage(FILE *f)
            "            SIGINT/SIGTERM/SIGHUP: whole rows, summary.json \"interrupted\", exit 1\n");
 }
 
+/* The options of cdpr-tracker (cdpr_app_option_fn). */
+static int take(int c, const char *arg, void *ctx)
+{
+    options_t *o = ctx;
+    const int ov = cdpr_app_override_opt("cdpr-tracker", c, arg, &o->ov);
+    if (ov != 1) {
+        return ov;
+    }
+    int bad = 0;
+    switch (c) {
+    case 'i':
+        bad = (int)cdpr_cli_number("cdpr-tracker", "idle-exit", arg, 0.01, 1e6, &o->idle_exit_s);
+        break;
+    case 'u':
+        o->url = arg;
+        break;
+    case 'p':
+        o->prefix = arg;
+        break;
+    case 'o':
+        o->out_dir = arg;
+        break;
+    case 'n':
+        o->plot = 0;
+        break;
+    case 'R':
+        o->replay = arg;
+        break;
+    case CDPR_APP_OPT_CHECK_DESIGN:
+        o->check_design = 1;
+        break;
+    case 'q':
+        o->quiet = 1;
+        break;
+    default:
+        return 1;
+    }
+    return (bad != 0) ? -1 : 0;
+}
+
 static int parse(int argc, char **argv, options_t *o)
 {
     static const struct option longopts[] = {CDPR_APP_OVERRIDE_OPTIONS,
@@ -104,52 +144,8 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"quiet", no_argument, NULL, 'q'},
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
-        const int ov = cdpr_app_override_opt("cdpr-tracker", c, optarg, &o->ov);
-        if (ov != 0) {
-            if (ov < 0) {
-                return -1;
-            }
-            continue;
-        }
-        int bad = 0;
-        switch (c) {
-        case 'i':
-            bad = (int)cdpr_cli_number("cdpr-tracker", "idle-exit", optarg, 0.01, 1e6,
-                                       &o->idle_exit_s);
-            break;
-        case 'u':
-            o->url = optarg;
-            break;
-        case 'p':
-            o->prefix = optarg;
-            break;
-        case 'o':
-            o->out_dir = optarg;
-            break;
-        case 'n':
-            o->plot = 0;
-            break;
-        case 'R':
-            o->replay = optarg;
-            break;
-        case CDPR_APP_OPT_CHECK_DESIGN:
-            o->check_design = 1;
-            break;
-        case 'q':
-            o->quiet = 1;
-            break;
-        default:
-            (void)cdpr_app_other_option("cdpr-tracker", c, argv, longopts, usage);
-            return -1;
-        }
-        if (bad != 0) {
-            return -1;
-        }
-    }
-    if (cdpr_app_scenario_operand("cdpr-tracker", argc, argv, &o->scenario) != CDPR_OK) {
+    if (cdpr_app_parse("cdpr-tracker", argc, argv, longopts, usage, take, o) != 0 ||
+        cdpr_app_scenario_operand("cdpr-tracker", argc, argv, &o->scenario) != CDPR_OK) {
         return -1;
     }
     return 0;

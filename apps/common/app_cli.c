@@ -192,6 +192,23 @@ cdpr_status_t cdpr_app_other_option(const char *prog, int c, char *const argv[],
     return cdpr_app_bad_option(prog, c, argv, longopts);
 }
 
+int cdpr_app_parse(const char *prog, int argc, char **argv, const struct option *longopts,
+                   void (*usage)(FILE *), cdpr_app_option_fn take, void *ctx)
+{
+    int c;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, CDPR_APP_OPTSTRING, longopts, NULL)) != -1) {
+        const int r = (c == '?' || c == ':') ? 1 : take(c, optarg, ctx);
+        if (r > 0) {
+            (void)cdpr_app_other_option(prog, c, argv, longopts, usage);
+        }
+        if (r != 0) {
+            return -1;
+        }
+    }
+    return 0;
+}
+
 cdpr_status_t cdpr_app_scenario_operand(const char *prog, int argc, char *const argv[],
                                         const char **scenario)
 {

@@ -61,6 +61,19 @@ cdpr_status_t cdpr_app_bad_option(const char *prog, int c, char *const argv[],
 cdpr_status_t cdpr_app_other_option(const char *prog, int c, char *const argv[],
                                     const struct option *longopts, void (*usage)(FILE *));
 
+/// An app's own options, for cdpr_app_parse: called with each getopt_long code `c` that is
+/// not a usage error (and its argument, NULL for a flag). Returns 0 when it took the option,
+/// 1 when `c` is not one of its options (cdpr_app_other_option then handles it: --help,
+/// --version), or -1 after printing a usage error (a bad argument).
+typedef int (*cdpr_app_option_fn)(int c, const char *arg, void *ctx);
+
+/// The getopt_long loop of every app: opterr = 0, CDPR_APP_OPTSTRING, `longopts`; each code to
+/// `take(c, optarg, ctx)`, what it does not take to cdpr_app_other_option (which exits 0 for
+/// --help and --version). Returns 0 when every option was taken (optind then indexes the first
+/// operand), or -1 after the one-line usage error.
+int cdpr_app_parse(const char *prog, int argc, char **argv, const struct option *longopts,
+                   void (*usage)(FILE *), cdpr_app_option_fn take, void *ctx);
+
 /// The one operand of the scenario-running apps: `*scenario` = argv[optind], CDPR_OK; or the
 /// one-line usage error for a missing or an extra operand (CDPR_E_INVALID_ARG).
 cdpr_status_t cdpr_app_scenario_operand(const char *prog, int argc, char *const argv[],

@@ -10,6 +10,7 @@
 #include <signal.h>
 #include <stdio.h>
 #include <spawn.h>
+#include <stddef.h>
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,42 +24,29 @@
 
 int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov)
 {
-    double *field = NULL;
-    const char *name = NULL;
     if (c == CDPR_APP_OPT_INTEGRATOR) {
         static const cdpr_plant_integrator_t all[] = {CDPR_PLANT_RKF45, CDPR_PLANT_ROS34PW2,
                                                       CDPR_PLANT_ROS34PW2_FIXED};
         for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) {
             if (strcmp(arg, cdpr_plant_integrator_name(all[i])) == 0) {
                 ov->method = (int)all[i];
-                return 1;
+                return 0;
             }
         }
         fprintf(stderr, "%s: option --integrator: '%s': not rkf45, ros34pw2 or ros34pw2-fixed\n",
                 prog, arg);
         return -1;
     }
-    switch (c) {
-    case CDPR_APP_OPT_RATE:
-        field = &ov->rate_hz;
-        name = "rate";
-        break;
-    case CDPR_APP_OPT_DURATION:
-        field = &ov->duration_s;
-        name = "duration";
-        break;
-    case CDPR_APP_OPT_MAX_TRIALS:
-        field = &ov->max_trials;
-        name = "max-trials";
-        break;
-    case CDPR_APP_OPT_MAX_ATTEMPTS:
-        field = &ov->max_attempts;
-        name = "max-attempts";
-        break;
-    default:
-        return 0;
+    static const int codes[] = {CDPR_APP_OPT_RATE, CDPR_APP_OPT_DURATION, CDPR_APP_OPT_MAX_TRIALS,
+                                CDPR_APP_OPT_MAX_ATTEMPTS};
+    static const char *const names[] = {"rate", "duration", "max-trials", "max-attempts"};
+    double *const fields[] = {&ov->rate_hz, &ov->duration_s, &ov->max_trials, &ov->max_attempts};
+    for (size_t i = 0; i < sizeof codes / sizeof codes[0]; ++i) {
+        if (c == codes[i]) {
+            return (cdpr_cli_real(prog, names[i], arg, fields[i]) == CDPR_OK) ? 0 : -1;
+        }
     }
-    return (cdpr_cli_real(prog, name, arg, field) == CDPR_OK) ? 1 : -1;
+    return 1;
 }
 
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,

@@ -30,9 +30,10 @@ enum {
 // clang-format on
 
 /// If getopt code `c` is an override option, parse its argument into `ov` (any finite number:
-/// the ranges are the scenario's, checked by cdpr_app_scenario; --integrator: rkf45 or
-/// ros34pw2). Returns 1 when it was one and parsed, 0 when `c` is not an override option, -1
-/// after printing why the argument is not a number (or not an integrator).
+/// the ranges are the scenario's, checked by cdpr_app_scenario; --integrator: rkf45, ros34pw2
+/// or ros34pw2-fixed). Returns as a cdpr_app_option_fn (app_cli.h): 0 when it was one and
+/// parsed, 1 when `c` is not an override option, -1 after printing why the argument is not a
+/// number (or not an integrator).
 int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov);
 
 /// Load scenario file `path` and apply the overrides `ov` (a note on stderr for each value

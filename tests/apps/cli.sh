@@ -61,10 +61,24 @@ fi
 case "$name" in
 cdpr-rt)
     usage_error "--check-design needs --with-tracker" x.yaml --check-design
+    usage_error "--priority: a whole number" x.yaml --priority 1.5
+    usage_error "--max-misses-in-row: a whole number" x.yaml --max-misses-in-row 2.5
     ;;
 cdpr-design)
     usage_error "--verdict takes no --at, --step-test, --check or --zoh (it checks at the apps' pose and writes nothing)" x.yaml --verdict --at 1
     usage_error "--quiet is for --verdict" x.yaml out --quiet
+    ;;
+esac
+
+# A bad argument is refused with a message, never silently (each app's own options).
+case "$name" in
+cdpr-settle)
+    run --segments ,
+    [ "$rc" -eq 2 ] && grep -q "^cdpr-settle: --segments: no value in ','" "$w/err" ||
+        bad "--segments ,: exit $rc, stderr '$(cat "$w/err")'"
+    run --segments "$(printf '%0200d' 1)"
+    [ "$rc" -eq 2 ] && grep -q "^cdpr-settle: --segments: longer than 127 characters" "$w/err" ||
+        bad "--segments (200 characters): exit $rc, stderr '$(cat "$w/err")'"
     ;;
 esac
 
