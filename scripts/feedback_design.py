@@ -6,7 +6,7 @@
     scripts/feedback_design.py SCENARIO [key=value ...] [--at T] [--out DIR] [--step-test J]
 
 key=value pairs change the scenario (dotted keys, e.g. controller.kd_s=0.1
-robot.cable.damping_ratio=0.005) in a copy written to OUT/scenario.yaml. cdpr-design (the C
+robot.rope.damping_ratio=0.005) in a copy written to OUT/scenario.yaml. cdpr-design (the C
 helper) settles the robot at the trajectory's pose at T (default: where it stops) and writes
 the Jacobians of the plant's RHS (A, B: payout rates) and of one real tracker step (Kx, Kz,
 Zx, Zz); this script then computes:

@@ -29,7 +29,7 @@ from concurrent.futures import ThreadPoolExecutor
 def set_key(text, dotted, value):
     """Set `a.b.c: value` in YAML text written like the files in scenarios/ (2-space indent,
     one key per line). Replaces an existing leaf or inserts it as the first key of its
-    parent block."""
+    parent block; value None deletes the leaf (an error if it is not there)."""
     parts = dotted.split(".")
     lines = text.split("\n")
     lo, hi = 0, len(lines)
@@ -41,7 +41,7 @@ def set_key(text, dotted, value):
                 found = i
                 break
         if found is None:
-            if depth == len(parts) - 1 and depth > 0:
+            if depth == len(parts) - 1 and depth > 0 and value is not None:
                 lines.insert(lo, " " * (2 * depth) + name + ": " + value)
                 return "\n".join(lines)
             raise SystemExit("gain_sweep: key not found: " + dotted)
@@ -53,6 +53,9 @@ def set_key(text, dotted, value):
                     len(s) - len(s.lstrip()) <= 2 * depth:
                 end = i
                 break
+        if depth == len(parts) - 1 and value is None:
+            del lines[found:end]
+            return "\n".join(lines)
         if depth == len(parts) - 1:
             comment = ""
             m = re.search(r"\s+#.*$", lines[found])

@@ -31,7 +31,9 @@ _spec.loader.exec_module(_gs)
 
 TK = "controller.tension_gain_m_per_s_per_N"
 TF = "controller.tension_filter_s"
-NO_C = ["robot.cable.damping_Ns=0"]
+# A damping ratio instead of the rope's c: the key damping_Ns deleted ("-key"), as a rope takes
+# one damping form.
+NO_C = ["-robot.rope.damping_Ns"]
 
 # name: (scenario, edits, cdpr-sim options, what it measures)
 CASES = {
@@ -47,11 +49,11 @@ CASES = {
         [], "after_transfer"),
     "laps": ("paper-circle-laps.yaml", [], [], "laps"),
     "hold": ("paper-line-hold.yaml", [], [], "hold"),
-    "hold_ff_z0.1": ("paper-line-hold.yaml", NO_C + ["robot.cable.damping_ratio=0.001",
+    "hold_ff_z0.1": ("paper-line-hold.yaml", NO_C + ["robot.rope.damping_ratio=0.001",
                                                      TK + "=0"], [], "hold"),
-    "hold_z0.1": ("paper-line-hold.yaml", NO_C + ["robot.cable.damping_ratio=0.001"], [], "hold"),
-    "hold_z0.5": ("paper-line-hold.yaml", NO_C + ["robot.cable.damping_ratio=0.005"], [], "hold"),
-    "hold_z2": ("paper-line-hold.yaml", NO_C + ["robot.cable.damping_ratio=0.02"], [], "hold"),
+    "hold_z0.1": ("paper-line-hold.yaml", NO_C + ["robot.rope.damping_ratio=0.001"], [], "hold"),
+    "hold_z0.5": ("paper-line-hold.yaml", NO_C + ["robot.rope.damping_ratio=0.005"], [], "hold"),
+    "hold_z2": ("paper-line-hold.yaml", NO_C + ["robot.rope.damping_ratio=0.02"], [], "hold"),
     "fast_wind": ("fast-wind.yaml", [], [], "whole"),
 }
 
@@ -115,7 +117,7 @@ def run_case(name, bindir, out):
     scen, edits, opts, kind = CASES[name]
     text = open(os.path.join(ROOT, "scenarios", scen)).read()
     for e in edits:
-        k, v = e.split("=", 1)
+        k, v = (e[1:], None) if e.startswith("-") else e.split("=", 1)
         text = _gs.set_key(text, k, v)
     d = os.path.join(out, name)
     os.makedirs(d, exist_ok=True)

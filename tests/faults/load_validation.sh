@@ -85,7 +85,7 @@ refused m1_period_overflow m1.yaml \
     "m1.yaml:18: run.period_s: 1e-20 s gives 1e+19 control periods over run.duration_s = 0.1 s: more than the 1e+09 a run may have"
 
 # L5: an inertia no rigid body has, a zero output rate, 5 km cables.
-base | sed 's/^  segments: 20$/  segments: 20\n  cabin: {inertia_kg_m2: [1, 1, 10]}/' >l5a.yaml
+base | sed 's/^  segments: 20$/  segments: 20\n  cabin: {inertia_kg_m2: [[1, 0, 0], [0, 1, 0], [0, 0, 10]]}/' >l5a.yaml
 refused l5_inertia_triangle l5a.yaml \
     "l5a.yaml:4: robot.cabin.inertia_kg_m2: principal moments 1, 1, 10 kg m^2 break the triangle inequality (1 + 1 < 10): no rigid body has them"
 { base; echo "  output_rate_hz: 0"; } >l5b.yaml
@@ -115,12 +115,12 @@ short l6_short_echo
 
 # L8: undamped cables are refused before any settling step; stiff ones give up within the
 # documented step bound (CDPR_HOST_SETTLE_MAX_STEPS), the count from the code.
-base | sed 's/^  segments: 20$/  segments: 20\n  cable: {damping_Ns: 0}/' >l8a.yaml
+base | sed 's/^  segments: 20$/  segments: 20\n  rope: {damping_Ns: 0}/' >l8a.yaml
 refused l8_undamped l8a.yaml \
-    "l8a.yaml:4: robot.cable: cable 1 undamped (damping 0): the settle cannot converge; set robot.cable.damping_ratio (or damping_Ns)"
-base | sed 's/^  segments: 20$/  segments: 20\n  cable: {ea_N: 1e13}/' >l8b.yaml
+    "l8a.yaml:4: robot.rope: cable 1 undamped (damping 0): the settle cannot converge; set robot.rope.damping_ratio (or damping_Ns)"
+base | sed 's/^  segments: 20$/  segments: 20\n  rope: {ea_N: 1e13}/' >l8b.yaml
 refused l8_stiff l8b.yaml "l8b.yaml:1: robot: the initial state did not settle to rest: gave up after 200000 steps (the bound;" \
-    "the stiffest axial mode settles slowly: lower robot.cable.ea_N (1e+13 N) or robot.segments (20)"
+    "the stiffest axial mode settles slowly: lower robot.rope.ea_N (1e+13 N) or robot.segments (20)"
 
 # L9: a directory, a tab, an unclosed list, an infeasible fast circle.
 mkdir -p l9-dir.yaml
@@ -133,7 +133,7 @@ refused l9_unclosed_list l9c.yaml \
 sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 12.0/; s/duration_s: 12.6 .*/duration_s: 1.0/' \
     "$src/scenarios/paper-circle.yaml" >l9d.yaml
 refused l9_infeasible_circle l9d.yaml \
-    "l9d.yaml:48: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad) is not reachable" \
+    "l9d.yaml:50: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad) is not reachable" \
     "cable 3 would need a tension of -2615 N (pushing; straight-cable estimate): CDPR_E_INFEASIBLE"
 # A circle just fast enough that the load leaves cables (nearly) slack at the start: the sag-aware
 # equilibrium has a cable hanging in a loop, reported with the straight-cable tensions (before:
@@ -141,12 +141,12 @@ refused l9_infeasible_circle l9d.yaml \
 sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 2.2/; s/duration_s: 12.6 .*/duration_s: 0.1/' \
     "$src/scenarios/paper-circle.yaml" >l9e.yaml
 refused l9_loop_at_start l9e.yaml \
-    "l9e.yaml:48: trajectory.circle: desired pose at t = 0 s: cable 2 would hang in a loop, 555.556 m long for a chord of 31.541 m" \
+    "l9e.yaml:50: trajectory.circle: desired pose at t = 0 s: cable 2 would hang in a loop, 555.556 m long for a chord of 31.541 m" \
     "its straight-cable tension under the weight and the feed-forward's inertial load is 5.37 N, the cabin's weight 392 N"
 sed 's/speed_m_per_s: 2.0 .*/speed_m_per_s: 2.25/; s/duration_s: 12.6 .*/duration_s: 0.1/' \
     "$src/scenarios/paper-circle.yaml" >l9f.yaml
 refused l9_slack_at_start l9f.yaml \
-    "l9f.yaml:48: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad): the weight and the feed-forward's inertial load leave cables 2 (1.18 N), 3 (1.18 N) slack"
+    "l9f.yaml:50: trajectory.circle: desired pose at t = 0 s (1.22465e-16, 0, 9.135 m, 0, 0, 0 rad): the weight and the feed-forward's inertial load leave cables 2 (1.18 N), 3 (1.18 N) slack"
 
 # The controller's design, checked at load when asked (--check-design runs cdpr-design
 # --verdict, whose lines are prefixed cdpr-design; lib/design,

@@ -31,7 +31,9 @@ static void load_circle(int segments, double duration)
 {
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(CIRCLE, &g_sc, &err), err.msg);
-    g_sc.robot.segments = segments;
+    for (int j = 0; j < g_sc.rig.n_cables; ++j) {
+        g_sc.rig.cable[j].segments = segments;
+    }
     cdpr_scenario_overrides_t ov;
     cdpr_scenario_overrides_none(&ov);
     ov.rate_hz = 1000.0;

@@ -32,6 +32,7 @@ static const char GOOD_LINE[] = "description: \"test: every key\"\n"
                                 "  preset: paper-50m\n"
                                 "  segments: 12\n"
                                 "  gravity_m_per_s2: 9.81\n"
+                                "  air_density_kg_per_m3: 1.2\n"
                                 "  wind_m_per_s: [1.0, -0.5, 0.0]\n"
                                 "  towers:\n"
                                 "    radius_m: 26.0\n"
@@ -43,17 +44,16 @@ static const char GOOD_LINE[] = "description: \"test: every key\"\n"
                                 "    azimuths_deg: [24, 36, 144, 156, 264, 276]\n"
                                 "  cabin:\n"
                                 "    mass_kg: 41.0\n"
-                                "    inertia_kg_m2: [50.0, 46.0, 91.0]\n"
-                                "    products_kg_m2: [0.5, -0.25, 0.125]\n"
+                                "    inertia_kg_m2: [[50.0, 0.5, -0.25], [0.5, 46.0, 0.125], "
+                                "[-0.25, 0.125, 91.0]]\n"
                                 "    com_m: [0.01, -0.02, 0.03]\n"
-                                "  cable:\n"
+                                "  rope:\n"
                                 "    d0_m: 0.007\n"
                                 "    rho_kg_per_m: 0.15\n"
                                 "    ea_N: 2.5e6\n"
                                 "    damping_Ns: 160.0\n"
                                 "    cd: 1.1\n"
                                 "    cm: 0.04\n"
-                                "    rho_air_kg_per_m3: 1.2\n"
                                 "  winch:\n"
                                 "    u_max_m_per_s: 3.5\n"
                                 "    a_max_m_per_s2: 4.5\n"
@@ -139,35 +139,46 @@ static void test_every_key_resolves_to_the_value_written(void)
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
     /* Exact: decimal literals parse to the nearest double, as the C literals below do. */
-    const cdpr_preset_config_t *c = &sc.robot;
     TEST_ASSERT_EQUAL_STRING("test: every key", sc.description);
-    TEST_ASSERT_EQUAL_INT(CDPR_PRESET_PAPER_50M, c->preset);
-    TEST_ASSERT_EQUAL_INT(12, c->segments);
-    TEST_ASSERT_EQUAL_DOUBLE(9.81, c->gravity_m_per_s2);
-    TEST_ASSERT_EQUAL_DOUBLE(1.0, c->wind_m_per_s[0]);
-    TEST_ASSERT_EQUAL_DOUBLE(-0.5, c->wind_m_per_s[1]);
-    TEST_ASSERT_EQUAL_DOUBLE(26.0, c->exit_radius_m);
-    TEST_ASSERT_EQUAL_DOUBLE(31.0, c->exit_height_m);
-    TEST_ASSERT_EQUAL_DOUBLE(301.0, c->exit_azimuth_deg[5]);
-    TEST_ASSERT_EQUAL_DOUBLE(2.1, c->attach_radius_m);
-    TEST_ASSERT_EQUAL_DOUBLE(-0.4, c->attach_z_m);
-    TEST_ASSERT_EQUAL_DOUBLE(24.0, c->attach_azimuth_deg[0]);
-    TEST_ASSERT_EQUAL_DOUBLE(276.0, c->attach_azimuth_deg[5]);
-    TEST_ASSERT_EQUAL_DOUBLE(41.0, c->cabin_mass_kg);
-    TEST_ASSERT_EQUAL_DOUBLE(46.0, c->cabin_inertia_kg_m2[1]);
-    TEST_ASSERT_EQUAL_DOUBLE(0.125, c->cabin_products_kg_m2[2]);
-    TEST_ASSERT_EQUAL_DOUBLE(-0.02, c->cabin_com_m[1]);
-    TEST_ASSERT_EQUAL_DOUBLE(0.007, c->cable.d0_m);
-    TEST_ASSERT_EQUAL_DOUBLE(0.15, c->cable.rho_kg_per_m);
-    TEST_ASSERT_EQUAL_DOUBLE(2.5e6, c->cable.ea_N);
-    TEST_ASSERT_EQUAL_DOUBLE(160.0, c->cable.damping_Ns);
-    TEST_ASSERT_EQUAL_DOUBLE(1.1, c->cable.cd);
-    TEST_ASSERT_EQUAL_DOUBLE(0.04, c->cable.cm);
-    TEST_ASSERT_EQUAL_DOUBLE(1.2, c->cable.rho_air_kg_per_m3);
-    TEST_ASSERT_EQUAL_DOUBLE(3.5, c->winch.u_max_m_per_s);
-    TEST_ASSERT_EQUAL_DOUBLE(4.5, c->winch.a_max_m_per_s2);
-    TEST_ASSERT_EQUAL_DOUBLE(4.0, c->winch.kp_per_s);
-    TEST_ASSERT_EQUAL_DOUBLE(0.75, c->winch.min_length_m);
+    TEST_ASSERT_EQUAL_INT(CDPR_ROBOT_FROM_PRESET, sc.robot_source);
+    TEST_ASSERT_EQUAL_INT(CDPR_PRESET_PAPER_50M, sc.preset);
+    TEST_ASSERT_EQUAL_STRING("paper-50m", sc.rig.name);
+    const cdpr_rig_t *g = &sc.rig;
+    TEST_ASSERT_EQUAL_INT(6, g->n_cables);
+    TEST_ASSERT_EQUAL_DOUBLE(9.81, g->gravity_m_per_s2);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, g->wind_m_per_s[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(-0.5, g->wind_m_per_s[1]);
+    /* The polar layout, evaluated here from its definition (docs/robots.md): exit points at
+     * radius 26 m, height 31 m, azimuths 1 + 60 j deg; attachments at 2.1 m, z -0.4 m. */
+    const double exit_deg[6] = {1, 61, 121, 181, 241, 301};
+    const double att_deg[6] = {24, 36, 144, 156, 264, 276};
+    for (int j = 0; j < 6; ++j) {
+        const cdpr_rig_cable_t *k = &g->cable[j];
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 26.0 * cos(exit_deg[j] * PI / 180.0), k->exit_m[0]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 26.0 * sin(exit_deg[j] * PI / 180.0), k->exit_m[1]);
+        TEST_ASSERT_EQUAL_DOUBLE(31.0, k->exit_m[2]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 2.1 * cos(att_deg[j] * PI / 180.0), k->attach_m[0]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 2.1 * sin(att_deg[j] * PI / 180.0), k->attach_m[1]);
+        TEST_ASSERT_EQUAL_DOUBLE(-0.4, k->attach_m[2]);
+        /* Robot-level rope, winch, segments and air density: every cable. */
+        TEST_ASSERT_EQUAL_INT(12, k->segments);
+        TEST_ASSERT_EQUAL_DOUBLE(0.007, k->rope.d0_m);
+        TEST_ASSERT_EQUAL_DOUBLE(0.15, k->rope.rho_kg_per_m);
+        TEST_ASSERT_EQUAL_DOUBLE(2.5e6, k->rope.ea_N);
+        TEST_ASSERT_EQUAL_DOUBLE(160.0, k->rope.damping_Ns);
+        TEST_ASSERT_EQUAL_DOUBLE(1.1, k->rope.cd);
+        TEST_ASSERT_EQUAL_DOUBLE(0.04, k->rope.cm);
+        TEST_ASSERT_EQUAL_DOUBLE(1.2, k->rope.rho_air_kg_per_m3);
+        TEST_ASSERT_EQUAL_DOUBLE(3.5, k->winch.u_max_m_per_s);
+        TEST_ASSERT_EQUAL_DOUBLE(4.5, k->winch.a_max_m_per_s2);
+        TEST_ASSERT_EQUAL_DOUBLE(4.0, k->winch.kp_per_s);
+        TEST_ASSERT_EQUAL_DOUBLE(0.75, k->winch.min_length_m);
+    }
+    TEST_ASSERT_EQUAL_DOUBLE(41.0, g->cabin_mass_kg);
+    TEST_ASSERT_EQUAL_DOUBLE(46.0, g->cabin_inertia_kg_m2[1][1]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.125, g->cabin_inertia_kg_m2[2][1]);
+    TEST_ASSERT_EQUAL_DOUBLE(-0.25, g->cabin_inertia_kg_m2[0][2]);
+    TEST_ASSERT_EQUAL_DOUBLE(-0.02, g->cabin_com_m[1]);
     TEST_ASSERT_EQUAL_INT(1, sc.has_initial_pose);
     TEST_ASSERT_EQUAL_DOUBLE(10.0, sc.initial_pose[2]);
     TEST_ASSERT_EQUAL_DOUBLE(0.002, sc.initial_offset[5]);
@@ -211,30 +222,32 @@ static void test_omitted_keys_take_the_preset(void)
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
     /* docs/robots.md set A, typed in from the table. */
-    const cdpr_preset_config_t *c = &sc.robot;
-    TEST_ASSERT_EQUAL_DOUBLE(25.0, c->exit_radius_m);
-    TEST_ASSERT_EQUAL_DOUBLE(30.0, c->exit_height_m);
-    TEST_ASSERT_EQUAL_DOUBLE(2.0, c->attach_radius_m);
-    TEST_ASSERT_EQUAL_DOUBLE(-0.5, c->attach_z_m);
+    const cdpr_rig_t *g = &sc.rig;
     const double att[6] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
     for (int j = 0; j < 6; ++j) {
-        TEST_ASSERT_EQUAL_DOUBLE(att[j], c->attach_azimuth_deg[j]);
-        TEST_ASSERT_EQUAL_DOUBLE(60.0 * j, c->exit_azimuth_deg[j]);
+        const cdpr_rig_cable_t *k = &g->cable[j];
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 25.0 * cos(60.0 * j * PI / 180.0), k->exit_m[0]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 25.0 * sin(60.0 * j * PI / 180.0), k->exit_m[1]);
+        TEST_ASSERT_EQUAL_DOUBLE(30.0, k->exit_m[2]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 2.0 * cos(att[j] * PI / 180.0), k->attach_m[0]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, 2.0 * sin(att[j] * PI / 180.0), k->attach_m[1]);
+        TEST_ASSERT_EQUAL_DOUBLE(-0.5, k->attach_m[2]);
+        TEST_ASSERT_EQUAL_DOUBLE(0.006, k->rope.d0_m);
+        TEST_ASSERT_EQUAL_DOUBLE(0.14, k->rope.rho_kg_per_m);
+        TEST_ASSERT_EQUAL_DOUBLE(2.0e6, k->rope.ea_N);
+        TEST_ASSERT_EQUAL_DOUBLE(170.0, k->rope.damping_Ns);
+        TEST_ASSERT_EQUAL_DOUBLE(1.2, k->rope.cd);
+        TEST_ASSERT_EQUAL_DOUBLE(0.03, k->rope.cm);
+        TEST_ASSERT_EQUAL_DOUBLE(1.225, k->rope.rho_air_kg_per_m3);
+        TEST_ASSERT_EQUAL_DOUBLE(4.0, k->winch.u_max_m_per_s);
+        TEST_ASSERT_EQUAL_DOUBLE(5.0, k->winch.a_max_m_per_s2);
+        TEST_ASSERT_EQUAL_INT(20, k->segments);
     }
-    TEST_ASSERT_EQUAL_DOUBLE(40.0, c->cabin_mass_kg);
-    TEST_ASSERT_EQUAL_DOUBLE(45.0, c->cabin_inertia_kg_m2[0]);
-    TEST_ASSERT_EQUAL_DOUBLE(90.0, c->cabin_inertia_kg_m2[2]);
-    TEST_ASSERT_EQUAL_DOUBLE(0.006, c->cable.d0_m);
-    TEST_ASSERT_EQUAL_DOUBLE(0.14, c->cable.rho_kg_per_m);
-    TEST_ASSERT_EQUAL_DOUBLE(2.0e6, c->cable.ea_N);
-    TEST_ASSERT_EQUAL_DOUBLE(170.0, c->cable.damping_Ns);
-    TEST_ASSERT_EQUAL_DOUBLE(1.2, c->cable.cd);
-    TEST_ASSERT_EQUAL_DOUBLE(0.03, c->cable.cm);
-    TEST_ASSERT_EQUAL_DOUBLE(1.225, c->cable.rho_air_kg_per_m3);
-    TEST_ASSERT_EQUAL_DOUBLE(4.0, c->winch.u_max_m_per_s);
-    TEST_ASSERT_EQUAL_DOUBLE(5.0, c->winch.a_max_m_per_s2);
-    TEST_ASSERT_EQUAL_INT(20, c->segments);
-    TEST_ASSERT_EQUAL_DOUBLE(9.80665, c->gravity_m_per_s2);
+    TEST_ASSERT_EQUAL_DOUBLE(40.0, g->cabin_mass_kg);
+    TEST_ASSERT_EQUAL_DOUBLE(45.0, g->cabin_inertia_kg_m2[0][0]);
+    TEST_ASSERT_EQUAL_DOUBLE(90.0, g->cabin_inertia_kg_m2[2][2]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, g->cabin_inertia_kg_m2[0][1]);
+    TEST_ASSERT_EQUAL_DOUBLE(9.80665, g->gravity_m_per_s2);
     /* Documented defaults of the optional sections (docs/scenarios.md). */
     TEST_ASSERT_EQUAL_INT(0, sc.has_initial_pose);
     TEST_ASSERT_EQUAL_DOUBLE(1.0, sc.traj.direction); /* ccw */
@@ -273,7 +286,7 @@ static void test_committed_scenarios_hold_the_papers_numbers(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-15, PI / 2.0, sc.traj.start_angle_rad);
     TEST_ASSERT_EQUAL_DOUBLE(0.001, sc.initial_offset[1]);
     TEST_ASSERT_EQUAL_DOUBLE(-1.470, sc.initial_offset[2]);
-    TEST_ASSERT_EQUAL_DOUBLE(2.0e6, sc.robot.cable.ea_N);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0e6, sc.rig.cable[5].rope.ea_N);
 
     TEST_ASSERT_EQUAL_INT_MESSAGE(
         CDPR_OK, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/paper-line.yaml", &sc, &err),
@@ -306,19 +319,19 @@ typedef struct {
 static const bad_case_t BAD[] = {
     {"missing key", "    duration_s: 10.0\n", "", "trajectory.line.duration_s", "  line:", 0},
     {"wrong type", "mass_kg: 41.0", "mass_kg: heavy", "robot.cabin.mass_kg", "mass_kg:", 0},
-    {"unknown key", "    cd: 1.1\n", "    cdd: 1.1\n", "robot.cable.cdd", "cdd:", 0},
-    {"NaN", "ea_N: 2.5e6", "ea_N: nan", "robot.cable.ea_N", "ea_N:", 0},
-    {"YAML NaN", "ea_N: 2.5e6", "ea_N: .nan", "robot.cable.ea_N", "ea_N:", 0},
+    {"unknown key", "    cd: 1.1\n", "    cdd: 1.1\n", "robot.rope.cdd", "cdd:", 0},
+    {"NaN", "ea_N: 2.5e6", "ea_N: nan", "robot.rope.ea_N", "ea_N:", 0},
+    {"YAML NaN", "ea_N: 2.5e6", "ea_N: .nan", "robot.rope.ea_N", "ea_N:", 0},
     {"Inf", "rtol: 1.0e-7", "rtol: inf", "integrator.rtol", "rtol:", 0},
     {"overflow", "rtol: 1.0e-7", "rtol: 1e999", "integrator.rtol", "rtol:", 0},
     {"NaN in a list", "[0.1, 0.2, 10.0, 0.01, -0.02, 0.03]\n  offset",
      "[0.1, nan, 10.0, 0.01, -0.02, 0.03]\n  offset", "initial.pose", "  pose:", 0},
     {"out of range", "segments: 12", "segments: 0", "robot.segments", "segments:", 0},
-    {"negative", "ea_N: 2.5e6", "ea_N: -2.5e6", "robot.cable.ea_N", "ea_N:", 0},
+    {"negative", "ea_N: 2.5e6", "ea_N: -2.5e6", "robot.rope.ea_N", "ea_N:", 0},
     {"not an integer", "max_trials: 300", "max_trials: 3.5", "integrator.max_trials",
      "max_trials:", 0},
     {"bad name", "type: line", "type: spiral", "trajectory.type", "type:", 0},
-    {"short list", "[50.0, 46.0, 91.0]", "[50.0, 46.0]", "robot.cabin.inertia_kg_m2",
+    {"short list", "[-0.25, 0.125, 91.0]]", "[-0.25, 0.125]]", "robot.cabin.inertia_kg_m2",
      "inertia_kg_m2:", 0},
     {"scalar for a section", "controller:\n  kp: 0.5\n", "controller: 3\ncontroller2:\n  kp: 0.5\n",
      "controller", "controller:", 0},
@@ -337,9 +350,20 @@ static const bad_case_t BAD[] = {
      "period_s:", 0},
     {"output rate 0 (L5)", "output_rate_hz: 25", "output_rate_hz: 0", "run.output_rate_hz",
      "output_rate_hz:", 0},
-    {"inertia triangle (L5)", "[50.0, 46.0, 91.0]", "[1.0, 1.0, 10.0]", "robot.cabin.inertia_kg_m2",
-     "inertia_kg_m2:", 0},
-    {"undamped cables (L8)", "damping_Ns: 160.0", "damping_Ns: 0.0", "robot.cable", "  cable:", 1},
+    {"inertia triangle (L5)", "[[50.0, 0.5, -0.25], [0.5, 46.0, 0.125], [-0.25, 0.125, 91.0]]",
+     "[[1.0, 0, 0], [0, 1.0, 0], [0, 0, 10.0]]", "robot.cabin.inertia_kg_m2", "inertia_kg_m2:", 0},
+    {"undamped cables (L8)", "damping_Ns: 160.0", "damping_Ns: 0.0", "robot.rope", "  rope:", 1},
+    /* One schema (issue 21): the preset form's former keys are refused, naming the key. */
+    {"the former cable: of a preset", "  rope:\n", "  cable:\n", "robot.cable", "  cable:", 0},
+    {"a polar layout out of range", "    radius_m: 26.0\n", "    radius_m: -26.0\n",
+     "robot.towers.radius_m", "radius_m: -26.0", 0},
+    {"a polar layout without a preset", "  preset: paper-50m\n", "", "robot.towers",
+     "  towers:", 0},
+    {"a robot file with a preset", "  preset: paper-50m\n", "  preset: paper-50m\n  file: x.yaml\n",
+     "robot.file", "  file:", 0},
+    {"a preset's robot lists no cables", "  winch:\n",
+     "  cables:\n    - exit_m: [0, 0, 1]\n      attach_m: [0, 0, 0]\n  winch:\n", "robot.cables",
+     "  cables:", 0},
     {"cables beyond 1000 m (L5)", "    radius_m: 26.0\n    exit_height_m: 31.0\n",
      "    radius_m: 2000.0\n    exit_height_m: 1500.0\n", "trajectory.line", "  line:", 1},
     {"unreachable start", "pose: [0.1, 0.2, 10.0", "pose: [0.1, 0.2, 35.0", "initial.pose",
@@ -366,7 +390,7 @@ static const bad_case_t BAD[] = {
      * prefix ("4O.0" as 4, "2_500_000" as 2, "41 kg" as 41) and hex. */
     {"trailing text (letter O)", "mass_kg: 41.0", "mass_kg: 4O.0", "robot.cabin.mass_kg",
      "mass_kg:", 0},
-    {"digit separators", "ea_N: 2.5e6", "ea_N: 2_500_000", "robot.cable.ea_N", "ea_N:", 0},
+    {"digit separators", "ea_N: 2.5e6", "ea_N: 2_500_000", "robot.rope.ea_N", "ea_N:", 0},
     {"a unit", "mass_kg: 41.0", "mass_kg: 41 kg", "robot.cabin.mass_kg", "mass_kg:", 0},
     {"a unit suffix", "period_s: 0.02", "period_s: 0.02s", "run.period_s", "period_s:", 0},
     {"hex", "segments: 12", "segments: 0x0C", "robot.segments", "segments:", 0},
@@ -397,11 +421,11 @@ static void test_damping_ratio_and_slack_law(void)
     cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, &sc, &err), err.msg);
-    TEST_ASSERT_EQUAL_DOUBLE(0.01, sc.robot.cable.damping_ratio);
-    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.robot.cable.damping_Ns);
-    TEST_ASSERT_EQUAL_INT(CDPR_SLACK_MOORDYN, sc.robot.cable.slack_law);
+    TEST_ASSERT_EQUAL_DOUBLE(0.01, sc.rig.cable[0].rope.damping_ratio);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.rig.cable[0].rope.damping_Ns);
+    TEST_ASSERT_EQUAL_INT(CDPR_SLACK_MOORDYN, sc.rig.cable[0].rope.slack_law);
     cdpr_robot_params_t rp;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&sc.robot, NULL, &rp, NULL, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_scenario_build_robot(&sc, NULL, &rp, NULL, NULL));
     static cdpr_robot_t robot;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&robot, &rp, NULL));
     /* EA 2.5e6 N: c = 0.01 * 2.5e6 / (pi * 4) = 1989.4368 N s. */
@@ -411,8 +435,10 @@ static void test_damping_ratio_and_slack_law(void)
             "    damping_Ns: 160.0\n    damping_ratio: 0.01\n", text, sizeof text);
     snprintf(path, sizeof path, "%s/damping_both.yaml", tmp_dir);
     write_text(path, text);
-    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_scenario_load(path, &sc, &err));
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "damping_ratio"), err.msg);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_PARSE, cdpr_scenario_load(path, &sc, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "robot.rope.damping_ratio: give damping_Ns or "
+                                                 "damping_ratio"),
+                                 err.msg);
     replace(GOOD_LINE, "    damping_Ns: 160.0\n", "    damping_Ns: 160.0\n    slack_law: clip\n",
             text, sizeof text);
     snprintf(path, sizeof path, "%s/slack_law.yaml", tmp_dir);

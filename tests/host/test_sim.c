@@ -306,10 +306,13 @@ static void test_deploy_retrieve_node_events(void)
     cdpr_scenario_t sc;
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(scenario, &sc, &err), err.msg);
-    sc.robot.segments = 10;
+    const int segments = 10;
+    for (int j = 0; j < sc.rig.n_cables; ++j) {
+        sc.rig.cable[j].segments = segments;
+    }
     cdpr_robot_params_t p;
     static cdpr_robot_t model;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_preset_build(&sc.robot, NULL, &p, NULL, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_scenario_build_robot(&sc, NULL, &p, NULL, NULL));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&model, &p, NULL));
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
@@ -319,7 +322,7 @@ static void test_deploy_retrieve_node_events(void)
     const cdpr_cabin_motion_t m1 = cdpr_cabin_motion_at_pose(sc.traj.to);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &bottom));
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m1, &o, &top));
-    const double delta = bottom.cable[0].length_m / sc.robot.segments;
+    const double delta = bottom.cable[0].length_m / segments;
     const double haul = bottom.cable[0].length_m - top.cable[0].length_m;
     const int k = (int)floor(haul / delta + 0.5);
     const double frac = haul / delta + 0.5 - (double)k; /* distance from the boundaries */
@@ -334,8 +337,8 @@ static void test_deploy_retrieve_node_events(void)
     TEST_ASSERT_EQUAL_INT(CDPR_SUMMARY_OK, s.status);
     TEST_ASSERT_EQUAL_UINT32((unsigned)(6 * k), (unsigned)s.node_removals);
     TEST_ASSERT_EQUAL_UINT32((unsigned)(6 * k), (unsigned)s.node_insertions);
-    TEST_ASSERT_EQUAL_INT(sc.robot.segments - k, s.nodes_min);
-    TEST_ASSERT_EQUAL_INT(sc.robot.segments, s.nodes_max);
+    TEST_ASSERT_EQUAL_INT(segments - k, s.nodes_min);
+    TEST_ASSERT_EQUAL_INT(segments, s.nodes_max);
 
     /* The segment counts of the written rows (every 2 periods, output_rate_hz 50) give the
      * same counts: what cdpr-tracker writes for a run it saw over LCM. */

@@ -44,24 +44,23 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
     cdpr_plant_params_default(pp);
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
-    cdpr_rig_t rig;
-    cdpr_scenario_rig(sc, &rig);
-    if (cdpr_rig_build(&rig, NULL, &pp->robot, pp->winch, &d) != CDPR_OK) {
+    const cdpr_rig_t *rig = &sc->rig;
+    if (cdpr_rig_build(rig, NULL, &pp->robot, pp->winch, &d) != CDPR_OK) {
         return fail(sc, "robot", "rejected by the model", &d, err);
     }
-    if (rig.n_cables != CDPR_RIG_IK_CABLES) {
+    if (rig->n_cables != CDPR_RIG_IK_CABLES) {
         char what[256];
         snprintf(what, sizeof what,
                  "%d cables: the plant starts from the sag-aware inverse kinematics of the "
                  "initial pose (cdpr_statics_ik), which needs exactly %d",
-                 rig.n_cables, CDPR_RIG_IK_CABLES);
+                 rig->n_cables, CDPR_RIG_IK_CABLES);
         cdpr_scenario_error(sc, "robot", what, err);
         return CDPR_E_CAPACITY;
     }
     double pose[6];
     cdpr_scenario_initial_pose(sc, pose);
     pp->initial = cdpr_cabin_motion_at_pose(pose);
-    pp->wind_m_per_s = cdpr_v3(rig.wind_m_per_s[0], rig.wind_m_per_s[1], rig.wind_m_per_s[2]);
+    pp->wind_m_per_s = cdpr_v3(rig->wind_m_per_s[0], rig->wind_m_per_s[1], rig->wind_m_per_s[2]);
     const cdpr_scenario_integrator_t *in = &sc->integrator;
     pp->rkf45.step.rtol = in->rtol;
     pp->rkf45.step.h_max_s = in->h_max_s;
@@ -126,7 +125,7 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
             char advice[256];
             if (sc->robot_source == CDPR_ROBOT_FROM_PRESET) {
                 snprintf(advice, sizeof advice,
-                         "lower robot.cable.ea_N (%g N) or robot.segments (%d)",
+                         "lower robot.rope.ea_N (%g N) or robot.segments (%d)",
                          (double)c->cable.ea_N, c->n_segments);
             } else {
                 snprintf(advice, sizeof advice,
@@ -187,7 +186,7 @@ static cdpr_status_t init_error(const cdpr_plant_t *p, const cdpr_scenario_t *sc
 
 /* What provably cannot settle, refused before any settling step: a cable with no axial damping
  * (c = 0 and no damping ratio). The kinetic-damping resets alone leave its modes ringing: the
- * deploy-retrieve scenario with robot.cable.damping_Ns: 0 still had 1.8e-4 m/s^2 of residual
+ * deploy-retrieve scenario with robot.rope.damping_Ns: 0 still had 1.8e-4 m/s^2 of residual
  * acceleration after the 2e6 steps of the core's default bound (issue 10, L8). */
 static cdpr_status_t check_settleable(const cdpr_plant_params_t *pp, const cdpr_scenario_t *sc,
                                       cdpr_scenario_error_t *err)
@@ -199,9 +198,9 @@ static cdpr_status_t check_settleable(const cdpr_plant_params_t *pp, const cdpr_
             char what[512];
             snprintf(what, sizeof what,
                      "cable %d undamped (damping 0): the settle cannot converge; set %s", j + 1,
-                     (preset != 0) ? "robot.cable.damping_ratio (or damping_Ns)"
+                     (preset != 0) ? "robot.rope.damping_ratio (or damping_Ns)"
                                    : "rope.damping_ratio (or damping_Ns) of that cable");
-            cdpr_scenario_error(sc, (preset != 0) ? "robot.cable" : "robot", what, err);
+            cdpr_scenario_error(sc, (preset != 0) ? "robot.rope" : "robot", what, err);
             return CDPR_E_NO_CONVERGENCE;
         }
     }

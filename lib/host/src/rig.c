@@ -21,21 +21,19 @@
 #define OPT_SEQ                     (CYAML_FLAG_OPTIONAL | CYAML_FLAG_POINTER)
 #define OPT_NUMP(key, type, member) CYAML_FIELD_FLOAT_PTR(key, OPT_NUM, type, member)
 #define OPT_VEC(key, type, member, n)                                                              \
-    CYAML_FIELD_SEQUENCE_FIXED(key, OPT_SEQ, type, member, &num, n)
+    CYAML_FIELD_SEQUENCE_FIXED(key, OPT_SEQ, type, member, &cdpr_rig_num_schema, n)
 
-/* Largest `cables:` list read (the count is then checked against CDPR_MAX_CABLES). */
-#define RIG_MAX_LISTED 64
-
-static const cyaml_schema_value_t num = {CYAML_VALUE_FLOAT(CYAML_FLAG_STRICT, double)};
+/* Strict floats: overflow such as 1e999 is an error, not Inf; "4O.0" is not a number. */
+const cyaml_schema_value_t cdpr_rig_num_schema = {CYAML_VALUE_FLOAT(CYAML_FLAG_STRICT, double)};
 static const cyaml_schema_value_t row = {
-    CYAML_VALUE_SEQUENCE_FIXED(CYAML_FLAG_POINTER, double, &num, 3),
+    CYAML_VALUE_SEQUENCE_FIXED(CYAML_FLAG_POINTER, double, &cdpr_rig_num_schema, 3),
 };
 
 static const cyaml_strval_t slack_law_names[] = {
     {"passive", CDPR_SLACK_PASSIVE},
     {"moordyn", CDPR_SLACK_MOORDYN},
 };
-static const cyaml_schema_field_t rope_fields[] = {
+const cyaml_schema_field_t cdpr_rig_rope_fields[] = {
     OPT_NUMP("d0_m", cdpr_raw_rope_t, d0_m),
     OPT_NUMP("rho_kg_per_m", cdpr_raw_rope_t, rho_kg_per_m),
     OPT_NUMP("ea_N", cdpr_raw_rope_t, ea_N),
@@ -48,7 +46,7 @@ static const cyaml_schema_field_t rope_fields[] = {
     OPT_NUMP("cm", cdpr_raw_rope_t, cm),
     CYAML_FIELD_END,
 };
-static const cyaml_schema_field_t winch_fields[] = {
+const cyaml_schema_field_t cdpr_rig_winch_fields[] = {
     OPT_NUMP("u_max_m_per_s", cdpr_raw_winch_t, u_max_m_per_s),
     OPT_NUMP("a_max_m_per_s2", cdpr_raw_winch_t, a_max_m_per_s2),
     OPT_NUMP("kp_per_s", cdpr_raw_winch_t, kp_per_s),
@@ -58,42 +56,23 @@ static const cyaml_schema_field_t winch_fields[] = {
 static const cyaml_schema_field_t cable_fields[] = {
     OPT_VEC("exit_m", cdpr_raw_rig_cable_t, exit_m, 3),
     OPT_VEC("attach_m", cdpr_raw_rig_cable_t, attach_m, 3),
-    CYAML_FIELD_MAPPING_PTR("rope", OPT, cdpr_raw_rig_cable_t, rope, rope_fields),
-    CYAML_FIELD_MAPPING_PTR("winch", OPT, cdpr_raw_rig_cable_t, winch, winch_fields),
+    CYAML_FIELD_MAPPING_PTR("rope", OPT, cdpr_raw_rig_cable_t, rope, cdpr_rig_rope_fields),
+    CYAML_FIELD_MAPPING_PTR("winch", OPT, cdpr_raw_rig_cable_t, winch, cdpr_rig_winch_fields),
     OPT_NUMP("segments", cdpr_raw_rig_cable_t, segments),
     CYAML_FIELD_END,
 };
-static const cyaml_schema_value_t cable_entry = {
+const cyaml_schema_value_t cdpr_rig_cable_entry = {
     CYAML_VALUE_MAPPING(CYAML_FLAG_DEFAULT, cdpr_raw_rig_cable_t, cable_fields),
 };
-static const cyaml_schema_field_t cabin_fields[] = {
+const cyaml_schema_field_t cdpr_rig_cabin_fields[] = {
     OPT_NUMP("mass_kg", cdpr_raw_cabin_t, mass_kg),
     CYAML_FIELD_SEQUENCE_FIXED("inertia_kg_m2", OPT_SEQ, cdpr_raw_cabin_t, inertia_kg_m2, &row, 3),
     OPT_VEC("com_m", cdpr_raw_cabin_t, com_m, 3),
     CYAML_FIELD_END,
 };
 
-/* The keys of a description, in a robot file and in a scenario's robot section alike. */
-#define RIG_FIELDS                                                                                 \
-    CYAML_FIELD_STRING_PTR("description", OPT, cdpr_raw_rig_t, description, 0, 255),               \
-        OPT_NUMP("gravity_m_per_s2", cdpr_raw_rig_t, gravity_m_per_s2),                            \
-        OPT_NUMP("air_density_kg_per_m3", cdpr_raw_rig_t, air_density_kg_per_m3),                  \
-        OPT_VEC("wind_m_per_s", cdpr_raw_rig_t, wind_m_per_s, 3),                                  \
-        OPT_VEC("nominal_pose", cdpr_raw_rig_t, nominal_pose, 6),                                  \
-        OPT_NUMP("segments", cdpr_raw_rig_t, segments),                                            \
-        CYAML_FIELD_MAPPING_PTR("rope", OPT, cdpr_raw_rig_t, rope, rope_fields),                   \
-        CYAML_FIELD_MAPPING_PTR("winch", OPT, cdpr_raw_rig_t, winch, winch_fields),                \
-        CYAML_FIELD_MAPPING_PTR("cabin", OPT, cdpr_raw_rig_t, cabin, cabin_fields),                \
-        CYAML_FIELD_SEQUENCE("cables", OPT_SEQ, cdpr_raw_rig_t, cables, &cable_entry, 0,           \
-                             RIG_MAX_LISTED)
-
 static const cyaml_schema_field_t file_fields[] = {
-    RIG_FIELDS,
-    CYAML_FIELD_END,
-};
-const cyaml_schema_field_t cdpr_rig_scenario_fields[] = {
-    CYAML_FIELD_STRING_PTR("file", OPT, cdpr_raw_rig_t, file, 1, 4095),
-    RIG_FIELDS,
+    CDPR_RIG_FIELDS,
     CYAML_FIELD_END,
 };
 static const cyaml_schema_value_t file_schema = {
@@ -373,53 +352,37 @@ static void resolve_cable(rctx_t *v, const cdpr_raw_rig_t *raw, int j, double ai
     c->segments = whole(v, key, *seg, 1, CDPR_MAX_SEGMENTS);
 }
 
-cdpr_status_t cdpr_rig_resolve(const cdpr_raw_rig_t *raw, const char *path, const char *prefix,
-                               cdpr_rig_t *rig, cdpr_rig_error_t *err)
+/* A complete description (no base): required keys, the documented defaults of the others. */
+static void resolve_full(rctx_t *v, const cdpr_raw_rig_t *raw, cdpr_rig_t *rig)
 {
-    rctx_t v = {path, prefix, err, CDPR_OK};
-    memset(rig, 0, sizeof *rig);
-    snprintf(rig->name, sizeof rig->name, "%s",
-             (path != NULL && path[0] != '\0' && prefix[0] == '\0') ? path : "embedded");
     if (raw->cables == NULL || raw->cables_count == 0) {
-        fail(&v, "cables", "missing required key (one entry per cable)", CDPR_E_PARSE);
-        return v.failed;
+        fail(v, "cables", "missing required key (one entry per cable)", CDPR_E_PARSE);
+        return;
     }
     if (raw->cables_count > (unsigned)CDPR_MAX_CABLES) {
         char what[256];
         snprintf(what, sizeof what,
                  "%u cables: this build supports 1 to %d (CDPR_MAX_CABLES, lib/core config.h)",
                  raw->cables_count, CDPR_MAX_CABLES);
-        fail(&v, "cables", what, CDPR_E_CAPACITY);
-        return v.failed;
+        fail(v, "cables", what, CDPR_E_CAPACITY);
+        return;
     }
     if (raw->cabin == NULL || raw->cabin->mass_kg == NULL || raw->cabin->inertia_kg_m2 == NULL) {
-        fail(&v,
+        fail(v,
              (raw->cabin == NULL)
                  ? "cabin"
                  : ((raw->cabin->mass_kg == NULL) ? "cabin.mass_kg" : "cabin.inertia_kg_m2"),
              "missing required key", CDPR_E_PARSE);
-        return v.failed;
+        return;
     }
     rig->n_cables = (int)raw->cables_count;
     rig->gravity_m_per_s2 = 9.80665;
-    take(&rig->gravity_m_per_s2, raw->gravity_m_per_s2, 1);
-    take(rig->wind_m_per_s, raw->wind_m_per_s, 3);
     double air = 1.225;
     take(&air, raw->air_density_kg_per_m3, 1);
-    rig->cabin_mass_kg = *raw->cabin->mass_kg;
-    for (int i = 0; i < 3; ++i) {
-        take(rig->cabin_inertia_kg_m2[i], raw->cabin->inertia_kg_m2[i], 3);
+    for (int j = 0; j < rig->n_cables && v->failed == CDPR_OK; ++j) {
+        resolve_cable(v, raw, j, air, &rig->cable[j]);
     }
-    take(rig->cabin_com_m, raw->cabin->com_m, 3);
-    for (int j = 0; j < rig->n_cables && v.failed == CDPR_OK; ++j) {
-        resolve_cable(&v, raw, j, air, &rig->cable[j]);
-    }
-    if (v.failed != CDPR_OK) {
-        return v.failed;
-    }
-    if (raw->nominal_pose != NULL) {
-        take(rig->nominal_pose, raw->nominal_pose, 6);
-    } else {
+    if (raw->nominal_pose == NULL) {
         /* Under the exit points' centroid, at half their mean height. */
         for (int j = 0; j < rig->n_cables; ++j) {
             for (int i = 0; i < 3; ++i) {
@@ -427,6 +390,52 @@ cdpr_status_t cdpr_rig_resolve(const cdpr_raw_rig_t *raw, const char *path, cons
             }
         }
         rig->nominal_pose[2] *= 0.5;
+    }
+}
+
+/* Overrides of a base (a preset's rig): robot-level keys only, each applied to every cable. */
+static void resolve_over(rctx_t *v, const cdpr_raw_rig_t *raw, cdpr_rig_t *rig)
+{
+    int unused[4] = {0, 0, 0, 0};
+    for (int j = 0; j < rig->n_cables && v->failed == CDPR_OK; ++j) {
+        cdpr_rig_cable_t *c = &rig->cable[j];
+        take(&c->rope.rho_air_kg_per_m3, raw->air_density_kg_per_m3, 1);
+        apply_rope(v, raw->rope, "rope", &c->rope, &unused[0], &unused[1], &unused[2], &unused[3]);
+        apply_winch(raw->winch, &c->winch, unused);
+        if (raw->segments != NULL) {
+            c->segments = whole(v, "segments", *raw->segments, 1, CDPR_MAX_SEGMENTS);
+        }
+    }
+}
+
+cdpr_status_t cdpr_rig_resolve(const cdpr_raw_rig_t *raw, const cdpr_rig_t *base, const char *path,
+                               const char *prefix, cdpr_rig_t *rig, cdpr_rig_error_t *err)
+{
+    rctx_t v = {path, prefix, err, CDPR_OK};
+    if (base != NULL) {
+        *rig = *base;
+        resolve_over(&v, raw, rig);
+    } else {
+        memset(rig, 0, sizeof *rig);
+        snprintf(rig->name, sizeof rig->name, "%s",
+                 (path != NULL && path[0] != '\0' && prefix[0] == '\0') ? path : "embedded");
+        resolve_full(&v, raw, rig);
+    }
+    if (v.failed != CDPR_OK) {
+        return v.failed;
+    }
+    /* Robot-level values, over the defaults or the base. */
+    take(&rig->gravity_m_per_s2, raw->gravity_m_per_s2, 1);
+    take(rig->wind_m_per_s, raw->wind_m_per_s, 3);
+    take(rig->nominal_pose, raw->nominal_pose, 6);
+    if (raw->cabin != NULL) {
+        take(&rig->cabin_mass_kg, raw->cabin->mass_kg, 1);
+        if (raw->cabin->inertia_kg_m2 != NULL) {
+            for (int i = 0; i < 3; ++i) {
+                take(rig->cabin_inertia_kg_m2[i], raw->cabin->inertia_kg_m2[i], 3);
+            }
+        }
+        take(rig->cabin_com_m, raw->cabin->com_m, 3);
     }
     return CDPR_OK;
 }
@@ -695,7 +704,7 @@ cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t 
         }
         return st;
     }
-    st = cdpr_rig_resolve(data, path, "", rig, err);
+    st = cdpr_rig_resolve(data, NULL, path, "", rig, err);
     if (st == CDPR_OK) {
         st = cdpr_rig_check(rig, path, "", err);
     }

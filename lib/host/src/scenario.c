@@ -23,57 +23,6 @@
 /* ---------------------------------------------------------------- raw (file) structs */
 
 typedef struct {
-    double *radius_m;
-    double *exit_height_m;
-    double *azimuths_deg;
-} raw_towers_t;
-
-typedef struct {
-    double *radius_m;
-    double *z_m;
-    double *azimuths_deg;
-} raw_attach_t;
-
-typedef struct {
-    double *mass_kg;
-    double *inertia_kg_m2;
-    double *products_kg_m2;
-    double *com_m;
-} raw_cabin_t;
-
-typedef struct {
-    double *d0_m;
-    double *rho_kg_per_m;
-    double *ea_N;
-    double *damping_Ns;
-    double *damping_ratio;
-    double *damping_ref_hz;
-    cdpr_slack_law_t *slack_law;
-    double *cd;
-    double *cm;
-    double *rho_air_kg_per_m3;
-} raw_cable_t;
-
-typedef struct {
-    double *u_max_m_per_s;
-    double *a_max_m_per_s2;
-    double *kp_per_s;
-    double *min_length_m;
-} raw_winch_t;
-
-typedef struct {
-    cdpr_preset_t preset;
-    double *segments; /* read as a number, checked to be whole (libcyaml's INT accepts 3.5) */
-    double *gravity_m_per_s2;
-    double *wind_m_per_s;
-    raw_towers_t *towers;
-    raw_attach_t *attachments;
-    raw_cabin_t *cabin;
-    raw_cable_t *cable;
-    raw_winch_t *winch;
-} raw_robot_t;
-
-typedef struct {
     double *pose;
     double *offset;
 } raw_initial_t;
@@ -162,8 +111,7 @@ typedef struct {
 
 typedef struct {
     char *description;
-    raw_robot_t robot;   /* robot: with preset: (top_schema) */
-    cdpr_raw_rig_t *rig; /* robot: without preset: (top_schema_rig) */
+    cdpr_raw_rig_t *robot; /* robot: one schema with robot files (rig_raw.h) */
     raw_initial_t *initial;
     raw_traj_t trajectory;
     raw_controller_t controller;
@@ -201,61 +149,29 @@ static const cyaml_strval_t direction_names[] = {
     {"cw", DIR_CW},
 };
 
+/* A preset's polar layout (cdpr_raw_polar_t; the height is the towers' exit height or the
+ * attachments' z in body axes). */
 static const cyaml_schema_field_t towers_fields[] = {
-    OPT_NUMP("radius_m", raw_towers_t, radius_m),
-    OPT_NUMP("exit_height_m", raw_towers_t, exit_height_m),
-    OPT_VEC("azimuths_deg", raw_towers_t, azimuths_deg, 6),
+    OPT_NUMP("radius_m", cdpr_raw_polar_t, radius_m),
+    OPT_NUMP("exit_height_m", cdpr_raw_polar_t, height_m),
+    OPT_VEC("azimuths_deg", cdpr_raw_polar_t, azimuths_deg, 6),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_field_t attach_fields[] = {
-    OPT_NUMP("radius_m", raw_attach_t, radius_m),
-    OPT_NUMP("z_m", raw_attach_t, z_m),
-    OPT_VEC("azimuths_deg", raw_attach_t, azimuths_deg, 6),
+    OPT_NUMP("radius_m", cdpr_raw_polar_t, radius_m),
+    OPT_NUMP("z_m", cdpr_raw_polar_t, height_m),
+    OPT_VEC("azimuths_deg", cdpr_raw_polar_t, azimuths_deg, 6),
     CYAML_FIELD_END,
 };
-static const cyaml_schema_field_t cabin_fields[] = {
-    OPT_NUMP("mass_kg", raw_cabin_t, mass_kg),
-    OPT_VEC("inertia_kg_m2", raw_cabin_t, inertia_kg_m2, 3),
-    OPT_VEC("products_kg_m2", raw_cabin_t, products_kg_m2, 3),
-    OPT_VEC("com_m", raw_cabin_t, com_m, 3),
-    CYAML_FIELD_END,
-};
-static const cyaml_strval_t slack_law_names[] = {
-    {"passive", CDPR_SLACK_PASSIVE},
-    {"moordyn", CDPR_SLACK_MOORDYN},
-};
-static const cyaml_schema_field_t cable_fields[] = {
-    OPT_NUMP("d0_m", raw_cable_t, d0_m),
-    OPT_NUMP("rho_kg_per_m", raw_cable_t, rho_kg_per_m),
-    OPT_NUMP("ea_N", raw_cable_t, ea_N),
-    OPT_NUMP("damping_Ns", raw_cable_t, damping_Ns),
-    OPT_NUMP("damping_ratio", raw_cable_t, damping_ratio),
-    OPT_NUMP("damping_ref_hz", raw_cable_t, damping_ref_hz),
-    CYAML_FIELD_ENUM_PTR("slack_law", OPT | CYAML_FLAG_STRICT, raw_cable_t, slack_law,
-                         slack_law_names, CYAML_ARRAY_LEN(slack_law_names)),
-    OPT_NUMP("cd", raw_cable_t, cd),
-    OPT_NUMP("cm", raw_cable_t, cm),
-    OPT_NUMP("rho_air_kg_per_m3", raw_cable_t, rho_air_kg_per_m3),
-    CYAML_FIELD_END,
-};
-static const cyaml_schema_field_t winch_fields[] = {
-    OPT_NUMP("u_max_m_per_s", raw_winch_t, u_max_m_per_s),
-    OPT_NUMP("a_max_m_per_s2", raw_winch_t, a_max_m_per_s2),
-    OPT_NUMP("kp_per_s", raw_winch_t, kp_per_s),
-    OPT_NUMP("min_length_m", raw_winch_t, min_length_m),
-    CYAML_FIELD_END,
-};
+/* robot: the robot-file schema, plus a robot file, or a preset as the base of the other keys
+ * with its polar layout. */
 static const cyaml_schema_field_t robot_fields[] = {
-    CYAML_FIELD_ENUM("preset", CYAML_FLAG_STRICT, raw_robot_t, preset, preset_names,
-                     CYAML_ARRAY_LEN(preset_names)),
-    OPT_NUMP("segments", raw_robot_t, segments),
-    OPT_NUMP("gravity_m_per_s2", raw_robot_t, gravity_m_per_s2),
-    OPT_VEC("wind_m_per_s", raw_robot_t, wind_m_per_s, 3),
-    CYAML_FIELD_MAPPING_PTR("towers", OPT, raw_robot_t, towers, towers_fields),
-    CYAML_FIELD_MAPPING_PTR("attachments", OPT, raw_robot_t, attachments, attach_fields),
-    CYAML_FIELD_MAPPING_PTR("cabin", OPT, raw_robot_t, cabin, cabin_fields),
-    CYAML_FIELD_MAPPING_PTR("cable", OPT, raw_robot_t, cable, cable_fields),
-    CYAML_FIELD_MAPPING_PTR("winch", OPT, raw_robot_t, winch, winch_fields),
+    CYAML_FIELD_STRING_PTR("file", OPT, cdpr_raw_rig_t, file, 1, 4095),
+    CYAML_FIELD_ENUM_PTR("preset", OPT | CYAML_FLAG_STRICT, cdpr_raw_rig_t, preset, preset_names,
+                         CYAML_ARRAY_LEN(preset_names)),
+    CYAML_FIELD_MAPPING_PTR("towers", OPT, cdpr_raw_rig_t, towers, towers_fields),
+    CYAML_FIELD_MAPPING_PTR("attachments", OPT, cdpr_raw_rig_t, attachments, attach_fields),
+    CDPR_RIG_FIELDS,
     CYAML_FIELD_END,
 };
 static const cyaml_schema_field_t initial_fields[] = {
@@ -359,7 +275,7 @@ static const cyaml_schema_field_t run_fields[] = {
 };
 static const cyaml_schema_field_t top_fields[] = {
     CYAML_FIELD_STRING_PTR("description", OPT, raw_t, description, 0, 255),
-    CYAML_FIELD_MAPPING("robot", REQ, raw_t, robot, robot_fields),
+    CYAML_FIELD_MAPPING_PTR("robot", REQ, raw_t, robot, robot_fields),
     CYAML_FIELD_MAPPING_PTR("initial", OPT, raw_t, initial, initial_fields),
     CYAML_FIELD_MAPPING("trajectory", REQ, raw_t, trajectory, traj_fields),
     CYAML_FIELD_MAPPING("controller", REQ, raw_t, controller, controller_fields),
@@ -370,21 +286,6 @@ static const cyaml_schema_field_t top_fields[] = {
 static const cyaml_schema_value_t top_schema = {
     CYAML_VALUE_MAPPING(CYAML_FLAG_POINTER, raw_t, top_fields),
 };
-/* The same file with a robot file or an embedded robot (rig_raw.h) instead of a preset. */
-static const cyaml_schema_field_t top_fields_rig[] = {
-    CYAML_FIELD_STRING_PTR("description", OPT, raw_t, description, 0, 255),
-    CYAML_FIELD_MAPPING_PTR("robot", REQ, raw_t, rig, cdpr_rig_scenario_fields),
-    CYAML_FIELD_MAPPING_PTR("initial", OPT, raw_t, initial, initial_fields),
-    CYAML_FIELD_MAPPING("trajectory", REQ, raw_t, trajectory, traj_fields),
-    CYAML_FIELD_MAPPING("controller", REQ, raw_t, controller, controller_fields),
-    CYAML_FIELD_MAPPING_PTR("integrator", OPT, raw_t, integrator, integrator_fields),
-    CYAML_FIELD_MAPPING("run", REQ, raw_t, run, run_fields),
-    CYAML_FIELD_END,
-};
-static const cyaml_schema_value_t top_schema_rig = {
-    CYAML_VALUE_MAPPING(CYAML_FLAG_POINTER, raw_t, top_fields_rig),
-};
-
 /* ---------------------------------------------------------------- errors */
 
 const char *cdpr_traj_type_name(cdpr_traj_type_t type)
@@ -469,9 +370,13 @@ static void defaults_common(cdpr_scenario_t *sc)
 void cdpr_scenario_default(cdpr_scenario_t *sc, cdpr_preset_t preset)
 {
     memset(sc, 0, sizeof *sc);
-    (void)cdpr_preset_get(preset, &sc->robot);
+    cdpr_preset_config_t c;
+    (void)cdpr_preset_get(preset, &c);
+    cdpr_rig_from_preset(&c, &sc->rig);
+    sc->robot_source = CDPR_ROBOT_FROM_PRESET;
+    sc->preset = c.preset;
     sc->traj.type = CDPR_TRAJ_HOLD;
-    memcpy(sc->traj.hold_pose, sc->robot.nominal_pose, sizeof sc->traj.hold_pose);
+    memcpy(sc->traj.hold_pose, sc->rig.nominal_pose, sizeof sc->traj.hold_pose);
     sc->traj.direction = 1.0;
     defaults_common(sc);
     sc->duration_s = 1.0;
@@ -481,57 +386,6 @@ static void take(double *dst, const double *src, int n)
 {
     if (src != NULL) {
         memcpy(dst, src, sizeof(double) * (size_t)n);
-    }
-}
-
-/* robot: the preset, then every override the file gives. */
-static void resolve_robot(const raw_robot_t *rr, cdpr_preset_config_t *c)
-{
-    (void)cdpr_preset_get(rr->preset, c);
-    if (rr->segments != NULL) {
-        c->segments = (int)*rr->segments; /* whole and in range: check_whole_numbers */
-    }
-    take(&c->gravity_m_per_s2, rr->gravity_m_per_s2, 1);
-    take(c->wind_m_per_s, rr->wind_m_per_s, 3);
-    if (rr->towers != NULL) {
-        take(&c->exit_radius_m, rr->towers->radius_m, 1);
-        take(&c->exit_height_m, rr->towers->exit_height_m, 1);
-        take(c->exit_azimuth_deg, rr->towers->azimuths_deg, 6);
-    }
-    if (rr->attachments != NULL) {
-        take(&c->attach_radius_m, rr->attachments->radius_m, 1);
-        take(&c->attach_z_m, rr->attachments->z_m, 1);
-        take(c->attach_azimuth_deg, rr->attachments->azimuths_deg, 6);
-    }
-    if (rr->cabin != NULL) {
-        take(&c->cabin_mass_kg, rr->cabin->mass_kg, 1);
-        take(c->cabin_inertia_kg_m2, rr->cabin->inertia_kg_m2, 3);
-        take(c->cabin_products_kg_m2, rr->cabin->products_kg_m2, 3);
-        take(c->cabin_com_m, rr->cabin->com_m, 3);
-    }
-    if (rr->cable != NULL) {
-        take(&c->cable.d0_m, rr->cable->d0_m, 1);
-        take(&c->cable.rho_kg_per_m, rr->cable->rho_kg_per_m, 1);
-        take(&c->cable.ea_N, rr->cable->ea_N, 1);
-        take(&c->cable.damping_Ns, rr->cable->damping_Ns, 1);
-        if (rr->cable->damping_ratio != NULL) {
-            /* A ratio replaces the preset's c (the core takes one of the two). */
-            c->cable.damping_ratio = *rr->cable->damping_ratio;
-            c->cable.damping_Ns = (rr->cable->damping_Ns != NULL) ? *rr->cable->damping_Ns : 0.0;
-        }
-        take(&c->cable.damping_ref_hz, rr->cable->damping_ref_hz, 1);
-        if (rr->cable->slack_law != NULL) {
-            c->cable.slack_law = *rr->cable->slack_law;
-        }
-        take(&c->cable.cd, rr->cable->cd, 1);
-        take(&c->cable.cm, rr->cable->cm, 1);
-        take(&c->cable.rho_air_kg_per_m3, rr->cable->rho_air_kg_per_m3, 1);
-    }
-    if (rr->winch != NULL) {
-        take(&c->winch.u_max_m_per_s, rr->winch->u_max_m_per_s, 1);
-        take(&c->winch.a_max_m_per_s2, rr->winch->a_max_m_per_s2, 1);
-        take(&c->winch.kp_per_s, rr->winch->kp_per_s, 1);
-        take(&c->winch.min_length_m, rr->winch->min_length_m, 1);
     }
 }
 
@@ -648,67 +502,114 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
 
 static void resolve(const raw_t *r, cdpr_scenario_t *sc)
 {
-    if (r->rig == NULL) {
-        sc->robot_source = CDPR_ROBOT_FROM_PRESET;
-        resolve_robot(&r->robot, &sc->robot);
-    }
     resolve_motion(r, sc);
     resolve_run(r, sc);
 }
 
-/* robot: without preset: a robot file (path relative to the scenario's folder) or an embedded
- * robot. */
+/* Every x[i] finite and in [lo, hi] (or (lo, hi] when lo_open), named `key` in errors. */
+static cdpr_status_t in_range(const cdpr_scenario_t *sc, const char *key, const double *x, int n,
+                              double lo, double hi, int lo_open, cdpr_scenario_error_t *err);
+
+/* A preset's rig with its polar layout (robot.towers, robot.attachments) as the file gives it:
+ * the layout's values range-checked here, as they do not survive into the rig. */
+static cdpr_status_t preset_base(const cdpr_raw_rig_t *rr, const cdpr_scenario_t *sc,
+                                 cdpr_rig_t *base, cdpr_scenario_error_t *err)
+{
+    cdpr_preset_config_t c;
+    (void)cdpr_preset_get((cdpr_preset_t)*rr->preset, &c);
+    cdpr_status_t st = CDPR_OK;
+    if (rr->towers != NULL) {
+        take(&c.exit_radius_m, rr->towers->radius_m, 1);
+        take(&c.exit_height_m, rr->towers->height_m, 1);
+        take(c.exit_azimuth_deg, rr->towers->azimuths_deg, 6);
+    }
+    if (rr->attachments != NULL) {
+        take(&c.attach_radius_m, rr->attachments->radius_m, 1);
+        take(&c.attach_z_m, rr->attachments->height_m, 1);
+        take(c.attach_azimuth_deg, rr->attachments->azimuths_deg, 6);
+    }
+    const struct {
+        const char *key;
+        const double *x;
+        double lo, hi;
+        int n;
+        int lo_open;
+    } layout[] = {
+        {"robot.towers.radius_m", &c.exit_radius_m, 0.0, 1e4, 1, 1},
+        {"robot.towers.exit_height_m", &c.exit_height_m, -1e4, 1e4, 1, 0},
+        {"robot.towers.azimuths_deg", c.exit_azimuth_deg, -360.0, 360.0, 6, 0},
+        {"robot.attachments.radius_m", &c.attach_radius_m, 0.0, 1e3, 1, 0},
+        {"robot.attachments.z_m", &c.attach_z_m, -1e3, 1e3, 1, 0},
+        {"robot.attachments.azimuths_deg", c.attach_azimuth_deg, -360.0, 360.0, 6, 0},
+    };
+    for (size_t i = 0; i < sizeof layout / sizeof layout[0] && st == CDPR_OK; ++i) {
+        st = in_range(sc, layout[i].key, layout[i].x, layout[i].n, layout[i].lo, layout[i].hi,
+                      layout[i].lo_open, err);
+    }
+    if (st == CDPR_OK) {
+        cdpr_rig_from_preset(&c, base);
+    }
+    return st;
+}
+
+/* A robot file's path: relative to the scenario's folder unless absolute. */
+static cdpr_status_t robot_file_path(const cdpr_raw_rig_t *rr, const cdpr_scenario_t *sc,
+                                     char *file, size_t cap, cdpr_scenario_error_t *err)
+{
+    const void *other[] = {rr->preset,
+                           rr->towers,
+                           rr->attachments,
+                           rr->gravity_m_per_s2,
+                           rr->air_density_kg_per_m3,
+                           rr->wind_m_per_s,
+                           rr->nominal_pose,
+                           rr->segments,
+                           rr->rope,
+                           rr->winch,
+                           rr->cabin,
+                           rr->cables,
+                           rr->description};
+    for (size_t i = 0; i < sizeof other / sizeof other[0]; ++i) {
+        if (other[i] != NULL) {
+            cdpr_scenario_error(sc, "robot.file",
+                                "a robot file takes no other robot keys here: change the "
+                                "robot file, or embed the robot instead",
+                                err);
+            return CDPR_E_PARSE;
+        }
+    }
+    const char *slash = strrchr(sc->path, '/');
+    int n;
+    if (rr->file[0] == '/' || slash == NULL) {
+        n = snprintf(file, cap, "%s", rr->file);
+    } else {
+        n = snprintf(file, cap, "%.*s/%s", (int)(slash - sc->path), sc->path, rr->file);
+    }
+    if (n < 0 || (size_t)n >= cap) {
+        char what[256];
+        snprintf(what, sizeof what,
+                 "path too long (%d characters with the scenario's folder; a robot-file "
+                 "path has at most %zu)",
+                 n, cap - 1U);
+        cdpr_scenario_error(sc, "robot.file", what, err);
+        return CDPR_E_INVALID_ARG;
+    }
+    return CDPR_OK;
+}
+
+/* robot: a robot file (path relative to the scenario's folder), a preset with overrides (the
+ * robot-file keys over the preset's values) or an embedded robot. The one robot record of a
+ * scenario is sc->rig. */
 static cdpr_status_t resolve_rig(const cdpr_raw_rig_t *rr, cdpr_scenario_t *sc,
                                  cdpr_scenario_error_t *err)
 {
     cdpr_rig_error_t re;
     cdpr_status_t st;
-    if (rr->file == NULL) {
-        if (rr->cables == NULL && rr->cabin == NULL) {
-            cdpr_scenario_error(sc, "robot",
-                                "needs preset: (a compiled preset and overrides), file: (a robot "
-                                "file) or an embedded robot (cables:, cabin:, ...; "
-                                "docs/robots.md)",
-                                err);
-            return CDPR_E_PARSE;
-        }
-        sc->robot_source = CDPR_ROBOT_EMBEDDED;
-        st = cdpr_rig_resolve(rr, sc->path, "robot.", &sc->rig, &re);
-    } else {
-        const void *other[] = {rr->gravity_m_per_s2,
-                               rr->air_density_kg_per_m3,
-                               rr->wind_m_per_s,
-                               rr->nominal_pose,
-                               rr->segments,
-                               rr->rope,
-                               rr->winch,
-                               rr->cabin,
-                               rr->cables};
-        for (size_t i = 0; i < sizeof other / sizeof other[0]; ++i) {
-            if (other[i] != NULL) {
-                cdpr_scenario_error(sc, "robot.file",
-                                    "a robot file takes no other robot keys here: change the "
-                                    "robot file, or embed the robot instead",
-                                    err);
-                return CDPR_E_PARSE;
-            }
-        }
+    if (rr->file != NULL) {
         char file[sizeof sc->rig.name];
-        const char *slash = strrchr(sc->path, '/');
-        int n;
-        if (rr->file[0] == '/' || slash == NULL) {
-            n = snprintf(file, sizeof file, "%s", rr->file);
-        } else {
-            n = snprintf(file, sizeof file, "%.*s/%s", (int)(slash - sc->path), sc->path, rr->file);
-        }
-        if (n < 0 || (size_t)n >= sizeof file) {
-            char what[256];
-            snprintf(what, sizeof what,
-                     "path too long (%d characters with the scenario's folder; a robot-file "
-                     "path has at most %zu)",
-                     n, sizeof file - 1U);
-            cdpr_scenario_error(sc, "robot.file", what, err);
-            return CDPR_E_INVALID_ARG;
+        st = robot_file_path(rr, sc, file, sizeof file, err);
+        if (st != CDPR_OK) {
+            return st;
         }
         sc->robot_source = CDPR_ROBOT_FROM_FILE;
         st = cdpr_rig_load(file, &sc->rig, &re);
@@ -718,6 +619,40 @@ static cdpr_status_t resolve_rig(const cdpr_raw_rig_t *rr, cdpr_scenario_t *sc,
             cdpr_scenario_error(sc, "robot.file", what, err);
             return st;
         }
+    } else if (rr->preset != NULL) {
+        if (rr->cables != NULL) {
+            cdpr_scenario_error(sc, "robot.cables",
+                                "a preset's cables come from its layout (robot.towers, "
+                                "robot.attachments): drop preset: to list the cables",
+                                err);
+            return CDPR_E_PARSE;
+        }
+        cdpr_rig_t base;
+        st = preset_base(rr, sc, &base, err);
+        if (st != CDPR_OK) {
+            return st;
+        }
+        sc->robot_source = CDPR_ROBOT_FROM_PRESET;
+        sc->preset = (cdpr_preset_t)*rr->preset;
+        st = cdpr_rig_resolve(rr, &base, sc->path, "robot.", &sc->rig, &re);
+    } else {
+        if (rr->towers != NULL || rr->attachments != NULL) {
+            cdpr_scenario_error(sc, (rr->towers != NULL) ? "robot.towers" : "robot.attachments",
+                                "a polar layout needs preset: (an embedded robot lists its "
+                                "cables: with exit_m and attach_m)",
+                                err);
+            return CDPR_E_PARSE;
+        }
+        if (rr->cables == NULL && rr->cabin == NULL) {
+            cdpr_scenario_error(sc, "robot",
+                                "needs preset: (a compiled preset and overrides), file: (a robot "
+                                "file) or an embedded robot (cables:, cabin:, ...; "
+                                "docs/robots.md)",
+                                err);
+            return CDPR_E_PARSE;
+        }
+        sc->robot_source = CDPR_ROBOT_EMBEDDED;
+        st = cdpr_rig_resolve(rr, NULL, sc->path, "robot.", &sc->rig, &re);
     }
     if (st != CDPR_OK) {
         snprintf(err->msg, sizeof err->msg, "%s", re.msg);
@@ -773,8 +708,7 @@ static cdpr_status_t whole(const cdpr_scenario_t *sc, const char *key, const dou
 static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *sc,
                                          cdpr_scenario_error_t *err)
 {
-    cdpr_status_t st =
-        whole(sc, "robot.segments", r->robot.segments, 1.0, (double)CDPR_MAX_SEGMENTS, err);
+    cdpr_status_t st = CDPR_OK;
     if (r->integrator != NULL) {
         const raw_integrator_t *sec[3] = {r->integrator, r->integrator->rkf45,
                                           r->integrator->ros34pw2};
@@ -855,10 +789,7 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     }
     cdpr_yaml_log_t lg;
     void *data = NULL;
-    /* A robot section with a preset: the override schema; else a robot file or an embedded
-     * robot (robot.preset is looked up with libyaml before libcyaml reads the file). */
-    const cyaml_schema_value_t *schema =
-        (cdpr_yaml_key_line(path, "robot.preset") > 0) ? &top_schema : &top_schema_rig;
+    const cyaml_schema_value_t *schema = &top_schema;
     cdpr_status_t st = cdpr_yaml_load(path, schema, CYAML_CFG_DEFAULT, &data, &lg);
     if (st == CDPR_E_IO) {
         snprintf(err->msg, sizeof err->msg, "%s: cannot open: %.512s", path, lg.text);
@@ -880,8 +811,8 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     if (st == CDPR_OK) {
         st = check_integrator_sections(raw, sc, err);
     }
-    if (st == CDPR_OK && raw->rig != NULL) {
-        st = resolve_rig(raw->rig, sc, err);
+    if (st == CDPR_OK) {
+        st = resolve_rig(raw->robot, sc, err);
     }
     if (st == CDPR_OK) {
         defaults_common(sc);
@@ -926,6 +857,14 @@ static void range(vctx_t *v, const char *key, const double *x, int n, double lo,
     }
 }
 
+static cdpr_status_t in_range(const cdpr_scenario_t *sc, const char *key, const double *x, int n,
+                              double lo, double hi, int lo_open, cdpr_scenario_error_t *err)
+{
+    vctx_t v = {sc, err, CDPR_OK};
+    range(&v, key, x, n, lo, hi, lo_open);
+    return v.failed;
+}
+
 static void irange(vctx_t *v, const char *key, long x, long lo, long hi)
 {
     if (v->failed == CDPR_OK && (x < lo || x > hi)) {
@@ -956,72 +895,6 @@ static void pose_range(vctx_t *v, const char *key, const double *pose)
             v->failed = CDPR_E_OUT_OF_RANGE;
         }
     }
-}
-
-/* The core's own validation of the robot, with its field named. */
-static void core_check(vctx_t *v)
-{
-    if (v->failed != CDPR_OK) {
-        return;
-    }
-    cdpr_robot_params_t p;
-    cdpr_winch_params_t w;
-    cdpr_diag_t d;
-    const cdpr_status_t st = cdpr_preset_build(&v->sc->robot, NULL, &p, &w, &d);
-    if (st != CDPR_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "rejected by the model: field '%s' (cable %d): %s", d.field,
-                 d.index + 1, cdpr_status_str(st));
-        cdpr_scenario_error(v->sc, "robot", what, v->err);
-        v->failed = st;
-    }
-}
-
-/* robot section: ranges, then the core's own validation of the built parameters. */
-static void check_robot(vctx_t *vp)
-{
-    vctx_t v = *vp;
-    const cdpr_preset_config_t *c = &v.sc->robot;
-    irange(&v, "robot.segments", c->segments, 1, CDPR_MAX_SEGMENTS);
-    range(&v, "robot.gravity_m_per_s2", &c->gravity_m_per_s2, 1, 0.0, 100.0, 1);
-    range(&v, "robot.wind_m_per_s", c->wind_m_per_s, 3, -100.0, 100.0, 0);
-    range(&v, "robot.towers.radius_m", &c->exit_radius_m, 1, 0.0, 1e4, 1);
-    range(&v, "robot.towers.exit_height_m", &c->exit_height_m, 1, -1e4, 1e4, 0);
-    range(&v, "robot.towers.azimuths_deg", c->exit_azimuth_deg, 6, -360.0, 360.0, 0);
-    range(&v, "robot.attachments.radius_m", &c->attach_radius_m, 1, 0.0, 1e3, 0);
-    range(&v, "robot.attachments.z_m", &c->attach_z_m, 1, -1e3, 1e3, 0);
-    range(&v, "robot.attachments.azimuths_deg", c->attach_azimuth_deg, 6, -360.0, 360.0, 0);
-    range(&v, "robot.cabin.mass_kg", &c->cabin_mass_kg, 1, 0.0, 1e9, 1);
-    range(&v, "robot.cabin.inertia_kg_m2", c->cabin_inertia_kg_m2, 3, 0.0, 1e12, 1);
-    range(&v, "robot.cabin.products_kg_m2", c->cabin_products_kg_m2, 3, -1e12, 1e12, 0);
-    range(&v, "robot.cabin.com_m", c->cabin_com_m, 3, -1e3, 1e3, 0);
-    if (v.failed == CDPR_OK) {
-        /* The 3x3 tensor of the moments and products (as cdpr_rig_from_preset builds it). */
-        const double *I = c->cabin_inertia_kg_m2;
-        const double *P = c->cabin_products_kg_m2;
-        const double m[3][3] = {{I[0], P[0], P[1]}, {P[0], I[1], P[2]}, {P[1], P[2], I[2]}};
-        char what[256];
-        const cdpr_status_t st = cdpr_rig_inertia_plausible(m, what, sizeof what);
-        if (st != CDPR_OK) {
-            cdpr_scenario_error(v.sc, "robot.cabin.inertia_kg_m2", what, v.err);
-            v.failed = st;
-        }
-    }
-    range(&v, "robot.cable.d0_m", &c->cable.d0_m, 1, 0.0, 1.0, 1);
-    range(&v, "robot.cable.rho_kg_per_m", &c->cable.rho_kg_per_m, 1, 0.0, 1e4, 1);
-    range(&v, "robot.cable.ea_N", &c->cable.ea_N, 1, 0.0, 1e13, 1);
-    range(&v, "robot.cable.damping_Ns", &c->cable.damping_Ns, 1, 0.0, 1e12, 0);
-    range(&v, "robot.cable.damping_ratio", &c->cable.damping_ratio, 1, 0.0, 1.0, 0);
-    range(&v, "robot.cable.damping_ref_hz", &c->cable.damping_ref_hz, 1, 0.0, 1e4, 1);
-    range(&v, "robot.cable.cd", &c->cable.cd, 1, 0.0, 10.0, 0);
-    range(&v, "robot.cable.cm", &c->cable.cm, 1, 0.0, 10.0, 0);
-    range(&v, "robot.cable.rho_air_kg_per_m3", &c->cable.rho_air_kg_per_m3, 1, 0.0, 100.0, 0);
-    range(&v, "robot.winch.u_max_m_per_s", &c->winch.u_max_m_per_s, 1, 0.0, 1e3, 1);
-    range(&v, "robot.winch.a_max_m_per_s2", &c->winch.a_max_m_per_s2, 1, 0.0, 1e4, 1);
-    range(&v, "robot.winch.kp_per_s", &c->winch.kp_per_s, 1, 0.0, 1e4, 1);
-    range(&v, "robot.winch.min_length_m", &c->winch.min_length_m, 1, 0.0, 1e5, 1);
-    core_check(&v);
-    *vp = v;
 }
 
 /* initial and trajectory sections. */
@@ -1186,6 +1059,9 @@ static void check_run(vctx_t *vp)
 static void check_rig(vctx_t *v)
 {
     const cdpr_scenario_t *sc = v->sc;
+    if (v->failed != CDPR_OK) {
+        return;
+    }
     const int from_file = (sc->robot_source == CDPR_ROBOT_FROM_FILE) ? 1 : 0;
     cdpr_rig_error_t re;
     const cdpr_status_t st = cdpr_rig_check(&sc->rig, (from_file != 0) ? sc->rig.name : sc->path,
@@ -1201,11 +1077,7 @@ static void check_rig(vctx_t *v)
 cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
     vctx_t v = {sc, err, CDPR_OK};
-    if (sc->robot_source == CDPR_ROBOT_FROM_PRESET) {
-        check_robot(&v);
-    } else {
-        check_rig(&v);
-    }
+    check_rig(&v);
     check_motion(&v);
     check_run(&v);
     if (v.failed == CDPR_OK) {
@@ -1242,15 +1114,6 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
     return v.failed;
 }
 
-void cdpr_scenario_rig(const cdpr_scenario_t *sc, cdpr_rig_t *rig)
-{
-    if (sc->robot_source == CDPR_ROBOT_FROM_PRESET) {
-        cdpr_rig_from_preset(&sc->robot, rig);
-    } else {
-        *rig = sc->rig;
-    }
-}
-
 const char *cdpr_scenario_trajectory_key(const cdpr_scenario_t *sc)
 {
     static const char *const keys[] = {"trajectory.hold", "trajectory.circle", "trajectory.line",
@@ -1260,23 +1123,19 @@ const char *cdpr_scenario_trajectory_key(const cdpr_scenario_t *sc)
 
 const char *cdpr_scenario_robot_name(const cdpr_scenario_t *sc)
 {
-    return (sc->robot_source == CDPR_ROBOT_FROM_PRESET) ? cdpr_preset_name(sc->robot.preset)
-                                                        : sc->rig.name;
+    return sc->rig.name;
 }
 
 int cdpr_scenario_segments(const cdpr_scenario_t *sc)
 {
-    return (sc->robot_source == CDPR_ROBOT_FROM_PRESET) ? sc->robot.segments
-                                                        : sc->rig.cable[0].segments;
+    return sc->rig.cable[0].segments;
 }
 
 cdpr_status_t cdpr_scenario_build_robot(const cdpr_scenario_t *sc, const double *length_m,
                                         cdpr_robot_params_t *p, cdpr_winch_params_t *w,
                                         cdpr_diag_t *diag)
 {
-    cdpr_rig_t rig;
-    cdpr_scenario_rig(sc, &rig);
-    return cdpr_rig_build(&rig, length_m, p, w, diag);
+    return cdpr_rig_build(&sc->rig, length_m, p, w, diag);
 }
 
 void cdpr_scenario_initial_pose(const cdpr_scenario_t *sc, double pose[6])

@@ -3,10 +3,11 @@
 /// Robot configurations of the project's parameter sets (docs/robots.md): the paper's
 /// reconstructed "50 m model" (set A) and a FAST-like full-scale robot (set B).
 ///
-/// A configuration is a flat record of every physical value a scenario file may override
-/// (`robot:` section, scenario.h); cdpr_preset_build turns it into the core's
-/// cdpr_robot_params_t and cdpr_winch_params_t. Each value's source is in docs/robots.md
-/// with its tag: [P] published, [A] assumed, [D] derived.
+/// A configuration is a preset's values in its polar layout; the robot record of the host is
+/// cdpr_rig_t (rig.h), which cdpr_rig_from_preset makes of it (a scenario with `robot:
+/// {preset: ...}` starts from that rig and overrides it with the robot-file keys, scenario.h).
+/// cdpr_preset_build turns it into the core's cdpr_robot_params_t and cdpr_winch_params_t. Each
+/// value's source is in docs/robots.md with its tag: [P] published, [A] assumed, [D] derived.
 ///
 /// Geometry (docs/model.md §1): exit point A_j = (a cos θ_j, a sin θ_j, H); attachment
 /// b_j = (r_b cos φ_j, r_b sin φ_j, z_b) in body axes, relative to the body origin (the

@@ -2,15 +2,16 @@
 /// @file scenario.h
 /// Scenario files: YAML mapped onto C structs by libcyaml's schema (no hand-written parser).
 ///
-/// A file has the sections `robot` (a preset name plus optional overrides of every value of
-/// presets.h; or a robot file, `file:` relative to the scenario file; or an embedded robot
-/// description, rig.h), `initial` (optional pose and offset), `trajectory` (type circle | line |
-/// cyclic | hold and the matching block), `controller` (gains), `integrator` (optional tolerances
-/// and substep bound) and `run` (duration, control period, output rate). docs/scenarios.md lists
-/// every key with its unit and range; scenarios/ holds examples.
+/// A file has the sections `robot` (the robot-file schema of rig.h: an embedded description;
+/// or `preset:` as its base, every other key then optional and overriding the preset's value,
+/// with the preset's polar layout in `towers:` and `attachments:`; or a robot file, `file:`
+/// relative to the scenario file), `initial` (optional pose and offset), `trajectory` (type circle
+/// | line | cyclic | hold and the matching block), `controller` (gains), `integrator` (optional
+/// tolerances and substep bound) and `run` (duration, control period, output rate).
+/// docs/scenarios.md lists every key with its unit and range; scenarios/ holds examples.
 ///
 /// Errors name the file, the line (when known) and the key path, e.g.
-///   scenarios/x.yaml:12: robot.cable.ea_N: not a finite number (nan)
+///   scenarios/x.yaml:12: robot.rope.ea_N (cable 1): not a finite number (nan)
 /// Unknown keys, missing required keys, wrong types and malformed YAML are reported by
 /// libcyaml (its backtrace gives key path and line); NaN/Inf, out-of-range values,
 /// inconsistent sections and robot parameters the core rejects are checked after loading
@@ -22,7 +23,6 @@
 
 #include <stdio.h>
 
-#include "cdpr/plant.h"
 #include "cdpr/plant.h"
 #include "cdpr/status.h"
 #include "cdpr/host/presets.h"
@@ -51,11 +51,11 @@ typedef struct {
 /// Integration methods a scenario can name (cdpr_plant_integrator_t values 0..N-1).
 #define CDPR_SCENARIO_METHODS 3
 
-/// Where a scenario's robot comes from.
+/// Where a scenario's robot came from (its record is `rig` whatever the source).
 typedef enum {
-    CDPR_ROBOT_FROM_PRESET = 0, ///< `robot: {preset: ..., overrides}`: `robot` holds it
-    CDPR_ROBOT_FROM_FILE = 1,   ///< `robot: {file: ...}`: `rig` holds it (rig.name = the file)
-    CDPR_ROBOT_EMBEDDED = 2     ///< `robot: {cables: [...], cabin: {...}, ...}`: `rig` holds it
+    CDPR_ROBOT_FROM_PRESET = 0, ///< `robot: {preset: ..., overrides}` (rig.name = the preset's)
+    CDPR_ROBOT_FROM_FILE = 1,   ///< `robot: {file: ...}` (rig.name = the resolved file)
+    CDPR_ROBOT_EMBEDDED = 2     ///< `robot: {cables: [...], cabin: {...}, ...}` ("embedded")
 } cdpr_robot_source_t;
 
 /// A resolved scenario: every default applied, every value checked (plain data, no
@@ -63,9 +63,9 @@ typedef enum {
 typedef struct {
     char path[512];                        ///< file it came from ("" if built in code)
     char description[256];                 ///< optional free text
-    cdpr_robot_source_t robot_source;      ///< which of `robot` and `rig` is the robot
-    cdpr_preset_config_t robot;            ///< robot (preset + overrides), if from a preset
-    cdpr_rig_t rig;                        ///< robot from a file or embedded (else unused)
+    cdpr_robot_source_t robot_source;      ///< where the robot came from
+    cdpr_preset_t preset;                  ///< the base preset (robot_source PRESET only)
+    cdpr_rig_t rig;                        ///< the robot: the one host record of it
     int has_initial_pose;                  ///< 1 if initial.pose was given
     double initial_pose[6];                ///< initial.pose (else the trajectory at t = 0)
     double initial_offset[6];              ///< added to the initial pose (m, rad)
@@ -132,10 +132,6 @@ void cdpr_scenario_overrides_none(cdpr_scenario_overrides_t *ov);
 cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_overrides_t *ov,
                                      const char *prog, FILE *notes, cdpr_scenario_error_t *err);
 
-/// The scenario's robot as a rig: `rig`, or the preset configuration `robot` through
-/// cdpr_rig_from_preset. O(cables); cannot fail.
-void cdpr_scenario_rig(const cdpr_scenario_t *sc, cdpr_rig_t *rig);
-
 /// The key of the scenario's trajectory block as messages name it: "trajectory.hold",
 /// "trajectory.circle", "trajectory.line" or "trajectory.cyclic". O(1); cannot fail.
 const char *cdpr_scenario_trajectory_key(const cdpr_scenario_t *sc);
@@ -146,9 +142,8 @@ const char *cdpr_scenario_robot_name(const cdpr_scenario_t *sc);
 /// Segments of the scenario robot's first cable (the initial discretisation).
 int cdpr_scenario_segments(const cdpr_scenario_t *sc);
 
-/// Build the core robot and winch parameters of the scenario (cdpr_scenario_rig,
-/// cdpr_rig_build; `w`: NULL or CDPR_MAX_CABLES entries, one per winch; `length_m` and errors
-/// as there).
+/// Build the core robot and winch parameters of the scenario (cdpr_rig_build of sc->rig; `w`: NULL
+/// or CDPR_MAX_CABLES entries, one per winch; `length_m` and errors as there).
 cdpr_status_t cdpr_scenario_build_robot(const cdpr_scenario_t *sc, const double *length_m,
                                         cdpr_robot_params_t *p, cdpr_winch_params_t *w,
                                         cdpr_diag_t *diag);
@@ -177,7 +172,7 @@ long cdpr_scenario_output_every(const cdpr_scenario_t *sc);
 void cdpr_scenario_error(const cdpr_scenario_t *sc, const char *key, const char *what,
                          cdpr_scenario_error_t *err);
 
-/// Line (1-based) of the key at dotted path `key` (e.g. "robot.cable.ea_N"; a trailing
+/// Line (1-based) of the key at dotted path `key` (e.g. "robot.rope.ea_N"; a trailing
 /// "[i]" is ignored) in the YAML file `path`, or 0 if it is not there. Uses libyaml.
 int cdpr_yaml_key_line(const char *path, const char *key);
 
