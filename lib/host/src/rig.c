@@ -442,26 +442,16 @@ cdpr_status_t cdpr_rig_resolve(const cdpr_raw_rig_t *raw, const cdpr_rig_t *base
 
 /* ---------------------------------------------------------------- checks */
 
-/* Every x[i] finite and in [lo, hi] (or (lo, hi] when lo_open). */
+/* Every x[i] finite and in [lo, hi] (or (lo, hi] when lo_open): cdpr_yaml_range. */
 static void range(rctx_t *v, const char *key, const double *x, int n, double lo, double hi,
                   int lo_open)
 {
-    for (int i = 0; i < n && v->failed == CDPR_OK; ++i) {
-        char k[128];
-        if (n > 1) {
-            snprintf(k, sizeof k, "%s[%d]", key, i);
-        } else {
-            snprintf(k, sizeof k, "%s", key);
-        }
-        char what[256];
-        if (!isfinite(x[i])) {
-            snprintf(what, sizeof what, "not a finite number (%g)", x[i]);
-            fail(v, k, what, CDPR_E_NOT_FINITE);
-        } else if (x[i] > hi || x[i] < lo || (lo_open != 0 && !(x[i] > lo))) {
-            snprintf(what, sizeof what, "%g is outside %s%g, %g]", x[i], (lo_open != 0) ? "(" : "[",
-                     lo, hi);
-            fail(v, k, what, CDPR_E_OUT_OF_RANGE);
-        }
+    char k[128];
+    char what[256];
+    const cdpr_status_t st =
+        cdpr_yaml_range(key, x, n, lo, hi, lo_open, k, sizeof k, what, sizeof what);
+    if (st != CDPR_OK) {
+        fail(v, k, what, st);
     }
 }
 

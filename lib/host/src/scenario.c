@@ -831,29 +831,20 @@ typedef struct {
     cdpr_status_t failed; /* CDPR_OK until the first failure */
 } vctx_t;
 
-/* Every x[i] finite and in [lo, hi] (or (lo, hi] when lo_open). */
+/* Every x[i] finite and in [lo, hi] (or (lo, hi] when lo_open): cdpr_yaml_range. */
 static void range(vctx_t *v, const char *key, const double *x, int n, double lo, double hi,
                   int lo_open)
 {
-    for (int i = 0; i < n && v->failed == CDPR_OK; ++i) {
-        char k[128];
-        if (n > 1) {
-            snprintf(k, sizeof k, "%s[%d]", key, i);
-        } else {
-            snprintf(k, sizeof k, "%s", key);
-        }
-        if (!isfinite(x[i])) {
-            char what[512];
-            snprintf(what, sizeof what, "not a finite number (%g)", x[i]);
-            cdpr_scenario_error(v->sc, k, what, v->err);
-            v->failed = CDPR_E_NOT_FINITE;
-        } else if (x[i] > hi || x[i] < lo || (lo_open != 0 && !(x[i] > lo))) {
-            char what[512];
-            snprintf(what, sizeof what, "%g is outside %s%g, %g]", x[i], (lo_open != 0) ? "(" : "[",
-                     lo, hi);
-            cdpr_scenario_error(v->sc, k, what, v->err);
-            v->failed = CDPR_E_OUT_OF_RANGE;
-        }
+    if (v->failed != CDPR_OK) {
+        return;
+    }
+    char k[128];
+    char what[512];
+    const cdpr_status_t st =
+        cdpr_yaml_range(key, x, n, lo, hi, lo_open, k, sizeof k, what, sizeof what);
+    if (st != CDPR_OK) {
+        cdpr_scenario_error(v->sc, k, what, v->err);
+        v->failed = st;
     }
 }
 

@@ -4,6 +4,7 @@
 #include "cdpr/host/yaml.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h> /* collect_log (libcyaml hands a va_list) */
 #include <stdio.h>
 #include <stdlib.h>
@@ -754,4 +755,29 @@ void cdpr_yaml_error_message(const char *path, const cdpr_yaml_log_t *lb, char *
         snprintf(key, sizeof key, "(document)");
     }
     cdpr_yaml_format_error(out, cap, path, line, key, what);
+}
+
+cdpr_status_t cdpr_yaml_range(const char *base, const double *x, int n, double lo, double hi,
+                              int lo_open, char *key, size_t key_cap, char *what, size_t what_cap)
+{
+    for (int i = 0; i < n; ++i) {
+        cdpr_status_t st = CDPR_OK;
+        if (!isfinite(x[i])) {
+            snprintf(what, what_cap, "not a finite number (%g)", x[i]);
+            st = CDPR_E_NOT_FINITE;
+        } else if (x[i] > hi || x[i] < lo || (lo_open != 0 && !(x[i] > lo))) {
+            snprintf(what, what_cap, "%g is outside %s%g, %g]", x[i], (lo_open != 0) ? "(" : "[",
+                     lo, hi);
+            st = CDPR_E_OUT_OF_RANGE;
+        }
+        if (st != CDPR_OK) {
+            if (n > 1) {
+                snprintf(key, key_cap, "%s[%d]", base, i);
+            } else {
+                snprintf(key, key_cap, "%s", base);
+            }
+            return st;
+        }
+    }
+    return CDPR_OK;
 }

@@ -92,6 +92,13 @@ void cdpr_yaml_format_error(char *out, size_t cap, const char *path, int line, c
 /// key itself where libyaml finds it.
 void cdpr_yaml_error_message(const char *path, const cdpr_yaml_log_t *log, char *out, size_t cap);
 
+/// The range check of a file's values: every x[i] (n >= 1) finite and in [lo, hi] ((lo, hi]
+/// when lo_open). For the first that is not: its key into `key` ("BASE[i]" when n > 1, else
+/// "BASE"), why into `what` ("not a finite number (nan)", "-1 is outside (0, 100]"), and
+/// CDPR_E_NOT_FINITE or CDPR_E_OUT_OF_RANGE; CDPR_OK otherwise (nothing written). O(n).
+cdpr_status_t cdpr_yaml_range(const char *base, const double *x, int n, double lo, double hi,
+                              int lo_open, char *key, size_t key_cap, char *what, size_t what_cap);
+
 /// Free what cdpr_yaml_load returned (NULL is fine).
 void cdpr_yaml_free(const cyaml_schema_value_t *schema, void *data);
 
