@@ -436,6 +436,41 @@ static void test_substep_limit_names_the_key_and_a_budget_that_works(void)
     TEST_ASSERT_EQUAL_INT(10, sum.periods);
 }
 
+/* Validate once (issue 21): a loaded scenario is trusted by cdpr_sim_run while it holds the
+ * values load checked; changed afterwards, it is checked again and a bad value is refused
+ * naming its key, before anything is built; an override re-stamps it. */
+static void test_a_changed_scenario_is_checked_again(void)
+{
+    cdpr_scenario_t *sc = malloc(sizeof *sc);
+    TEST_ASSERT_NOT_NULL(sc);
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        CDPR_OK, cdpr_scenario_load(CDPR_SOURCE_DIR "/scenarios/paper-line.yaml", sc, &err),
+        err.msg);
+    TEST_ASSERT_EQUAL_INT(1, cdpr_scenario_is_checked(sc));
+    sc->rig.cable[0].rope.ea_N = (double)NAN;
+    TEST_ASSERT_EQUAL_INT(0, cdpr_scenario_is_checked(sc));
+    cdpr_sim_opts_t opt;
+    cdpr_sim_opts_default(&opt);
+    char out[600];
+    snprintf(out, sizeof out, "%s/changed", CDPR_TEST_TMP);
+    opt.out_dir = out;
+    static cdpr_summary_t sum;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_sim_run(sc, &opt, &sum, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "robot.rope.ea_N (cable 1): not a finite number"),
+                                 err.msg);
+    /* An override checks what changed too, and stamps the scenario when it passes. */
+    cdpr_scenario_overrides_t ov;
+    cdpr_scenario_overrides_none(&ov);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE, cdpr_scenario_override(sc, &ov, "t", NULL, &err));
+    TEST_ASSERT_EQUAL_INT(0, cdpr_scenario_is_checked(sc));
+    sc->rig.cable[0].rope.ea_N = 2.0e6;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_override(sc, &ov, "t", NULL, &err),
+                                  err.msg);
+    TEST_ASSERT_EQUAL_INT(1, cdpr_scenario_is_checked(sc));
+    free(sc);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -445,5 +480,6 @@ int main(void)
     RUN_TEST(test_deploy_retrieve_node_events);
     RUN_TEST(test_summary_real_time_block_round_trip);
     RUN_TEST(test_substep_limit_names_the_key_and_a_budget_that_works);
+    RUN_TEST(test_a_changed_scenario_is_checked_again);
     return UNITY_END() ? 1 : 0;
 }

@@ -8,6 +8,7 @@
 #include <limits.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -766,6 +767,9 @@ static cdpr_status_t check_whole_numbers(const raw_t *r, const cdpr_scenario_t *
 
 static cdpr_status_t check_integrator_sections(const raw_t *r, const cdpr_scenario_t *sc,
                                                cdpr_scenario_error_t *err);
+static cdpr_status_t check_all(const cdpr_scenario_t *sc, int rig_checked,
+                               cdpr_scenario_error_t *err);
+static uint64_t fingerprint(const cdpr_scenario_t *sc);
 
 cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
@@ -817,7 +821,10 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     if (st == CDPR_OK) {
         defaults_common(sc);
         resolve(raw, sc);
-        st = cdpr_scenario_check(sc, err);
+        st = check_all(sc, (sc->robot_source == CDPR_ROBOT_FROM_FILE) ? 1 : 0, err);
+    }
+    if (st == CDPR_OK) {
+        sc->checked_stamp = fingerprint(sc);
     }
     cdpr_yaml_free(schema, data);
     return st;
@@ -1065,10 +1072,33 @@ static void check_rig(vctx_t *v)
     }
 }
 
-cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+/* FNV-1a (64 bit) over the scenario's bytes up to the stamp: equal values, equal bytes (a
+ * loaded scenario starts zeroed, padding included; a scenario whose padding differs only
+ * fails to match, and is checked again). */
+static uint64_t fingerprint(const cdpr_scenario_t *sc)
+{
+    const unsigned char *b = (const unsigned char *)sc;
+    uint64_t h = 14695981039346656037ULL;
+    for (size_t i = 0; i < offsetof(cdpr_scenario_t, checked_stamp); ++i) {
+        h = (h ^ b[i]) * 1099511628211ULL;
+    }
+    return (h != 0U) ? h : 1U;
+}
+
+int cdpr_scenario_is_checked(const cdpr_scenario_t *sc)
+{
+    return (sc->checked_stamp != 0U && sc->checked_stamp == fingerprint(sc)) ? 1 : 0;
+}
+
+/* cdpr_scenario_check; rig_checked 1: the robot record was just checked (a robot file by
+ * cdpr_rig_load, or an unchanged checked scenario), the rest is checked. */
+static cdpr_status_t check_all(const cdpr_scenario_t *sc, int rig_checked,
+                               cdpr_scenario_error_t *err)
 {
     vctx_t v = {sc, err, CDPR_OK};
-    check_rig(&v);
+    if (rig_checked == 0) {
+        check_rig(&v);
+    }
     check_motion(&v);
     check_run(&v);
     if (v.failed == CDPR_OK) {
@@ -1103,6 +1133,11 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
         }
     }
     return v.failed;
+}
+
+cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
+{
+    return check_all(sc, 0, err);
 }
 
 const char *cdpr_scenario_trajectory_key(const cdpr_scenario_t *sc)
@@ -1202,6 +1237,7 @@ static cdpr_status_t whole_option(const char *opt, double v, int *out, cdpr_scen
 cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_overrides_t *ov,
                                      const char *prog, FILE *notes, cdpr_scenario_error_t *err)
 {
+    const int rig_checked = cdpr_scenario_is_checked(sc);
     const char *of = (sc->path[0] != '\0') ? sc->path : "the scenario";
     char opts[256] = "";
     int trials = sc->integrator.max_trials;
@@ -1294,7 +1330,9 @@ cdpr_status_t cdpr_scenario_override(cdpr_scenario_t *sc, const cdpr_scenario_ov
                  counts[i].value);
     }
     cdpr_scenario_error_t ce;
-    const cdpr_status_t st = cdpr_scenario_check(sc, &ce);
+    /* The overrides change run and integrator settings only: a robot checked before stays so. */
+    const cdpr_status_t st = check_all(sc, rig_checked, &ce);
+    sc->checked_stamp = (st == CDPR_OK) ? fingerprint(sc) : 0U;
     if (st != CDPR_OK) {
         if (opts[0] != '\0') {
             snprintf(err->msg, sizeof err->msg, "%.255s: %.1780s", opts, ce.msg);

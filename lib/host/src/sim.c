@@ -301,7 +301,10 @@ cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, 
 {
     memset(sum, 0, sizeof *sum);
     sum->status = CDPR_SUMMARY_FAILED;
-    const cdpr_status_t cs = cdpr_scenario_check(sc, err);
+    /* Checked once: a scenario changed since its load or override (or built in code) is
+     * checked here. */
+    const cdpr_status_t cs =
+        (cdpr_scenario_is_checked(sc) != 0) ? CDPR_OK : cdpr_scenario_check(sc, err);
     if (cs != CDPR_OK) {
         return cs;
     }

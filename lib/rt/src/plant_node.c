@@ -122,7 +122,7 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
 {
     memset(rt, 0, sizeof *rt);
     rt->o = *o;
-    cdpr_status_t st = cdpr_scenario_check(sc, err);
+    cdpr_status_t st = (cdpr_scenario_is_checked(sc) != 0) ? CDPR_OK : cdpr_scenario_check(sc, err);
     if (st != CDPR_OK) {
         return st;
     }

@@ -21,6 +21,7 @@
 #ifndef CDPR_HOST_SCENARIO_H
 #define CDPR_HOST_SCENARIO_H
 
+#include <stdint.h>
 #include <stdio.h>
 
 #include "cdpr/plant.h"
@@ -81,6 +82,9 @@ typedef struct {
     double period_s;       ///< control period of plant, controller and
                            ///< outputs [s] (run.period_s)
     double output_rate_hz; ///< CSV rows per simulated second
+    /// Fingerprint of the values above when cdpr_scenario_load or cdpr_scenario_override last
+    /// checked them (0: never): cdpr_scenario_is_checked. Last member; not a value.
+    uint64_t checked_stamp;
 } cdpr_scenario_t;
 
 /// Error text of a failed load or check: "FILE:LINE: KEY: what".
@@ -107,6 +111,13 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
 /// status for robot values it rejects. Called by the loader and by cdpr_scenario_override;
 /// call it for scenarios built in code. The one place where run settings are range-checked.
 cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error_t *err);
+
+/// 1 when `sc` holds exactly the values that cdpr_scenario_load or cdpr_scenario_override
+/// checked (its bytes up to checked_stamp hash to the stamp), else 0: a scenario built in code,
+/// or changed since (then call cdpr_scenario_check). Later layers (cdpr_sim_run, cdpr_rt_init)
+/// trust a checked scenario instead of checking it again: a scenario is validated once.
+/// O(sizeof *sc); cannot fail.
+int cdpr_scenario_is_checked(const cdpr_scenario_t *sc);
 
 /// Command-line overrides of a scenario's run settings (inputs). NaN: not given
 /// (cdpr_scenario_overrides_none).

@@ -45,7 +45,7 @@ typedef struct {
 /// Defaults: no output directory, no progress, 2 s before progress, no stop flag.
 void cdpr_sim_opts_default(cdpr_sim_opts_t *o);
 
-/// Run a scenario (checked again here) for its run.duration_s. Returns
+/// Run a scenario (checked here unless cdpr_scenario_is_checked) for its run.duration_s. Returns
 ///  - CDPR_OK when the run reached its end (sum->status ok or warnings);
 ///  - CDPR_E_INTERRUPTED when *o->stop ended it early (sum->status interrupted; the CSV holds
 ///    whole rows up to the last period run, summary.json is written);
