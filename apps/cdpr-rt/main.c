@@ -34,7 +34,7 @@ typedef struct {
     int quiet;
     int check_design; /* --check-design */
     cdpr_scenario_overrides_t ov;
-    cdpr_rt_opts_t rt;
+    cdpr_rt_plant_opts_t rt;
 } options_t;
 
 static void usage(FILE *f)
@@ -110,7 +110,7 @@ static int take(int c, const char *arg, void *ctx)
         o->rt.realtime = 1;
         break;
     case 'P':
-        /* Whole and within an int here; its range is cdpr_rt_init's. */
+        /* Whole and within an int here; its range is cdpr_rt_plant_init's. */
         bad =
             (int)cdpr_cli_number("cdpr-rt", "priority", arg, (double)INT_MIN, (double)INT_MAX, &v);
         bad = (bad == 0 && floor(v) < v)
@@ -218,9 +218,9 @@ static void on_overload(long periods, long misses, double rate_hz, void *ctx)
 }
 
 /* Everything big is static. */
-static cdpr_rt_t g_rt;
+static cdpr_rt_plant_t g_rt;
 static cdpr_rt_tracker_t g_tracker;
-static cdpr_rt_record_t g_record;
+static cdpr_rt_tracker_record_t g_record;
 static cdpr_summary_t g_tracker_sum;
 
 static int tracker_open(lcm_t *lcm, void *ctx)
@@ -232,7 +232,7 @@ static int tracker_open(lcm_t *lcm, void *ctx)
 /* The in-process tracker on the bridge thread, recording what it sees. */
 /* The work of one period, stated before the run (docs/realtime.md "Real-time contract"): the
  * fixed mode's exact count, or the adaptive schemes' bound. */
-static void print_work_per_period(const cdpr_rt_t *rt)
+static void print_work_per_period(const cdpr_rt_plant_t *rt)
 {
     const cdpr_plant_t *p = &rt->plant;
     const int trials = p->pp.max_trials * p->pp.max_attempts;
@@ -320,9 +320,9 @@ static cdpr_status_t tracker_finish(const options_t *o, const cdpr_scenario_t *s
     g_tracker_sum.steps_rejected = w.steps_rejected;
     g_tracker_sum.rhs_evals = w.rhs_evals;
     g_tracker_sum.settle_steps = p->settle.steps;
-    g_tracker_sum.settle_wall_time_s = (double)NAN; /* not measured by cdpr_rt_init */
+    g_tracker_sum.settle_wall_time_s = (double)NAN; /* not measured by cdpr_rt_plant_init */
     g_tracker_sum.wall_time_s = g_rt.tel.wall_s;
-    cdpr_rt_summary_figures(&g_rt, &g_tracker_sum.rt);
+    cdpr_rt_plant_summary_figures(&g_rt, &g_tracker_sum.rt);
     g_tracker_sum.max_rhs_per_period = g_rt.tel.max_rhs_per_period;
     if (p->pp.integrator == CDPR_PLANT_ROS34PW2_FIXED) {
         g_tracker_sum.substeps = p->substeps;
@@ -364,7 +364,7 @@ int main(int argc, char **argv)
 {
     options_t o;
     memset(&o, 0, sizeof o);
-    cdpr_rt_opts_default(&o.rt);
+    cdpr_rt_plant_opts_default(&o.rt);
     cdpr_scenario_overrides_none(&o.ov);
     if (parse(argc, argv, &o) != 0) {
         return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
@@ -390,7 +390,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "cdpr-rt: %s: settling the initial state...\n", o.scenario);
     }
     cdpr_scenario_error_t err;
-    st = cdpr_rt_init(&g_rt, &sc, &o.rt, &err);
+    st = cdpr_rt_plant_init(&g_rt, &sc, &o.rt, &err);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
         return cdpr_app_exit_code(st);
@@ -405,7 +405,7 @@ int main(int argc, char **argv)
                 (o.rt.lcm.url != NULL) ? o.rt.lcm.url : "liblcm's default URL");
         print_work_per_period(&g_rt);
     }
-    st = cdpr_rt_run(&g_rt, &err);
+    st = cdpr_rt_plant_run(&g_rt, &err);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", err.msg);
     }
@@ -413,7 +413,7 @@ int main(int argc, char **argv)
         return cdpr_app_exit_code(st);
     }
     if (o.quiet == 0) {
-        cdpr_rt_print_summary(&g_rt, stdout);
+        cdpr_rt_plant_print_summary(&g_rt, stdout);
     }
     if (o.with_tracker != 0) {
         /* An output failure (exit 3) outranks a stop by a signal (exit 1). */

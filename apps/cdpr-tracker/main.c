@@ -394,7 +394,7 @@ static cdpr_status_t replay_run(const options_t *o)
 
 static cdpr_plant_t g_model; /* the controller's own model: IK of the initial pose only */
 static cdpr_rt_tracker_t g_tracker;
-static cdpr_rt_record_t g_record;
+static cdpr_rt_tracker_record_t g_record;
 static cdpr_summary_t g_sum;
 static int g_silence;        /* serve stopped because no state came for --idle-exit */
 static int g_refused;        /* serve stopped: CDPR_RT_MAX_REFUSED_IN_ROW states refused in a row */
@@ -642,7 +642,7 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
         /* The plant's own figures as its newest diagnostics gave them (it sends one before
          * its last state): work per period, health of the fixed mode, overruns. */
         const cdpr_diagnostics_t *d = &g_tracker.plant_diag;
-        cdpr_rt_figures_from_diagnostics(d, &g_sum.rt);
+        cdpr_rt_plant_figures_from_diagnostics(d, &g_sum.rt);
         g_sum.rhs_evals = (unsigned long)d->rhs_evals;
         g_sum.max_rhs_per_period = (unsigned long)d->max_rhs_per_period;
         g_sum.substep_limit_hits = (unsigned long)d->substep_limit_hits;

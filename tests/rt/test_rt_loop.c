@@ -34,7 +34,7 @@ void setUp(void) {}
 void tearDown(void) {}
 
 static cdpr_scenario_t g_sc;
-static cdpr_rt_t g_rt;
+static cdpr_rt_plant_t g_rt;
 static cdpr_rt_tracker_t g_tracker;
 static cdpr_plant_t g_ref;
 static cdpr_tracker_t g_ref_ctl;
@@ -66,7 +66,7 @@ static void run_settings(double rate_hz, double duration_s, double max_trials)
  * machine, and the watchdog is as long as it may be, since the mailbox applies it in lockstep
  * too (an answer read more than the watchdog timeout after it arrived would be taken as stale:
  * that period would wait for the lockstep timeout and hold). */
-static void lockstep_opts(cdpr_rt_opts_t *o)
+static void lockstep_opts(cdpr_rt_plant_opts_t *o)
 {
     o->lockstep = 1;
     o->lockstep_timeout_s = 30.0;
@@ -114,14 +114,14 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     cdpr_scenario_error_t err;
 
     /* Over LCM: cdpr_rt in lockstep, the tracker node on the bridge thread (memq). */
-    cdpr_rt_opts_t o;
-    cdpr_rt_opts_default(&o);
+    cdpr_rt_plant_opts_t o;
+    cdpr_rt_plant_opts_default(&o);
     run_settings(rate, (double)periods / rate, (double)NAN);
     lockstep_opts(&o);
     o.lcm.url = "memq://";
     o.lcm.on_open = tracker_open;
     o.lcm.on_open_ctx = &g_tracker;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_plant_init(&g_rt, &g_sc, &o, &err), err.msg);
     const cdpr_tracker_gains_t g = g_sc.gains;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, g_rt.plant.pp.winch,
@@ -129,7 +129,7 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     g_tracker.answer_in_handler = 1;
     g_tracker.on_step = record_lcm;
     g_tracker.on_step_ctx = &g_lcm_rec;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_run(&g_rt, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_plant_run(&g_rt, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(periods, g_rt.tel.periods);
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.lockstep_timeouts);
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.hold_periods);
@@ -227,8 +227,8 @@ static void test_rt_thread_makes_no_allocation_and_no_lcm_call(void)
 {
     load("paper-line");
     cdpr_scenario_error_t err;
-    cdpr_rt_opts_t o;
-    cdpr_rt_opts_default(&o);
+    cdpr_rt_plant_opts_t o;
+    cdpr_rt_plant_opts_default(&o);
     run_settings(1000.0, 0.3, 200.0);
     lockstep_opts(&o);
     o.shape_rate_hz = 100.0; /* shapes and diagnostics are on the RT path too */
@@ -238,14 +238,14 @@ static void test_rt_thread_makes_no_allocation_and_no_lcm_call(void)
     o.lcm.on_open_ctx = &g_tracker;
     o.on_rt_thread = count_hook;
     o.on_rt_thread_ctx = &g_counts;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_plant_init(&g_rt, &g_sc, &o, &err), err.msg);
     const cdpr_tracker_gains_t g = g_sc.gains;
     TEST_ASSERT_EQUAL_INT(CDPR_OK,
                           cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, g_rt.plant.pp.winch,
                                                &g_sc.traj, &g, 1e-3, NULL, NULL));
     g_tracker.answer_in_handler = 1;
     cdpr_alloc_reset();
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_run(&g_rt, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_plant_run(&g_rt, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(1, g_counts.done);
     TEST_ASSERT_EQUAL_INT(300, g_rt.tel.periods);
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.lockstep_timeouts);
@@ -459,10 +459,10 @@ static int script_open(lcm_t *lcm, void *ctx)
 }
 
 /* The options of a scripted run: free-running at 1 kHz for `duration_s` of plant time. */
-static void scripted_opts(cdpr_rt_opts_t *o, double duration_s)
+static void scripted_opts(cdpr_rt_plant_opts_t *o, double duration_s)
 {
     load("paper-line");
-    cdpr_rt_opts_default(o);
+    cdpr_rt_plant_opts_default(o);
     run_settings(1000.0, duration_s, 200.0);
     o->lcm.url = "memq://";
     o->lcm.watchdog_timeout_s = 0.1;
@@ -478,15 +478,15 @@ static void test_silence_holds_then_resumes_and_bad_commands_are_ignored(void)
     g_script.garbage = 100;
     g_script.silence_at = 300;
     cdpr_scenario_error_t err;
-    cdpr_rt_opts_t o;
+    cdpr_rt_plant_opts_t o;
     scripted_opts(&o, SCRIPT_RUN_S);
     o.stop = &g_stop;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_plant_init(&g_rt, &g_sc, &o, &err), err.msg);
     /* Stopped by the script (g_stop) once control had resumed; CDPR_OK would mean the run
      * reached its plant time first (the script never got there). */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_E_INTERRUPTED, cdpr_rt_run(&g_rt, &err),
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_E_INTERRUPTED, cdpr_rt_plant_run(&g_rt, &err),
                                   "the script did not complete");
-    const cdpr_rt_telemetry_t *t = &g_rt.tel;
+    const cdpr_rt_plant_telemetry_t *t = &g_rt.tel;
     const cdpr_lcm_stats_t *s = &t->lcm;
     const script_t *sc = &g_script;
     printf("silence from state %lld: hold %.1f ms after the last command (watchdog 100 ms); "
@@ -526,17 +526,17 @@ static void test_stalled_publisher_drops_and_rt_thread_keeps_stepping(void)
     g_script.stall_at = 100;
     g_script.stall = 1;
     cdpr_scenario_error_t err;
-    cdpr_rt_opts_t o;
+    cdpr_rt_plant_opts_t o;
     scripted_opts(&o, SCRIPT_RUN_S);
     o.diag_rate_hz = 0.0; /* diagnostics only at the end: the count below is exact */
     o.stop = &g_stop;
     o.on_rt_thread = count_hook;
     o.on_rt_thread_ctx = &g_counts;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_init(&g_rt, &g_sc, &o, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_plant_init(&g_rt, &g_sc, &o, &err), err.msg);
     cdpr_alloc_reset();
     /* Stopped by the script (g_stop) once the states flowed again after the stall. */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_E_INTERRUPTED, cdpr_rt_run(&g_rt, &err), err.msg);
-    const cdpr_rt_telemetry_t *t = &g_rt.tel;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_E_INTERRUPTED, cdpr_rt_plant_run(&g_rt, &err), err.msg);
+    const cdpr_rt_plant_telemetry_t *t = &g_rt.tel;
     const script_t *s = &g_script;
     const int64_t advanced = s->rt_seq_after_stall - s->rt_seq_before_stall;
     const uint64_t dropped = s->dropped_after_stall - s->dropped_before_stall;
@@ -573,11 +573,11 @@ static void test_stalled_publisher_drops_and_rt_thread_keeps_stepping(void)
  * made it late, the start-up counted apart, the policy stops at its limits. 1 kHz: T = 1 ms. */
 static void test_overruns_classified_and_policy(void)
 {
-    static cdpr_rt_t rt;
+    static cdpr_rt_plant_t rt;
     memset(&rt, 0, sizeof rt);
-    cdpr_rt_opts_default(&rt.o);
+    cdpr_rt_plant_opts_default(&rt.o);
     rt.o.startup_s = 0.005;
-    rt.startup_periods = 5; /* what cdpr_rt_init makes of it at 1 kHz */
+    rt.startup_periods = 5; /* what cdpr_rt_plant_init makes of it at 1 kHz */
     rt.o.max_misses = 4;
     rt.o.max_misses_in_row = 0;
     rt.period_ns = 1000000;
@@ -588,7 +588,7 @@ static void test_overruns_classified_and_policy(void)
     /* start-up: a miss of any kind is counted apart */
     for (int k = 0; k < 5; ++k) {
         rt.tel.periods = k;
-        stop |= cdpr_rt_judge_period(&rt, k * T, k * T + 3 * T, k * T + 4 * T, 100, &in_row);
+        stop |= cdpr_rt_plant_judge_period(&rt, k * T, k * T + 3 * T, k * T + 4 * T, 100, &in_row);
     }
     TEST_ASSERT_EQUAL_INT(5, rt.tel.startup_misses);
     TEST_ASSERT_EQUAL_INT(5, rt.tel.deadline_misses);
@@ -607,8 +607,8 @@ static void test_overruns_classified_and_policy(void)
     for (int i = 0; i < 5; ++i) {
         rt.tel.periods = 5 + i;
         const int64_t start = (5 + i) * T;
-        stop |= cdpr_rt_judge_period(&rt, start, start + p[i].wake, start + p[i].wake + p[i].wall,
-                                     p[i].cpu, &in_row);
+        stop |= cdpr_rt_plant_judge_period(&rt, start, start + p[i].wake,
+                                           start + p[i].wake + p[i].wall, p[i].cpu, &in_row);
         TEST_ASSERT_EQUAL_INT(p[i].late, rt.tel.misses_late_wakeup);
         TEST_ASSERT_EQUAL_INT(p[i].pre, rt.tel.misses_preempted);
         TEST_ASSERT_EQUAL_INT(p[i].lng, rt.tel.misses_long_compute);
@@ -619,7 +619,7 @@ static void test_overruns_classified_and_policy(void)
     TEST_ASSERT_EQUAL_INT(800000, rt.tel.wake_late_ns_max);
     /* The telemetry goes to diagnostics_t and from it to a summary's real-time block field
      * by field (distinct values, so that no two can be swapped unseen). */
-    const cdpr_rt_telemetry_t saved = rt.tel;
+    const cdpr_rt_plant_telemetry_t saved = rt.tel;
     rt.tel.deadline_misses = 16;
     rt.tel.startup_misses = 15;
     rt.tel.misses_late_wakeup = 11;
@@ -631,7 +631,7 @@ static void test_overruns_classified_and_policy(void)
     rt.tel.cpu_ns_max = 18000;
     rt.tel.overrun_stop = 1;
     cdpr_summary_rt_t fig;
-    cdpr_rt_summary_figures(&rt, &fig);
+    cdpr_rt_plant_summary_figures(&rt, &fig);
     TEST_ASSERT_EQUAL_INT(16, rt.diag_msg.deadline_misses);
     TEST_ASSERT_EQUAL_INT(1, fig.known);
     TEST_ASSERT_EQUAL_UINT(16, fig.deadline_misses);
@@ -647,7 +647,7 @@ static void test_overruns_classified_and_policy(void)
     rt.tel = saved;
     /* the fourth miss after the start-up stops the run */
     rt.tel.periods = 10;
-    TEST_ASSERT_EQUAL_INT(1, cdpr_rt_judge_period(&rt, 10 * T, 10 * T, 12 * T, 100, &in_row));
+    TEST_ASSERT_EQUAL_INT(1, cdpr_rt_plant_judge_period(&rt, 10 * T, 10 * T, 12 * T, 100, &in_row));
     TEST_ASSERT_EQUAL_INT(1, rt.tel.overrun_stop);
     /* in a row: 2 allowed in a row, the second one stops */
     memset(&rt.tel, 0, sizeof rt.tel);
@@ -657,22 +657,23 @@ static void test_overruns_classified_and_policy(void)
     rt.startup_periods = 0;
     in_row = 0;
     rt.tel.periods = 1;
-    TEST_ASSERT_EQUAL_INT(0, cdpr_rt_judge_period(&rt, T, T, 3 * T, 100, &in_row));
+    TEST_ASSERT_EQUAL_INT(0, cdpr_rt_plant_judge_period(&rt, T, T, 3 * T, 100, &in_row));
     rt.tel.periods = 2;
-    TEST_ASSERT_EQUAL_INT(0, cdpr_rt_judge_period(&rt, 2 * T, 2 * T, 2 * T + 10, 100, &in_row));
+    TEST_ASSERT_EQUAL_INT(0,
+                          cdpr_rt_plant_judge_period(&rt, 2 * T, 2 * T, 2 * T + 10, 100, &in_row));
     rt.tel.periods = 3;
-    TEST_ASSERT_EQUAL_INT(0, cdpr_rt_judge_period(&rt, 3 * T, 3 * T, 5 * T, 100, &in_row));
+    TEST_ASSERT_EQUAL_INT(0, cdpr_rt_plant_judge_period(&rt, 3 * T, 3 * T, 5 * T, 100, &in_row));
     rt.tel.periods = 4;
-    TEST_ASSERT_EQUAL_INT(1, cdpr_rt_judge_period(&rt, 4 * T, 4 * T, 6 * T, 100, &in_row));
+    TEST_ASSERT_EQUAL_INT(1, cdpr_rt_plant_judge_period(&rt, 4 * T, 4 * T, 6 * T, 100, &in_row));
     /* count only (the default): never stops */
-    cdpr_rt_opts_default(&rt.o);
+    cdpr_rt_plant_opts_default(&rt.o);
     rt.startup_periods = 1000; /* the default 1 s at 1 kHz */
     memset(&rt.tel, 0, sizeof rt.tel);
     in_row = 0;
     for (int k = 0; k < 3000; ++k) {
         rt.tel.periods = k;
         TEST_ASSERT_EQUAL_INT(
-            0, cdpr_rt_judge_period(&rt, k * T, k * T, k * T + 2 * T, 2 * T, &in_row));
+            0, cdpr_rt_plant_judge_period(&rt, k * T, k * T, k * T + 2 * T, 2 * T, &in_row));
     }
     TEST_ASSERT_EQUAL_INT(2000, rt.tel.misses_long_compute);
     TEST_ASSERT_EQUAL_INT(1000, rt.tel.startup_misses);

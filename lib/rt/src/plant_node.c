@@ -24,7 +24,7 @@ static const int64_t LOCKSTEP_RESEND_NS = 100000000;
 /* Stack the periodic thread touches before its first period (page faults happen up front). */
 #define PREFAULT_STACK_BYTES (64 * 1024)
 
-void cdpr_rt_opts_default(cdpr_rt_opts_t *o)
+void cdpr_rt_plant_opts_default(cdpr_rt_plant_opts_t *o)
 {
     memset(o, 0, sizeof *o);
     o->lockstep = 0;
@@ -38,7 +38,7 @@ void cdpr_rt_opts_default(cdpr_rt_opts_t *o)
     o->max_misses = 0;
     o->max_misses_in_row = 0;
     cdpr_lcm_bridge_params_default(&o->lcm);
-    o->lcm.watchdog_timeout_s = 0.0; /* follow the period (cdpr_rt_init) */
+    o->lcm.watchdog_timeout_s = 0.0; /* follow the period (cdpr_rt_plant_init) */
 }
 
 /* A bad option: "option --NAME: what", NOT_FINITE or OUT_OF_RANGE. */
@@ -50,7 +50,7 @@ static cdpr_status_t opt_error(const char *opt, double v, const char *what,
 }
 
 /* The node's own options (the run settings are the scenario's: cdpr_scenario_check). */
-static cdpr_status_t check_opts(const cdpr_rt_opts_t *op, cdpr_scenario_error_t *err)
+static cdpr_status_t check_opts(const cdpr_rt_plant_opts_t *op, cdpr_scenario_error_t *err)
 {
     if (!(op->lockstep_timeout_s > 0.0 && op->lockstep_timeout_s <= 3600.0)) {
         return opt_error("lockstep-timeout", op->lockstep_timeout_s, "must be in (0, 3600] s", err);
@@ -82,7 +82,7 @@ static cdpr_status_t check_opts(const cdpr_rt_opts_t *op, cdpr_scenario_error_t 
 }
 
 /* The bridge for the plant's cables and winch limits. */
-static cdpr_status_t init_bridge(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
+static cdpr_status_t init_bridge(cdpr_rt_plant_t *rt, cdpr_scenario_error_t *err)
 {
     cdpr_lcm_bridge_params_t bp = rt->o.lcm;
     bp.n_cables = rt->plant.robot.p.n_cables;
@@ -117,8 +117,8 @@ static long every(double rate_hz, double hz)
     return (n < 1.0) ? 1 : (n > 1e9 ? 1000000000L : (long)n);
 }
 
-cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
-                           cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_rt_plant_init(cdpr_rt_plant_t *rt, const cdpr_scenario_t *sc,
+                                 const cdpr_rt_plant_opts_t *o, cdpr_scenario_error_t *err)
 {
     memset(rt, 0, sizeof *rt);
     rt->o = *o;
@@ -205,9 +205,9 @@ static int64_t thread_cpu_ns(void)
     return (int64_t)ts.tv_sec * 1000000000 + (int64_t)ts.tv_nsec;
 }
 
-static void record(cdpr_rt_t *rt, int64_t ns, int64_t cpu_ns)
+static void record(cdpr_rt_plant_t *rt, int64_t ns, int64_t cpu_ns)
 {
-    cdpr_rt_telemetry_t *t = &rt->tel;
+    cdpr_rt_plant_telemetry_t *t = &rt->tel;
     rt->recorded++;
     const int64_t us = ns / 1000;
     rt->hist[(us < CDPR_RT_HIST_US) ? us : CDPR_RT_HIST_US]++;
@@ -224,9 +224,9 @@ static void record(cdpr_rt_t *rt, int64_t ns, int64_t cpu_ns)
     }
 }
 
-static void fill_stats(cdpr_rt_t *rt)
+static void fill_stats(cdpr_rt_plant_t *rt)
 {
-    cdpr_rt_telemetry_t *t = &rt->tel;
+    cdpr_rt_plant_telemetry_t *t = &rt->tel;
     const cdpr_plant_t *p = &rt->plant;
     t->compute_ns_median = hist_quantile(rt->hist, rt->recorded, 0.5);
     t->compute_ns_p99 = hist_quantile(rt->hist, rt->recorded, 0.99);
@@ -262,10 +262,10 @@ static void fill_stats(cdpr_rt_t *rt)
 }
 
 /* rt->diag_msg from the telemetry as it is now. */
-static void fill_diagnostics(cdpr_rt_t *rt)
+static void fill_diagnostics(cdpr_rt_plant_t *rt)
 {
     cdpr_diagnostics_t *m = &rt->diag_msg;
-    cdpr_rt_telemetry_t *t = &rt->tel;
+    cdpr_rt_plant_telemetry_t *t = &rt->tel;
     fill_stats(rt);
     memset(m, 0, sizeof *m);
     cdpr_lcm_stats_t s;
@@ -309,7 +309,7 @@ static void fill_diagnostics(cdpr_rt_t *rt)
     m->overrun_stop = (int8_t)t->overrun_stop;
 }
 
-static void push_diagnostics(cdpr_rt_t *rt)
+static void push_diagnostics(cdpr_rt_plant_t *rt)
 {
     fill_diagnostics(rt);
     (void)cdpr_lcm_bridge_push_diagnostics(&rt->bridge, &rt->diag_msg);
@@ -319,7 +319,7 @@ static void push_diagnostics(cdpr_rt_t *rt)
  * due; one wake-up of the bridge. With the last state of the run, the diagnostics go first: a
  * controller that stops at the last state has then received the run's figures (its summary
  * reports them), whatever the machine's load. */
-static void publish(cdpr_rt_t *rt, int plant_flags)
+static void publish(cdpr_rt_plant_t *rt, int plant_flags)
 {
     cdpr_plant_t *p = &rt->plant;
     const int last = (rt->advanced >= rt->n_periods) ? 1 : 0;
@@ -357,7 +357,7 @@ static void publish(cdpr_rt_t *rt, int plant_flags)
 /* Lockstep: wait for the command answering state rt->seq, sending the state again every
  * LOCKSTEP_RESEND_NS (a controller that subscribed late, or a datagram lost on udpm). 1 when
  * the answer came, 0 on timeout. */
-static int wait_answer(cdpr_rt_t *rt, cdpr_lcm_command_t *cmd, int *read_flags)
+static int wait_answer(cdpr_rt_plant_t *rt, cdpr_lcm_command_t *cmd, int *read_flags)
 {
     const int64_t t0 = cdpr_lcm_now_ns();
     const int64_t limit = t0 + (int64_t)llround(rt->o.lockstep_timeout_s * 1e9);
@@ -388,9 +388,9 @@ static int wait_answer(cdpr_rt_t *rt, cdpr_lcm_command_t *cmd, int *read_flags)
 /* The command of the next period: in lockstep the answer to the last state (or hold after the
  * timeout), free-running the newest one at the period's start `next`. Counts holds and new
  * commands; returns the time the period's work starts. */
-static int64_t take_command(cdpr_rt_t *rt, int64_t next, cdpr_lcm_command_t *cmd)
+static int64_t take_command(cdpr_rt_plant_t *rt, int64_t next, cdpr_lcm_command_t *cmd)
 {
-    cdpr_rt_telemetry_t *t = &rt->tel;
+    cdpr_rt_plant_telemetry_t *t = &rt->tel;
     int rf = 0;
     int64_t t0;
     if (rt->o.lockstep != 0) {
@@ -424,11 +424,11 @@ static void prefault_stack(void)
     }
 }
 
-int cdpr_rt_judge_period(cdpr_rt_t *rt, int64_t start, int64_t t0, int64_t t1, int64_t cpu,
-                         long *in_row)
+int cdpr_rt_plant_judge_period(cdpr_rt_plant_t *rt, int64_t start, int64_t t0, int64_t t1,
+                               int64_t cpu, long *in_row)
 {
-    cdpr_rt_telemetry_t *t = &rt->tel;
-    const cdpr_rt_opts_t *o = &rt->o;
+    cdpr_rt_plant_telemetry_t *t = &rt->tel;
+    const cdpr_rt_plant_opts_t *o = &rt->o;
     const int64_t T = rt->period_ns;
     const int startup = (t->periods < rt->startup_periods) ? 1 : 0;
     const int64_t late = t0 - start;
@@ -464,9 +464,9 @@ int cdpr_rt_judge_period(cdpr_rt_t *rt, int64_t start, int64_t t0, int64_t t1, i
 
 static void *periodic(void *arg)
 {
-    cdpr_rt_t *rt = arg;
-    cdpr_rt_telemetry_t *t = &rt->tel;
-    const cdpr_rt_opts_t *o = &rt->o;
+    cdpr_rt_plant_t *rt = arg;
+    cdpr_rt_plant_telemetry_t *t = &rt->tel;
+    const cdpr_rt_plant_opts_t *o = &rt->o;
     prefault_stack();
     if (o->on_rt_thread != NULL) {
         o->on_rt_thread(0, o->on_rt_thread_ctx);
@@ -516,7 +516,7 @@ static void *periodic(void *arg)
         const int64_t cpu = thread_cpu_ns() - cpu0;
         record(rt, t1 - t0, cpu);
         if (o->lockstep == 0) {
-            const int stop = cdpr_rt_judge_period(rt, next, t0, t1, cpu, &missed_in_row);
+            const int stop = cdpr_rt_plant_judge_period(rt, next, t0, t1, cpu, &missed_in_row);
             next += T;
             while (t1 - next >= T) { /* start times already past: skipped, not run late */
                 next += T;
@@ -544,7 +544,7 @@ static void *periodic(void *arg)
 }
 
 /* The overload report: more than CDPR_RT_OVERLOAD_RATIO of the periods so far missed. */
-static void check_overload(cdpr_rt_t *rt)
+static void check_overload(cdpr_rt_plant_t *rt)
 {
     const long n = __atomic_load_n(&rt->mon_periods, __ATOMIC_RELAXED);
     const long m = __atomic_load_n(&rt->mon_misses, __ATOMIC_RELAXED);
@@ -560,7 +560,7 @@ static void check_overload(cdpr_rt_t *rt)
 
 /* The caller's thread while the periodic thread runs: one look at the deadline misses after
  * the first second of a free-running run (or at its end, when shorter), then wait. */
-static void watch(cdpr_rt_t *rt)
+static void watch(cdpr_rt_plant_t *rt)
 {
     const struct timespec tick = {0, 20000000}; /* 20 ms */
     const int64_t t_check = cdpr_lcm_now_ns() + (int64_t)llround((rt->o.start_delay_s + 1.0) * 1e9);
@@ -577,10 +577,10 @@ static void watch(cdpr_rt_t *rt)
     }
 }
 
-/* How the run ended (cdpr_rt_run). */
-static cdpr_status_t run_status(const cdpr_rt_t *rt, cdpr_scenario_error_t *err)
+/* How the run ended (cdpr_rt_plant_run). */
+static cdpr_status_t run_status(const cdpr_rt_plant_t *rt, cdpr_scenario_error_t *err)
 {
-    const cdpr_rt_telemetry_t *t = &rt->tel;
+    const cdpr_rt_plant_telemetry_t *t = &rt->tel;
     if (t->stalled != 0) {
         snprintf(err->msg, sizeof err->msg,
                  "the plant could not advance: %ld periods in a row failed at t = %.6g s (%s)",
@@ -618,9 +618,9 @@ static cdpr_status_t run_status(const cdpr_rt_t *rt, cdpr_scenario_error_t *err)
     return CDPR_OK;
 }
 
-cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err)
+cdpr_status_t cdpr_rt_plant_run(cdpr_rt_plant_t *rt, cdpr_scenario_error_t *err)
 {
-    cdpr_rt_telemetry_t *t = &rt->tel;
+    cdpr_rt_plant_telemetry_t *t = &rt->tel;
     cdpr_diag_t d;
     memset(&d, 0, sizeof d);
     /* The bridge thread first, under the caller's (normal) policy: liblcm's receive thread
@@ -684,9 +684,9 @@ static double to_us(int64_t ns)
     return 1e-3 * (double)ns;
 }
 
-void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
+void cdpr_rt_plant_print_summary(const cdpr_rt_plant_t *rt, FILE *f)
 {
-    const cdpr_rt_telemetry_t *t = &rt->tel;
+    const cdpr_rt_plant_telemetry_t *t = &rt->tel;
     const cdpr_lcm_stats_t *s = &t->lcm;
     const double period_us = 1e-3 * (double)rt->period_ns;
     fprintf(f, "cdpr-rt telemetry\n");
@@ -794,7 +794,7 @@ void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f)
             t->min_length_periods);
 }
 
-void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_summary_rt_t *out)
+void cdpr_rt_plant_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_summary_rt_t *out)
 {
     memset(out, 0, sizeof *out);
     out->known = 1;
@@ -814,8 +814,8 @@ void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_summary_
     out->wake_late_us_max = to_us(d->wake_late_ns_max);
 }
 
-void cdpr_rt_summary_figures(cdpr_rt_t *rt, cdpr_summary_rt_t *out)
+void cdpr_rt_plant_summary_figures(cdpr_rt_plant_t *rt, cdpr_summary_rt_t *out)
 {
     fill_diagnostics(rt);
-    cdpr_rt_figures_from_diagnostics(&rt->diag_msg, out);
+    cdpr_rt_plant_figures_from_diagnostics(&rt->diag_msg, out);
 }

@@ -22,8 +22,9 @@ static int all_finite(const double *v, int n)
     return 1;
 }
 
-cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
-                                     double period_s, int n_cables, cdpr_tracker_meas_t *m)
+cdpr_status_t cdpr_rt_tracker_meas_from_msgs(const cdpr_cabin_state_t *st,
+                                             const cdpr_cable_tensions_t *ten, double period_s,
+                                             int n_cables, cdpr_tracker_meas_t *m)
 {
     if (st->seq != ten->seq || ten->n_cables != n_cables || !(period_s > 0.0) || st->utime_us < 0) {
         return CDPR_E_INVALID_ARG;
@@ -61,7 +62,7 @@ cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_ca
 }
 
 /* The physical range of a measurement of this robot (tracker_node.h, "Trust"). */
-static void set_bounds(cdpr_rt_meas_bounds_t *b, const cdpr_robot_params_t *model,
+static void set_bounds(cdpr_rt_tracker_meas_bounds_t *b, const cdpr_robot_params_t *model,
                        const cdpr_winch_params_t *winch)
 {
     memset(b, 0, sizeof *b);
@@ -360,8 +361,9 @@ static double norm3(const double *v)
 }
 
 /* The values of one pair within the robot's physical range (no history). */
-static cdpr_status_t check_values(const cdpr_rt_meas_bounds_t *b, const cdpr_cabin_state_t *st,
-                                  const cdpr_cable_tensions_t *ten, int n, char *why, size_t cap)
+static cdpr_status_t check_values(const cdpr_rt_tracker_meas_bounds_t *b,
+                                  const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
+                                  int n, char *why, size_t cap)
 {
     const double *q = st->orientation;
     const double qn = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
@@ -416,7 +418,7 @@ cdpr_status_t cdpr_rt_tracker_check_pair(const cdpr_rt_tracker_t *t, const cdpr_
 {
     why[0] = '\0';
     cdpr_tracker_meas_t m;
-    const cdpr_status_t ms = cdpr_rt_meas_from_msgs(st, ten, t->period_s, t->n_cables, &m);
+    const cdpr_status_t ms = cdpr_rt_tracker_meas_from_msgs(st, ten, t->period_s, t->n_cables, &m);
     if (ms != CDPR_OK) {
         snprintf(why, cap, "%s",
                  (ms == CDPR_E_NOT_FINITE) ? "a value is not finite"
@@ -578,7 +580,7 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
     t->have_state = 0;
     cdpr_tracker_meas_t m;
     cdpr_tracker_cmd_t c;
-    (void)cdpr_rt_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m);
+    (void)cdpr_rt_tracker_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m);
     const int64_t t0 = now_ns();
     const cdpr_status_t st = cdpr_tracker_step(&t->tracker, &m, &c);
     time_step(t, now_ns() - t0);
@@ -622,7 +624,7 @@ void cdpr_rt_tracker_record_step(const cdpr_tracker_meas_t *m, const cdpr_tracke
                                  void *ctx)
 {
     (void)st;
-    cdpr_rt_record_t *r = ctx;
+    cdpr_rt_tracker_record_t *r = ctx;
     cdpr_traj_sample_t des;
     cdpr_traj_eval(r->traj, m->t_s, &des);
     int segments[CDPR_MAX_CABLES] = {0};

@@ -17,9 +17,9 @@
 
 int main(void)
 {
-    cdpr_rt_opts_t opts;
+    cdpr_rt_plant_opts_t opts;
     cdpr_winch_command_t cmd;
-    cdpr_rt_opts_default(&opts);
+    cdpr_rt_plant_opts_default(&opts);
     cdpr_gsl_error_handler_off();
     memset(&cmd, 0, sizeof cmd);
     const int bytes = cdpr_winch_command_t_encoded_size(&cmd);

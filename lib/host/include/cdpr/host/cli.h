@@ -14,7 +14,7 @@ cdpr_status_t cdpr_cli_number(const char *prog, const char *opt, const char *arg
                               double hi, double *out);
 
 /// cdpr_cli_number for any finite number: for options whose range is checked where the value
-/// is used (scenario overrides: cdpr_scenario_override; the real-time node: cdpr_rt_init).
+/// is used (scenario overrides: cdpr_scenario_override; the real-time node: cdpr_rt_plant_init).
 cdpr_status_t cdpr_cli_real(const char *prog, const char *opt, const char *arg, double *out);
 
 #endif /* CDPR_HOST_CLI_H */

@@ -114,9 +114,9 @@ cdpr_status_t cdpr_scenario_check(const cdpr_scenario_t *sc, cdpr_scenario_error
 
 /// 1 when `sc` holds exactly the values that cdpr_scenario_load or cdpr_scenario_override
 /// checked (its bytes up to checked_stamp hash to the stamp), else 0: a scenario built in code,
-/// or changed since (then call cdpr_scenario_check). Later layers (cdpr_sim_run, cdpr_rt_init)
-/// trust a checked scenario instead of checking it again: a scenario is validated once.
-/// O(sizeof *sc); cannot fail.
+/// or changed since (then call cdpr_scenario_check). Later layers (cdpr_sim_run,
+/// cdpr_rt_plant_init) trust a checked scenario instead of checking it again: a scenario is
+/// validated once. O(sizeof *sc); cannot fail.
 int cdpr_scenario_is_checked(const cdpr_scenario_t *sc);
 
 /// Command-line overrides of a scenario's run settings (inputs). NaN: not given

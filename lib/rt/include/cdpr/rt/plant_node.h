@@ -5,10 +5,10 @@
 /// commands back.
 ///
 /// Threads (docs/realtime.md):
-///  - the caller's thread: cdpr_rt_init (scenario, settling; allocates nothing after) and
-///    cdpr_rt_run, which starts the bridge thread, optionally locks memory (mlockall), creates
-///    the periodic thread (SCHED_FIFO when asked and permitted, else SCHED_OTHER, saying why),
-///    waits for it, stops the bridge and fills the telemetry;
+///  - the caller's thread: cdpr_rt_plant_init (scenario, settling; allocates nothing after) and
+///    cdpr_rt_plant_run, which starts the bridge thread, optionally locks memory (mlockall),
+///    creates the periodic thread (SCHED_FIFO when asked and permitted, else SCHED_OTHER, saying
+///    why), waits for it, stops the bridge and fills the telemetry;
 ///  - the bridge thread (SCHED_OTHER): owns the lcm_t (publishes, receives, validates);
 ///  - the periodic ("RT") thread: per period, read the newest command from the mailbox, step the
 ///    plant by exactly one period (bounded trials), push state/tensions (and at lower rates
@@ -65,7 +65,7 @@
 /// CDPR_E_INTERRUPTED and the reason.
 #define CDPR_RT_LOCKSTEP_GIVE_UP_S 30.0
 
-/// The watchdog timeout when none is set (cdpr_rt_opts_t.lcm.watchdog_timeout_s = 0): this,
+/// The watchdog timeout when none is set (cdpr_rt_plant_opts_t.lcm.watchdog_timeout_s = 0): this,
 /// or two control periods when that is longer [s].
 #define CDPR_RT_WATCHDOG_DEFAULT_S 0.1
 
@@ -79,12 +79,12 @@
 ///   thread's CPU time (the machine took the CPU away meanwhile);
 /// - long computation: the work took more than a period of the thread's CPU time (the plant:
 ///   too many segments or substeps for this CPU at this rate).
-/// Misses within cdpr_rt_opts_t.startup_s of plant time are counted apart (start-up: page
-/// faults, caches, the controller subscribing); after it, cdpr_rt_opts_t.max_misses (in total)
-/// and max_misses_in_row stop the run (0: count only).
+/// Misses within cdpr_rt_plant_opts_t.startup_s of plant time are counted apart (start-up: page
+/// faults, caches, the controller subscribing); after it, cdpr_rt_plant_opts_t.max_misses (in
+/// total) and max_misses_in_row stop the run (0: count only).
 #define CDPR_RT_STARTUP_DEFAULT_S 1.0
 
-/// Options of the node (inputs). cdpr_rt_opts_default fills the defaults. The run settings
+/// Options of the node (inputs). cdpr_rt_plant_opts_default fills the defaults. The run settings
 /// are the scenario's: control period run.period_s, plant time run.duration_s, work bound
 /// integrator.max_trials x max_attempts (command-line overrides: cdpr_scenario_override).
 typedef struct {
@@ -109,8 +109,8 @@ typedef struct {
     /// (phase 0) and right after its last (phase 1): tests count allocations/lcm calls there.
     void (*on_rt_thread)(int phase, void *ctx);
     void *on_rt_thread_ctx;
-    /// Optional: called once on the caller's thread (inside cdpr_rt_run) when the first second
-    /// of a free-running run (or the whole run, if shorter) missed more than
+    /// Optional: called once on the caller's thread (inside cdpr_rt_plant_run) when the first
+    /// second of a free-running run (or the whole run, if shorter) missed more than
     /// CDPR_RT_OVERLOAD_RATIO of its deadlines.
     void (*on_overload)(long periods, long misses, double rate_hz, void *ctx);
     void *on_overload_ctx;
@@ -119,9 +119,9 @@ typedef struct {
     double startup_s;
     long max_misses;        ///< stop after this many misses after the start-up (0: count only)
     long max_misses_in_row; ///< stop after this many misses in a row after it (0: count only)
-} cdpr_rt_opts_t;
+} cdpr_rt_plant_opts_t;
 
-/// Telemetry (outputs of cdpr_rt_run).
+/// Telemetry (outputs of cdpr_rt_plant_run).
 typedef struct {
     long periods;              ///< periods run (state seq of the last state published)
     long deadline_misses;      ///< free-running: periods that ended after the next start
@@ -173,14 +173,14 @@ typedef struct {
                            ///< CDPR_RT_LOCKSTEP_GIVE_UP_S without an answer
     double watchdog_s;     ///< the watchdog timeout in use [s]
     int64_t plant_session; ///< this run's plant session
-} cdpr_rt_telemetry_t;
+} cdpr_rt_plant_telemetry_t;
 
 /// The node (caller-owned, large: declare it static).
 typedef struct {
     cdpr_plant_t plant;
     cdpr_lcm_bridge_t bridge;
-    cdpr_rt_opts_t o;
-    cdpr_rt_telemetry_t tel;
+    cdpr_rt_plant_opts_t o;
+    cdpr_rt_plant_telemetry_t tel;
     long give_up_periods;                   ///< lockstep: unanswered periods before it stops
     uint32_t hist[CDPR_RT_HIST_US + 1];     ///< compute-time histogram (RT thread)
     uint32_t hist_cpu[CDPR_RT_HIST_US + 1]; ///< the same in thread CPU time
@@ -202,23 +202,23 @@ typedef struct {
     long shape_every;           ///< periods between shape messages (0: none)
     long diag_every;            ///< periods between diagnostics (0: none)
     int64_t period_ns;
-    long startup_periods; ///< periods of opts.startup_s (set by cdpr_rt_init)
+    long startup_periods; ///< periods of opts.startup_s (set by cdpr_rt_plant_init)
     int hold;             ///< the last step used the hold command
     long mon_periods;     ///< periods and misses for the overload check (atomic; RT thread)
     long mon_misses;
     int done; ///< the periodic thread has finished (atomic)
-} cdpr_rt_t;
+} cdpr_rt_plant_t;
 
 /// Defaults (see the field comments).
-void cdpr_rt_opts_default(cdpr_rt_opts_t *o);
+void cdpr_rt_plant_opts_default(cdpr_rt_plant_opts_t *o);
 
 /// Check the scenario and the options, build and settle the plant of `sc` (period
 /// run.period_s, work bound integrator.max_trials x max_attempts), initialise the bridge.
 /// Returns CDPR_OK, or with `err` naming the option or scenario key: the scenario's check or
 /// plant errors (cdpr_scenario_check, cdpr_host_plant_init), CDPR_E_OUT_OF_RANGE /
 /// CDPR_E_NOT_FINITE for an option, the bridge's (cdpr_lcm_bridge_init).
-cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_rt_opts_t *o,
-                           cdpr_scenario_error_t *err);
+cdpr_status_t cdpr_rt_plant_init(cdpr_rt_plant_t *rt, const cdpr_scenario_t *sc,
+                                 const cdpr_rt_plant_opts_t *o, cdpr_scenario_error_t *err);
 
 /// Run: bridge thread, periodic thread, until run.duration_s of plant time or *stop. Returns
 /// CDPR_OK when the run completed, CDPR_E_INTERRUPTED when *stop ended it early, the step's
@@ -226,7 +226,7 @@ cdpr_status_t cdpr_rt_init(cdpr_rt_t *rt, const cdpr_scenario_t *sc, const cdpr_
 /// CDPR_E_CONFLICT when another plant's states were seen on the channel (the run completed),
 /// CDPR_E_IO when the bridge or the thread could not start (`err` says why). Telemetry in
 /// rt->tel.
-cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
+cdpr_status_t cdpr_rt_plant_run(cdpr_rt_plant_t *rt, cdpr_scenario_error_t *err);
 
 /// The deadline of one free-running period (what the periodic thread calls after each one;
 /// public for tests and for loops of their own): the period was scheduled at `start`, its work
@@ -234,20 +234,21 @@ cdpr_status_t cdpr_rt_run(cdpr_rt_t *rt, cdpr_scenario_error_t *err);
 /// time; the period before it is counted in rt->tel.periods. A miss (t1 after start + period)
 /// is counted in rt->tel.deadline_misses, and classified (late wake-up, preempted, long
 /// computation: CDPR_RT_STARTUP_DEFAULT_S) or counted apart within rt->startup_periods (opts
-/// startup_s in periods, set by cdpr_rt_init); `*in_row` carries the misses in a row from call to
-/// call (start at 0). Returns 1 when the overrun policy (rt->o.max_misses, max_misses_in_row) stops
-/// the run (rt->tel.overrun_stop set), else 0. O(1), no allocation, real-time safe.
-int cdpr_rt_judge_period(cdpr_rt_t *rt, int64_t start, int64_t t0, int64_t t1, int64_t cpu_ns,
-                         long *in_row);
+/// startup_s in periods, set by cdpr_rt_plant_init); `*in_row` carries the misses in a row from
+/// call to call (start at 0). Returns 1 when the overrun policy (rt->o.max_misses,
+/// max_misses_in_row) stops the run (rt->tel.overrun_stop set), else 0. O(1), no allocation,
+/// real-time safe.
+int cdpr_rt_plant_judge_period(cdpr_rt_plant_t *rt, int64_t start, int64_t t0, int64_t t1,
+                               int64_t cpu_ns, long *in_row);
 
 /// Print the telemetry summary (human-readable) to `f`.
-void cdpr_rt_print_summary(const cdpr_rt_t *rt, FILE *f);
+void cdpr_rt_plant_print_summary(const cdpr_rt_plant_t *rt, FILE *f);
 
 /// The real-time figures of a run's summary (summary.json "rt_*") from the telemetry as it is
-/// now (after cdpr_rt_run: the whole run). Not real-time safe (computes the percentiles).
-void cdpr_rt_summary_figures(cdpr_rt_t *rt, cdpr_summary_rt_t *out);
+/// now (after cdpr_rt_plant_run: the whole run). Not real-time safe (computes the percentiles).
+void cdpr_rt_plant_summary_figures(cdpr_rt_plant_t *rt, cdpr_summary_rt_t *out);
 
 /// The same from a `diagnostics_t` (a controller's view of the plant, cdpr_rt_tracker_t).
-void cdpr_rt_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_summary_rt_t *out);
+void cdpr_rt_plant_figures_from_diagnostics(const cdpr_diagnostics_t *d, cdpr_summary_rt_t *out);
 
 #endif /* CDPR_RT_PLANT_NODE_H */

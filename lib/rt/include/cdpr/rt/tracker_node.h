@@ -11,7 +11,7 @@
 /// Time: the controller's time for state k is t = n Δt with n = round(utime_us 1e-6 / Δt)
 /// (Δt = the control period the node was built with, equal to the plant's period), i.e.
 /// exactly the double the plant computes as its own time; so the controller in another process
-/// computes bit for bit what the in-process loop computes (cdpr_rt_meas_from_msgs).
+/// computes bit for bit what the in-process loop computes (cdpr_rt_tracker_meas_from_msgs).
 ///
 /// Service: handlers only store the newest message of each kind; cdpr_rt_tracker_service
 /// answers the newest complete pair not answered yet (so a controller that falls behind skips
@@ -138,7 +138,7 @@ typedef struct {
     double u_max_m_per_s[CDPR_MAX_CABLES]; ///< the winch's speed limit
     double exit_m[CDPR_MAX_CABLES][3];     ///< exit points
     double attach_r_m[CDPR_MAX_CABLES];    ///< |b_j|
-} cdpr_rt_meas_bounds_t;
+} cdpr_rt_tracker_meas_bounds_t;
 
 /// The node (caller-owned; about 50 kB: declare it static).
 /// Resolution range of the controller's step-time histogram: 1 µs bins up to this, one bin
@@ -185,7 +185,7 @@ typedef struct {
     uint32_t step_hist[CDPR_RT_TRACKER_HIST_US + 1]; ///< cdpr_tracker_step times, 1 µs bins
     uint64_t steps_timed;                            ///< steps in step_hist
     int64_t step_ns_max;                             ///< slowest step [ns]
-    cdpr_rt_meas_bounds_t bounds;                    ///< plausibility bounds
+    cdpr_rt_tracker_meas_bounds_t bounds;            ///< plausibility bounds
     int have_accepted;                               ///< a pair was accepted (this session)
     int64_t acc_seq;                                 ///< last accepted pair: seq
     int64_t acc_utime_us;                            ///< ... its time
@@ -248,8 +248,9 @@ void cdpr_rt_tracker_print_cost(FILE *f, const cdpr_rt_tracker_t *t);
 /// as described above, pose/velocities from the state, lengths from the tensions. Returns
 /// CDPR_OK, CDPR_E_INVALID_ARG when the pair does not fit (seq differs, cable count not
 /// `n_cables`, negative time, period not > 0) or CDPR_E_NOT_FINITE (a non-finite value).
-cdpr_status_t cdpr_rt_meas_from_msgs(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten,
-                                     double period_s, int n_cables, cdpr_tracker_meas_t *m);
+cdpr_status_t cdpr_rt_tracker_meas_from_msgs(const cdpr_cabin_state_t *st,
+                                             const cdpr_cable_tensions_t *ten, double period_s,
+                                             int n_cables, cdpr_tracker_meas_t *m);
 
 /// Check a pair against the node's bounds and its last accepted pair (the rules above).
 /// Returns CDPR_OK, or the reason's status: CDPR_E_MISMATCH (sequence window),
@@ -267,7 +268,7 @@ int cdpr_rt_tracker_in_control(const cdpr_rt_tracker_t *t, double max_share);
 void cdpr_rt_tracker_print_trust(FILE *f, const char *app, const cdpr_rt_tracker_t *t);
 
 /// Recording what the controller sees (the tracker's timeseries.csv and summary, in
-/// cdpr-sim's format): use cdpr_rt_tracker_record_step as on_step with a cdpr_rt_record_t.
+/// cdpr-sim's format): use cdpr_rt_tracker_record_step as on_step with a cdpr_rt_tracker_record_t.
 typedef struct {
     cdpr_record_t rec;         ///< recorder (cdpr_record_open before the run)
     const cdpr_traj_t *traj;   ///< desired trajectory
@@ -275,10 +276,10 @@ typedef struct {
     double max_payout_m_per_s; ///< largest |payout| seen
     double last_t_s;           ///< time of the last period recorded
     long periods;              ///< periods recorded
-} cdpr_rt_record_t;
+} cdpr_rt_tracker_record_t;
 
-/// on_step callback: record one period into ((cdpr_rt_record_t *)ctx)->rec. Tensions, payout
-/// rates and node counts come from the tensions message (the plant's values at that state).
+/// on_step callback: record one period into ((cdpr_rt_tracker_record_t *)ctx)->rec. Tensions,
+/// payout rates and node counts come from the tensions message (the plant's values at that state).
 /// Rows at run.output_rate_hz by plant time (record.h: a row when the state's time reaches the
 /// next output instant, so states the node skipped do not cost rows) and at the run's end. A
 /// CSV write failure stops the rows, not the controller; cdpr_record_close reports it.
