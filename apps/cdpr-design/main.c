@@ -319,7 +319,7 @@ typedef struct {
 static int take(int c, const char *arg, void *ctx)
 {
     options_t *o = ctx;
-    const int ov = cdpr_app_override_opt("cdpr-design", c, arg, &o->ov);
+    const int ov = cdpr_app_run_option("cdpr-design", c, arg, &o->ov, NULL, &o->quiet);
     if (ov != 1) {
         return ov;
     }
@@ -337,8 +337,6 @@ static int take(int c, const char *arg, void *ctx)
         o->zoh = 1;
     } else if (c == 'v') {
         o->verdict = 1;
-    } else if (c == 'q') {
-        o->quiet = 1;
     } else {
         return 1;
     }
@@ -352,7 +350,7 @@ int main(int argc, char **argv)
                                              {"check", no_argument, NULL, 'c'},
                                              {"zoh", no_argument, NULL, 'z'},
                                              {"verdict", no_argument, NULL, 'v'},
-                                             {"quiet", no_argument, NULL, 'q'},
+                                             CDPR_APP_QUIET_OPTION,
                                              CDPR_APP_OVERRIDE_OPTIONS,
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};

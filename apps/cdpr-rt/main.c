@@ -93,7 +93,7 @@ static void usage(FILE *f)
 static int take(int c, const char *arg, void *ctx)
 {
     options_t *o = ctx;
-    const int ov = cdpr_app_override_opt("cdpr-rt", c, arg, &o->ov);
+    const int ov = cdpr_app_run_option("cdpr-rt", c, arg, &o->ov, &o->check_design, &o->quiet);
     if (ov != 1) {
         return ov;
     }
@@ -150,12 +150,6 @@ static int take(int c, const char *arg, void *ctx)
     case 'o':
         o->tracker_out = arg;
         break;
-    case CDPR_APP_OPT_CHECK_DESIGN:
-        o->check_design = 1;
-        break;
-    case 'q':
-        o->quiet = 1;
-        break;
     default:
         return 1;
     }
@@ -179,7 +173,7 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"with-tracker", no_argument, NULL, 't'},
                                              {"tracker-out", required_argument, NULL, 'o'},
                                              CDPR_APP_CHECK_DESIGN_OPTION,
-                                             {"quiet", no_argument, NULL, 'q'},
+                                             CDPR_APP_QUIET_OPTION,
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     if (cdpr_app_parse("cdpr-rt", argc, argv, longopts, usage, take, o) != 0 ||

@@ -72,7 +72,7 @@ static void usage(FILE *f)
 static int take(int c, const char *arg, void *ctx)
 {
     options_t *o = ctx;
-    const int ov = cdpr_app_override_opt("cdpr-sim", c, arg, &o->ov);
+    const int ov = cdpr_app_run_option("cdpr-sim", c, arg, &o->ov, &o->check_design, &o->quiet);
     if (ov != 1) {
         return ov;
     }
@@ -89,14 +89,8 @@ static int take(int c, const char *arg, void *ctx)
     case 'p':
         o->progress = 1;
         break;
-    case 'q':
-        o->quiet = 1;
-        break;
     case 'u':
         o->check_design = -1;
-        break;
-    case CDPR_APP_OPT_CHECK_DESIGN:
-        o->check_design = 1;
         break;
     default:
         return 1;
@@ -113,7 +107,7 @@ static int parse(int argc, char **argv, options_t *o)
         {"no-plot", no_argument, NULL, 'n'},
         {"plot-script", required_argument, NULL, 's'},
         {"progress", no_argument, NULL, 'p'},
-        {"quiet", no_argument, NULL, 'q'},
+        CDPR_APP_QUIET_OPTION,
         {"unchecked-gains", no_argument, NULL, 'u'},
         CDPR_APP_CHECK_DESIGN_OPTION,
         CDPR_APP_STD_OPTIONS,

@@ -95,7 +95,7 @@ static void usage(FILE *f)
 static int take(int c, const char *arg, void *ctx)
 {
     options_t *o = ctx;
-    const int ov = cdpr_app_override_opt("cdpr-tracker", c, arg, &o->ov);
+    const int ov = cdpr_app_run_option("cdpr-tracker", c, arg, &o->ov, &o->check_design, &o->quiet);
     if (ov != 1) {
         return ov;
     }
@@ -119,12 +119,6 @@ static int take(int c, const char *arg, void *ctx)
     case 'R':
         o->replay = arg;
         break;
-    case CDPR_APP_OPT_CHECK_DESIGN:
-        o->check_design = 1;
-        break;
-    case 'q':
-        o->quiet = 1;
-        break;
     default:
         return 1;
     }
@@ -141,7 +135,7 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"no-plot", no_argument, NULL, 'n'},
                                              {"replay", required_argument, NULL, 'R'},
                                              CDPR_APP_CHECK_DESIGN_OPTION,
-                                             {"quiet", no_argument, NULL, 'q'},
+                                             CDPR_APP_QUIET_OPTION,
                                              CDPR_APP_STD_OPTIONS,
                                              {NULL, 0, NULL, 0}};
     if (cdpr_app_parse("cdpr-tracker", argc, argv, longopts, usage, take, o) != 0 ||

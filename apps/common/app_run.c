@@ -49,6 +49,22 @@ int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenari
     return 1;
 }
 
+int cdpr_app_run_option(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov,
+                        int *check_design, int *quiet)
+{
+    int *flag = NULL;
+    if (c == CDPR_APP_OPT_CHECK_DESIGN) {
+        flag = check_design;
+    } else if (c == 'q') {
+        flag = quiet;
+    }
+    if (flag != NULL) {
+        *flag = 1;
+        return 0;
+    }
+    return cdpr_app_override_opt(prog, c, arg, ov);
+}
+
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
                                 const cdpr_scenario_overrides_t *ov, cdpr_scenario_t *sc)
 {

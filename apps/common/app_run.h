@@ -36,6 +36,20 @@ enum {
 /// number (or not an integrator).
 int cdpr_app_override_opt(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov);
 
+/// The options every scenario-running app shares, as a cdpr_app_option_fn (app_cli.h): the
+/// override options into `ov` (cdpr_app_override_opt), CDPR_APP_OPT_CHECK_DESIGN (when
+/// `check_design` is not NULL) and --quiet ('q', CDPR_APP_QUIET_OPTION; when `quiet` is not
+/// NULL) set their flag to 1. Returns 0 when `c` was one of them, 1 when not, -1 after printing
+/// why an override's argument is refused.
+int cdpr_app_run_option(const char *prog, int c, const char *arg, cdpr_scenario_overrides_t *ov,
+                        int *check_design, int *quiet);
+
+/// The --quiet entry of the scenario-running apps' getopt_long tables.
+#define CDPR_APP_QUIET_OPTION                                                                      \
+    {                                                                                              \
+        "quiet", no_argument, NULL, 'q'                                                            \
+    }
+
 /// Load scenario file `path` and apply the overrides `ov` (a note on stderr for each value
 /// that differs from the file). Returns CDPR_OK or the status after printing "PROG: error".
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,
