@@ -557,6 +557,7 @@ static cdpr_status_t preset_base(const cdpr_raw_rig_t *rr, const cdpr_scenario_t
 static cdpr_status_t robot_file_path(const cdpr_raw_rig_t *rr, const cdpr_scenario_t *sc,
                                      char *file, size_t cap, cdpr_scenario_error_t *err)
 {
+    /* Every key that a robot file would leave unread (description: is a note, allowed). */
     const void *other[] = {rr->preset,
                            rr->towers,
                            rr->attachments,
@@ -568,8 +569,7 @@ static cdpr_status_t robot_file_path(const cdpr_raw_rig_t *rr, const cdpr_scenar
                            rr->rope,
                            rr->winch,
                            rr->cabin,
-                           rr->cables,
-                           rr->description};
+                           rr->cables};
     for (size_t i = 0; i < sizeof other / sizeof other[0]; ++i) {
         if (other[i] != NULL) {
             cdpr_scenario_error(sc, "robot.file",

@@ -215,8 +215,8 @@ void cdpr_rt_plant_opts_default(cdpr_rt_plant_opts_t *o);
 /// Check the scenario and the options, build and settle the plant of `sc` (period
 /// run.period_s, work bound integrator.max_trials x max_attempts), initialise the bridge.
 /// Returns CDPR_OK, or with `err` naming the option or scenario key: the scenario's check or
-/// plant errors (cdpr_scenario_check, cdpr_host_plant_init), CDPR_E_OUT_OF_RANGE /
-/// CDPR_E_NOT_FINITE for an option, the bridge's (cdpr_lcm_bridge_init).
+/// plant errors (cdpr_scenario_check, skipped when cdpr_scenario_is_checked; cdpr_host_plant_init),
+/// CDPR_E_OUT_OF_RANGE / CDPR_E_NOT_FINITE for an option, the bridge's (cdpr_lcm_bridge_init).
 cdpr_status_t cdpr_rt_plant_init(cdpr_rt_plant_t *rt, const cdpr_scenario_t *sc,
                                  const cdpr_rt_plant_opts_t *o, cdpr_scenario_error_t *err);
 
