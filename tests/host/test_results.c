@@ -287,14 +287,7 @@ static void test_unknown_values_are_null_both_ways(void)
     scenario(&sc);
     cdpr_summary_t a;
     fill(&a);
-    a.capacity_hits = CDPR_SUMMARY_UNKNOWN;
-    a.substep_limit_hits = CDPR_SUMMARY_UNKNOWN;
-    a.min_length_periods = CDPR_SUMMARY_UNKNOWN;
-    a.steps_accepted = CDPR_SUMMARY_UNKNOWN;
-    a.steps_rejected = CDPR_SUMMARY_UNKNOWN;
-    a.rhs_evals = CDPR_SUMMARY_UNKNOWN;
-    a.settle_steps = -1;
-    a.settle_wall_time_s = (double)NAN;
+    cdpr_summary_plant_unknown(&a);
     a.max_tension_N = (double)INFINITY; /* JSON has no infinity either */
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(path, &sc, &a));
     const char *text = slurp(path);
@@ -309,6 +302,9 @@ static void test_unknown_values_are_null_both_ways(void)
                                         "\"steps_accepted\": null,\n",
                                         "\"steps_rejected\": null,\n",
                                         "\"rhs_evals\": null,\n",
+                                        "\"max_rhs_per_period\": null,\n",
+                                        "\"max_err_norm\": null,\n",
+                                        "\"err_above_one_periods\": null,\n",
                                         "\"settle_steps\": null,\n",
                                         "\"settle_wall_time_s\": null,\n",
                                         "\"max_tension_N\": null,\n"};
@@ -328,6 +324,9 @@ static void test_unknown_values_are_null_both_ways(void)
     TEST_ASSERT_TRUE(b.steps_accepted == CDPR_SUMMARY_UNKNOWN);
     TEST_ASSERT_TRUE(b.steps_rejected == CDPR_SUMMARY_UNKNOWN);
     TEST_ASSERT_TRUE(b.rhs_evals == CDPR_SUMMARY_UNKNOWN);
+    TEST_ASSERT_TRUE(b.max_rhs_per_period == CDPR_SUMMARY_UNKNOWN);
+    TEST_ASSERT_TRUE(isnan(b.max_err_norm));
+    TEST_ASSERT_TRUE(b.err_above_one_periods == CDPR_SUMMARY_UNKNOWN);
     TEST_ASSERT_TRUE(b.settle_steps < 0);
     TEST_ASSERT_TRUE(isnan(b.settle_wall_time_s));
     TEST_ASSERT_TRUE(isnan(b.max_tension_N));

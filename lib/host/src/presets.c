@@ -5,21 +5,21 @@
 
 #include "cdpr/config.h"
 #include "cdpr/host/rig.h"
+#include "cdpr/host/yaml.h"
+#include "rig_raw.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+const cyaml_strval_t cdpr_preset_names[CDPR_PRESET_NAME_COUNT] = {
+    {"paper-50m", CDPR_PRESET_PAPER_50M},
+    {"fast", CDPR_PRESET_FAST},
+};
+
 const char *cdpr_preset_name(cdpr_preset_t preset)
 {
-    switch (preset) {
-    case CDPR_PRESET_PAPER_50M:
-        return "paper-50m";
-    case CDPR_PRESET_FAST:
-        return "fast";
-    default:
-        return "unknown";
-    }
+    return cdpr_yaml_enum_name(cdpr_preset_names, CDPR_PRESET_NAME_COUNT, preset, "unknown");
 }
 
 /* Six towers at (j-1) 60 deg; attachments in twisted pairs at +-5 deg about 30, 150, 270 deg

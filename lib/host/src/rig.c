@@ -679,19 +679,10 @@ cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t 
                  real, (len > 200U) ? "..." : "");
         return CDPR_E_IO;
     }
-    cdpr_yaml_log_t lg;
     void *data = NULL;
-    cdpr_status_t st = cdpr_yaml_load(real, &file_schema, CYAML_CFG_DEFAULT, &data, &lg);
-    if (st == CDPR_E_IO) {
-        snprintf(err->msg, sizeof err->msg, "%s: cannot open robot file: %.512s", path, lg.text);
-        return st;
-    }
+    cdpr_status_t st = cdpr_yaml_load_reported(real, path, &file_schema, "robot file", &data,
+                                               err->msg, sizeof err->msg);
     if (st != CDPR_OK) {
-        if (lg.empty != 0) {
-            snprintf(err->msg, sizeof err->msg, "%s: empty robot file", path);
-        } else {
-            cdpr_yaml_error_message(path, &lg, err->msg, sizeof err->msg);
-        }
         return st;
     }
     st = cdpr_rig_resolve(data, NULL, path, "", rig, err);

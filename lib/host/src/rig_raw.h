@@ -79,6 +79,10 @@ typedef struct {
 
 /// The keys of a description, in a robot file and in a scenario's robot section alike: the
 /// entries of a cyaml_schema_field_t array over cdpr_raw_rig_t (rig.c defines the tables).
+/// The presets' names as scenario files write them (presets.c; the `preset:` key's enum).
+#define CDPR_PRESET_NAME_COUNT 2
+extern const cyaml_strval_t cdpr_preset_names[CDPR_PRESET_NAME_COUNT];
+
 extern const cyaml_schema_value_t cdpr_rig_num_schema;
 extern const cyaml_schema_field_t cdpr_rig_rope_fields[];
 extern const cyaml_schema_field_t cdpr_rig_winch_fields[];

@@ -135,10 +135,6 @@ typedef struct {
 /* Sequence entries: strict floats (overflow such as 1e999 is an error, not Inf). */
 static const cyaml_schema_value_t num = {CYAML_VALUE_FLOAT(CYAML_FLAG_STRICT, double)};
 
-static const cyaml_strval_t preset_names[] = {
-    {"paper-50m", CDPR_PRESET_PAPER_50M},
-    {"fast", CDPR_PRESET_FAST},
-};
 static const cyaml_strval_t traj_names[] = {
     {"hold", CDPR_TRAJ_HOLD},
     {"circle", CDPR_TRAJ_CIRCLE},
@@ -168,8 +164,8 @@ static const cyaml_schema_field_t attach_fields[] = {
  * with its polar layout. */
 static const cyaml_schema_field_t robot_fields[] = {
     CYAML_FIELD_STRING_PTR("file", OPT, cdpr_raw_rig_t, file, 1, 4095),
-    CYAML_FIELD_ENUM_PTR("preset", OPT | CYAML_FLAG_STRICT, cdpr_raw_rig_t, preset, preset_names,
-                         CYAML_ARRAY_LEN(preset_names)),
+    CYAML_FIELD_ENUM_PTR("preset", OPT | CYAML_FLAG_STRICT, cdpr_raw_rig_t, preset,
+                         cdpr_preset_names, CDPR_PRESET_NAME_COUNT),
     CYAML_FIELD_MAPPING_PTR("towers", OPT, cdpr_raw_rig_t, towers, towers_fields),
     CYAML_FIELD_MAPPING_PTR("attachments", OPT, cdpr_raw_rig_t, attachments, attach_fields),
     CDPR_RIG_FIELDS,
@@ -291,16 +287,7 @@ static const cyaml_schema_value_t top_schema = {
 
 const char *cdpr_traj_type_name(cdpr_traj_type_t type)
 {
-    switch (type) {
-    case CDPR_TRAJ_CIRCLE:
-        return "circle";
-    case CDPR_TRAJ_LINE:
-        return "line";
-    case CDPR_TRAJ_CYCLIC:
-        return "cyclic";
-    default:
-        return "hold";
-    }
+    return cdpr_yaml_enum_name(traj_names, CYAML_ARRAY_LEN(traj_names), type, "hold");
 }
 
 static void format_error(cdpr_scenario_error_t *err, const char *path, int line, const char *key,
@@ -329,13 +316,6 @@ void cdpr_scenario_error(const cdpr_scenario_t *sc, const char *key, const char 
 int cdpr_yaml_key_line(const char *path, const char *key)
 {
     return cdpr_yaml_path_line(path, key);
-}
-
-/* libcyaml's log (yaml.h), turned into "FILE:LINE: KEY: message". */
-static void cyaml_error_message(const char *path, const cdpr_yaml_log_t *lb,
-                                cdpr_scenario_error_t *err)
-{
-    cdpr_yaml_error_message(path, lb, err->msg, sizeof err->msg);
 }
 
 /* ---------------------------------------------------------------- defaults and resolve */
@@ -786,25 +766,16 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     if (fs == CDPR_E_IO) {
         char why[256];
         (void)cdpr_yaml_check_file(path, why, sizeof why);
-        snprintf(err->msg, sizeof err->msg, "%s: cannot open: %s", path, why);
+        snprintf(err->msg, sizeof err->msg, "%s: cannot open scenario file: %s", path, why);
     }
     if (fs != CDPR_OK) {
         return fs;
     }
-    cdpr_yaml_log_t lg;
     void *data = NULL;
     const cyaml_schema_value_t *schema = &top_schema;
-    cdpr_status_t st = cdpr_yaml_load(path, schema, CYAML_CFG_DEFAULT, &data, &lg);
-    if (st == CDPR_E_IO) {
-        snprintf(err->msg, sizeof err->msg, "%s: cannot open: %.512s", path, lg.text);
-        return st;
-    }
+    cdpr_status_t st = cdpr_yaml_load_reported(path, path, schema, "scenario file", &data, err->msg,
+                                               sizeof err->msg);
     if (st != CDPR_OK) {
-        if (lg.empty != 0) {
-            snprintf(err->msg, sizeof err->msg, "%s: empty scenario file", path);
-        } else {
-            cyaml_error_message(path, &lg, err);
-        }
         return st;
     }
     const raw_t *raw = data;

@@ -22,33 +22,18 @@
 /* 1 unless the count is CDPR_SUMMARY_UNKNOWN. */
 #define KNOWN(count) (((count) != CDPR_SUMMARY_UNKNOWN) ? 1 : 0)
 
+/* The status names summary.json writes ("failed" is also what an unknown name reads as). */
+static const cyaml_strval_t status_names[] = {
+    {"ok", CDPR_SUMMARY_OK},
+    {"warnings", CDPR_SUMMARY_WARNINGS},
+    {"interrupted", CDPR_SUMMARY_INTERRUPTED},
+    {"io_error", CDPR_SUMMARY_IO_ERROR},
+    {"failed", CDPR_SUMMARY_FAILED},
+};
+
 const char *cdpr_summary_status_name(cdpr_summary_status_t st)
 {
-    switch (st) {
-    case CDPR_SUMMARY_OK:
-        return "ok";
-    case CDPR_SUMMARY_WARNINGS:
-        return "warnings";
-    case CDPR_SUMMARY_INTERRUPTED:
-        return "interrupted";
-    case CDPR_SUMMARY_IO_ERROR:
-        return "io_error";
-    default:
-        return "failed";
-    }
-}
-
-/* The status of a name written by cdpr_summary_status_name (unknown names: failed). */
-static cdpr_summary_status_t status_of_name(const char *name)
-{
-    static const cdpr_summary_status_t all[] = {CDPR_SUMMARY_OK, CDPR_SUMMARY_WARNINGS,
-                                                CDPR_SUMMARY_INTERRUPTED, CDPR_SUMMARY_IO_ERROR};
-    for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) {
-        if (strcmp(name, cdpr_summary_status_name(all[i])) == 0) {
-            return all[i];
-        }
-    }
-    return CDPR_SUMMARY_FAILED;
+    return cdpr_yaml_enum_name(status_names, CYAML_ARRAY_LEN(status_names), st, "failed");
 }
 
 /* ---------------------------------------------------------------- writing summary.json */
@@ -127,6 +112,21 @@ static cdpr_status_t close_summary(FILE *f)
 }
 
 /* A per-cable count list ("key": [c1, ...]), or null when the cable count is unknown. */
+void cdpr_summary_plant_unknown(cdpr_summary_t *sum)
+{
+    sum->capacity_hits = CDPR_SUMMARY_UNKNOWN;
+    sum->substep_limit_hits = CDPR_SUMMARY_UNKNOWN;
+    sum->min_length_periods = CDPR_SUMMARY_UNKNOWN;
+    sum->steps_accepted = CDPR_SUMMARY_UNKNOWN;
+    sum->steps_rejected = CDPR_SUMMARY_UNKNOWN;
+    sum->rhs_evals = CDPR_SUMMARY_UNKNOWN;
+    sum->max_rhs_per_period = CDPR_SUMMARY_UNKNOWN;
+    sum->max_err_norm = (double)NAN;
+    sum->err_above_one_periods = CDPR_SUMMARY_UNKNOWN;
+    sum->settle_steps = -1;
+    sum->settle_wall_time_s = (double)NAN;
+}
+
 cdpr_status_t cdpr_summary_write_laps(const char *path, const cdpr_summary_t *sum)
 {
     cdpr_csv_t csv;
@@ -460,7 +460,8 @@ static void rt_from_raw(const raw_summary_t *r, cdpr_summary_rt_t *rt)
 static void from_raw(const raw_summary_t *r, cdpr_summary_t *sum)
 {
     memset(sum, 0, sizeof *sum);
-    sum->status = status_of_name(r->status);
+    sum->status = (cdpr_summary_status_t)cdpr_yaml_enum_value(
+        status_names, CYAML_ARRAY_LEN(status_names), r->status, CDPR_SUMMARY_FAILED);
     cdpr_summary_provenance_t *pv = &sum->prov;
     string_or_empty(pv->version, sizeof pv->version, r->version);
     string_or_empty(pv->git_describe, sizeof pv->git_describe, r->git_describe);

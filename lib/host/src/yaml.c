@@ -781,3 +781,41 @@ cdpr_status_t cdpr_yaml_range(const char *base, const double *x, int n, double l
     }
     return CDPR_OK;
 }
+
+const char *cdpr_yaml_enum_name(const cyaml_strval_t *names, size_t n, int64_t value,
+                                const char *fallback)
+{
+    for (size_t i = 0; i < n; ++i) {
+        if (names[i].val == value) {
+            return names[i].str;
+        }
+    }
+    return fallback;
+}
+
+int64_t cdpr_yaml_enum_value(const cyaml_strval_t *names, size_t n, const char *name,
+                             int64_t fallback)
+{
+    for (size_t i = 0; (name != NULL) && (i < n); ++i) {
+        if (strcmp(names[i].str, name) == 0) {
+            return names[i].val;
+        }
+    }
+    return fallback;
+}
+
+cdpr_status_t cdpr_yaml_load_reported(const char *path, const char *shown,
+                                      const cyaml_schema_value_t *schema, const char *what,
+                                      void **data, char *msg, size_t cap)
+{
+    cdpr_yaml_log_t lg;
+    const cdpr_status_t st = cdpr_yaml_load(path, schema, CYAML_CFG_DEFAULT, data, &lg);
+    if (st == CDPR_E_IO) {
+        snprintf(msg, cap, "%s: cannot open %s: %.512s", shown, what, lg.text);
+    } else if (st != CDPR_OK && lg.empty != 0) {
+        snprintf(msg, cap, "%s: empty %s", shown, what);
+    } else if (st != CDPR_OK) {
+        cdpr_yaml_error_message(shown, &lg, msg, cap);
+    }
+    return st;
+}

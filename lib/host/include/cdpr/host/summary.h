@@ -138,6 +138,13 @@ typedef struct {
 /// "io_error"; "failed" for a value not in the enum).
 const char *cdpr_summary_status_name(cdpr_summary_status_t st);
 
+/// Mark what only the plant knows as unknown (null in summary.json): its limit counts
+/// (capacity_hits, substep_limit_hits, min_length_periods), the integrator's work and error
+/// (steps_accepted, steps_rejected, rhs_evals, max_rhs_per_period, max_err_norm,
+/// err_above_one_periods) and the settling (settle_steps, settle_wall_time_s). What a
+/// controller over LCM writes before it fills in what the plant's diagnostics tell. O(1).
+void cdpr_summary_plant_unknown(cdpr_summary_t *sum);
+
 /// Write summary.json for `sum` of scenario `sc` to `path`. Returns CDPR_OK, or CDPR_E_IO
 /// (cannot create, or a write or the close failed; errno set: the first failure's). A regular
 /// file that could not be written whole is emptied (no torn JSON is left behind).

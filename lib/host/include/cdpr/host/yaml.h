@@ -10,6 +10,7 @@
 #define CDPR_HOST_YAML_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include <cyaml/cyaml.h>
 
@@ -71,6 +72,14 @@ void cdpr_yaml_echo(char *out, size_t cap, const char *s);
 cdpr_status_t cdpr_yaml_load(const char *path, const cyaml_schema_value_t *schema,
                              cyaml_cfg_flags_t flags, void **data, cdpr_yaml_log_t *log);
 
+/// cdpr_yaml_load of `path` (CYAML_CFG_DEFAULT) with the failure said in `msg` for a user,
+/// naming the file as `shown` (the path the user gave) and its kind as `what` ("robot file"):
+/// "SHOWN: cannot open WHAT: why", "SHOWN: empty WHAT", or the parser's first error
+/// (cdpr_yaml_error_message). Returns as cdpr_yaml_load; `msg` is untouched on success.
+cdpr_status_t cdpr_yaml_load_reported(const char *path, const char *shown,
+                                      const cyaml_schema_value_t *schema, const char *what,
+                                      void **data, char *msg, size_t cap);
+
 /// First line of the collected error text, else libcyaml's message for log->err, into `buf`.
 /// Returns buf.
 const char *cdpr_yaml_first_error(const cdpr_yaml_log_t *log, char *buf, size_t cap);
@@ -98,6 +107,15 @@ void cdpr_yaml_error_message(const char *path, const cdpr_yaml_log_t *log, char 
 /// CDPR_E_NOT_FINITE or CDPR_E_OUT_OF_RANGE; CDPR_OK otherwise (nothing written). O(n).
 cdpr_status_t cdpr_yaml_range(const char *base, const double *x, int n, double lo, double hi,
                               int lo_open, char *key, size_t key_cap, char *what, size_t what_cap);
+
+/// The name of `value` in a libcyaml enum table (the one a schema parses the key with, so a
+/// name is spelled once for reading and writing); `fallback` when the table lacks it. O(n).
+const char *cdpr_yaml_enum_name(const cyaml_strval_t *names, size_t n, int64_t value,
+                                const char *fallback);
+
+/// The value of `name` in a libcyaml enum table; `fallback` when the table lacks it. O(n).
+int64_t cdpr_yaml_enum_value(const cyaml_strval_t *names, size_t n, const char *name,
+                             int64_t fallback);
 
 /// Free what cdpr_yaml_load returned (NULL is fine).
 void cdpr_yaml_free(const cyaml_schema_value_t *schema, void *data);
