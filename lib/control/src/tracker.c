@@ -502,12 +502,8 @@ static void pose_error(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, c
     const cdpr_vec3_t e_v = cdpr_v3_sub(d->v_m_per_s, m->cabin.v_m_per_s);
     const cdpr_vec3_t e_w =
         cdpr_v3_sub(cdpr_m3_mul_v3(&Rd, d->w_rad_per_s), cdpr_m3_mul_v3(&Rm, m->cabin.w_rad_per_s));
-    cmd->err_pos_m[0] = e_p.x;
-    cmd->err_pos_m[1] = e_p.y;
-    cmd->err_pos_m[2] = e_p.z;
-    cmd->err_rot_rad[0] = e_th.x;
-    cmd->err_rot_rad[1] = e_th.y;
-    cmd->err_rot_rad[2] = e_th.z;
+    cdpr_v3_store(e_p, cmd->err_pos_m);
+    cdpr_v3_store(e_th, cmd->err_rot_rad);
     const cdpr_real_t v[12] = {e_p.x, e_p.y, e_p.z, e_th.x, e_th.y, e_th.z,
                                e_v.x, e_v.y, e_v.z, e_w.x,  e_w.y,  e_w.z};
     (void)memcpy(raw, v, sizeof v);

@@ -108,30 +108,24 @@ cdpr_status_t cdpr_cabin_init(cdpr_cabin_t *cab, const cdpr_cabin_params_t *p, i
 
 void cdpr_cabin_get_motion(const cdpr_real_t *y, cdpr_cabin_motion_t *m)
 {
-    m->p_m = cdpr_v3(y[CDPR_CABIN_P], y[CDPR_CABIN_P + 1], y[CDPR_CABIN_P + 2]);
+    m->p_m = cdpr_v3_load(&y[CDPR_CABIN_P]);
     m->q.w = y[CDPR_CABIN_Q];
     m->q.x = y[CDPR_CABIN_Q + 1];
     m->q.y = y[CDPR_CABIN_Q + 2];
     m->q.z = y[CDPR_CABIN_Q + 3];
-    m->v_m_per_s = cdpr_v3(y[CDPR_CABIN_V], y[CDPR_CABIN_V + 1], y[CDPR_CABIN_V + 2]);
-    m->w_rad_per_s = cdpr_v3(y[CDPR_CABIN_W], y[CDPR_CABIN_W + 1], y[CDPR_CABIN_W + 2]);
+    m->v_m_per_s = cdpr_v3_load(&y[CDPR_CABIN_V]);
+    m->w_rad_per_s = cdpr_v3_load(&y[CDPR_CABIN_W]);
 }
 
 void cdpr_cabin_set_motion(const cdpr_cabin_motion_t *m, cdpr_real_t *y)
 {
-    y[CDPR_CABIN_P] = m->p_m.x;
-    y[CDPR_CABIN_P + 1] = m->p_m.y;
-    y[CDPR_CABIN_P + 2] = m->p_m.z;
+    cdpr_v3_store(m->p_m, &y[CDPR_CABIN_P]);
     y[CDPR_CABIN_Q] = m->q.w;
     y[CDPR_CABIN_Q + 1] = m->q.x;
     y[CDPR_CABIN_Q + 2] = m->q.y;
     y[CDPR_CABIN_Q + 3] = m->q.z;
-    y[CDPR_CABIN_V] = m->v_m_per_s.x;
-    y[CDPR_CABIN_V + 1] = m->v_m_per_s.y;
-    y[CDPR_CABIN_V + 2] = m->v_m_per_s.z;
-    y[CDPR_CABIN_W] = m->w_rad_per_s.x;
-    y[CDPR_CABIN_W + 1] = m->w_rad_per_s.y;
-    y[CDPR_CABIN_W + 2] = m->w_rad_per_s.z;
+    cdpr_v3_store(m->v_m_per_s, &y[CDPR_CABIN_V]);
+    cdpr_v3_store(m->w_rad_per_s, &y[CDPR_CABIN_W]);
 }
 
 void cdpr_cabin_rhs(const cdpr_cabin_t *cab, const cdpr_real_t *y, cdpr_vec3_t force_world_N,

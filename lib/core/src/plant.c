@@ -218,25 +218,23 @@ static cdpr_status_t start_run(cdpr_plant_t *p, cdpr_diag_t *diag)
     }
     p->robot.in.wind_m_per_s = p->pp.wind_m_per_s;
     fill_atol(p);
+    const int work_len = CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX;
+    const int dim_max = CDPR_ROBOT_STATE_MAX;
+    cdpr_status_t st;
+    const char *name = "rkf45";
     if (p->pp.integrator != CDPR_PLANT_RKF45) {
         cdpr_ros_params_t rp = p->pp.ros;
         rp.step.atol_vec = p->atol;
         (void)cdpr_robot_w_init(&p->w, &p->robot); /* cannot fail: both pointers are valid */
-        const cdpr_status_t st =
-            cdpr_ros_init(&p->ros, &rp, p->work, CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX,
-                          CDPR_ROBOT_STATE_MAX, p->robot.dim, diag);
-        if (st != CDPR_OK) {
-            return cdpr_diag_set(diag, st, "ros", (diag != NULL) ? diag->index : -1);
-        }
-        return CDPR_OK;
+        st = cdpr_ros_init(&p->ros, &rp, p->work, work_len, dim_max, p->robot.dim, diag);
+        name = "ros";
+    } else {
+        cdpr_rkf45_params_t ip = p->pp.rkf45;
+        ip.step.atol_vec = p->atol;
+        st = cdpr_rkf45_init(&p->rk, &ip, p->work, work_len, dim_max, p->robot.dim, diag);
     }
-    cdpr_rkf45_params_t ip = p->pp.rkf45;
-    ip.step.atol_vec = p->atol;
-    const cdpr_status_t st =
-        cdpr_rkf45_init(&p->rk, &ip, p->work, CDPR_PLANT_WORK_PER_DIM * CDPR_ROBOT_STATE_MAX,
-                        CDPR_ROBOT_STATE_MAX, p->robot.dim, diag);
     if (st != CDPR_OK) {
-        return cdpr_diag_set(diag, st, "rkf45", (diag != NULL) ? diag->index : -1);
+        return cdpr_diag_set(diag, st, name, (diag != NULL) ? diag->index : -1);
     }
     return CDPR_OK;
 }
@@ -247,27 +245,11 @@ cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cd
     CDPR_TRY(choose_substeps(p, diag));
     CDPR_TRY(place_and_settle(p, diag));
     CDPR_TRY(start_run(p, diag));
-    p->stats.steps = 0U;
-    p->stats.step_failures = 0U;
-    p->stats.substep_limit_hits = 0U;
-    p->stats.min_length_periods = 0U;
-    p->stats.capacity_periods = 0U;
-    p->stats.budget_refusals = 0U;
-    p->stats.last_failure = CDPR_OK;
-    p->stats.last_rhs_evals = 0U;
-    p->stats.max_rhs_evals = 0U;
-    p->stats.last_factorisations = 0U;
-    p->stats.max_factorisations = 0U;
-    p->stats.last_solves = 0U;
-    p->stats.max_solves = 0U;
-    p->stats.last_err_norm = CDPR_R(0.0);
-    p->stats.max_err_norm = CDPR_R(0.0);
-    p->stats.err_above_one_periods = 0U;
-    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
-        p->nodes.insertions[j] = 0U;
-        p->nodes.removals[j] = 0U;
-        p->nodes.capacity_hits[j] = 0U;
-    }
+    /* Zero-initialised (static storage): the counters of a plant that has not stepped. */
+    static const cdpr_plant_stats_t no_stats;
+    static const cdpr_node_stats_t no_node_stats;
+    p->stats = no_stats; /* all counters 0, last_failure CDPR_OK */
+    p->nodes = no_node_stats;
     p->k = 0;
     p->commanded = 0;
     p->ready = 1;

@@ -259,12 +259,8 @@ static cdpr_status_t wrench(const cdpr_robot_t *r, const geom_t *g, const cdpr_r
             set_wrench_column(J, j, dF, cdpr_v3_cross(g[j].arm, dF));
         }
     }
-    res[0] = f.x;
-    res[1] = f.y;
-    res[2] = f.z;
-    res[3] = m.x;
-    res[4] = m.y;
-    res[5] = m.z;
+    cdpr_v3_store(f, res);
+    cdpr_v3_store(m, &res[3]);
     return CDPR_OK;
 }
 
@@ -625,12 +621,8 @@ static cdpr_status_t wrench_at_lengths(const cdpr_robot_t *r, const cdpr_real_t 
         f = cdpr_v3_add(f, F);
         m = cdpr_v3_add(m, cdpr_v3_cross(g[j].arm, F));
     }
-    res[0] = f.x;
-    res[1] = f.y;
-    res[2] = f.z;
-    res[3] = m.x;
-    res[4] = m.y;
-    res[5] = m.z;
+    cdpr_v3_store(f, res);
+    cdpr_v3_store(m, &res[3]);
     return CDPR_OK;
 }
 

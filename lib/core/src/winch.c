@@ -102,12 +102,8 @@ static void last_free_node(const cdpr_robot_t *r, int j, const cdpr_cabin_motion
         cdpr_vec3_t a;
         cdpr_vec3_t v;
         cdpr_robot_attachment(r, j, m, &a, &v);
-        pos[0] = a.x;
-        pos[1] = a.y;
-        pos[2] = a.z;
-        vel[0] = v.x;
-        vel[1] = v.y;
-        vel[2] = v.z;
+        cdpr_v3_store(a, pos);
+        cdpr_v3_store(v, vel);
         return;
     }
     const cdpr_real_t *b = y + r->offset[j];

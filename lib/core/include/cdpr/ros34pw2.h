@@ -100,25 +100,13 @@ typedef struct {
 /// Documented defaults. O(1), cannot fail.
 void cdpr_ros_params_default(cdpr_ros_params_t *p);
 
-/// Validate the settings against `dim` (the first dim entries of atol_vec when it is given).
-/// O(dim) with atol_vec, else O(1). Returns, for the first bad field (`diag`, may be NULL,
-/// names it by its member name; index -1, or the component for atol_vec):
-/// - CDPR_E_INVALID_ARG: p is NULL ("ros").
-/// - every error of cdpr_step_control_validate(&p->step, dim, diag);
-/// - CDPR_E_OUT_OF_RANGE: jac_reuse_max < 0.
-/// CDPR_OK (diag: status OK, field "", index -1) otherwise.
+/// Validate the settings against `dim` as every scheme does (step_control.h, "The contract
+/// every adaptive scheme's functions keep"); this scheme's own error: CDPR_E_OUT_OF_RANGE:
+/// jac_reuse_max < 0.
 cdpr_status_t cdpr_ros_params_validate(const cdpr_ros_params_t *p, int dim, cdpr_diag_t *diag);
 
-/// Initialise with a caller workspace of `work_len` reals for states up to `dim_max`
-/// components (work_len >= CDPR_ROS_WORK_PER_DIM * dim_max), current dimension `dim`. The
-/// first step is min(h_init_s, h_max_s); counters are zeroed; the workspace is not touched.
-/// O(dim) with atol_vec, else O(1). On error `s` is not written. Returns (diag, may be NULL):
-/// - CDPR_E_INVALID_ARG: s ("solver") or work ("work") is NULL.
-/// - CDPR_E_OUT_OF_RANGE: dim_max < 1 ("dim_max", index dim_max).
-/// - CDPR_E_CAPACITY: dim outside [1, dim_max] ("dim", index dim); work_len too small
-///   ("work_len", index work_len).
-/// - every error of cdpr_ros_params_validate(p, dim).
-/// CDPR_OK otherwise.
+/// Initialise as every scheme does (step_control.h, "The contract every adaptive scheme's
+/// functions keep"), with work_len >= CDPR_ROS_WORK_PER_DIM * dim_max.
 cdpr_status_t cdpr_ros_init(cdpr_ros_t *s, const cdpr_ros_params_t *p, cdpr_real_t *work,
                             int work_len, int dim_max, int dim, cdpr_diag_t *diag);
 

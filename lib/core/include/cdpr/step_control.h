@@ -11,6 +11,23 @@
 /// cdpr_step_control_t in its settings and a cdpr_step_stats_t in its solver object: what a
 /// caller sets and reads is then the same whatever the scheme. Nothing allocates; O(1) unless
 /// stated.
+///
+/// The contract every adaptive scheme's functions keep (rkf45.h, ros34pw2.h):
+/// - `..._params_validate(p, dim, diag)`: O(dim) with atol_vec, else O(1). Returns, for the
+///   first bad field (`diag`, may be NULL, names it by its member name; index -1, or the
+///   component for atol_vec), CDPR_E_INVALID_ARG when p is NULL (field: the scheme's prefix,
+///   "rkf45" or "ros"), then every error of cdpr_step_control_validate(&p->step, dim, diag),
+///   then the scheme's own settings' errors; CDPR_OK (diag: status OK, field "", index -1)
+///   otherwise.
+/// - `..._init(s, p, work, work_len, dim_max, dim, diag)`: a caller workspace of `work_len`
+///   reals for states up to `dim_max` components (work_len >= the scheme's WORK_PER_DIM *
+///   dim_max), current dimension `dim`. The first step is min(h_init_s, h_max_s); counters are
+///   zeroed; the workspace is not touched. O(dim) with atol_vec, else O(1). On error `s` is not
+///   written. Returns (diag, may be NULL): CDPR_E_INVALID_ARG when s ("solver") or work
+///   ("work") is NULL; CDPR_E_OUT_OF_RANGE when dim_max < 1 ("dim_max", index dim_max);
+///   CDPR_E_CAPACITY when dim is outside [1, dim_max] ("dim", index dim) or work_len is too
+///   small ("work_len", index work_len); every error of the scheme's params_validate(p, dim);
+///   CDPR_OK otherwise.
 #ifndef CDPR_STEP_CONTROL_H
 #define CDPR_STEP_CONTROL_H
 

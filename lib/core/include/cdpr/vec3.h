@@ -40,6 +40,20 @@ static inline cdpr_vec3_t cdpr_v3(cdpr_real_t x, cdpr_real_t y, cdpr_real_t z)
     return r;
 }
 
+/// The vector (a[0], a[1], a[2]).
+static inline cdpr_vec3_t cdpr_v3_load(const cdpr_real_t *a)
+{
+    return cdpr_v3(a[0], a[1], a[2]);
+}
+
+/// out[0..2] = (v.x, v.y, v.z).
+static inline void cdpr_v3_store(cdpr_vec3_t v, cdpr_real_t *out)
+{
+    out[0] = v.x;
+    out[1] = v.y;
+    out[2] = v.z;
+}
+
 static inline cdpr_vec3_t cdpr_v3_add(cdpr_vec3_t a, cdpr_vec3_t b)
 {
     return cdpr_v3(a.x + b.x, a.y + b.y, a.z + b.z);
