@@ -631,8 +631,8 @@ int main(int argc, char **argv)
     options_t o;
     o.min_time_s = 0.2;
     o.runs = 5;
-    static const struct option long_opts[] = {
-        {"quick", no_argument, NULL, 'q'}, CDPR_APP_STD_OPTIONS, {NULL, 0, NULL, 0}};
+    static const struct option long_opts[] = {{"quick", no_argument, NULL, 'q'},
+                                              CDPR_APP_STD_OPTIONS_END};
     opterr = 0;
     for (;;) {
         const int c = getopt_long(argc, argv, CDPR_APP_OPTSTRING "q", long_opts, NULL);

@@ -331,14 +331,13 @@ static int take(int c, const char *arg, void *ctx)
         bad = (bad == CDPR_OK && floor(o->cable) < o->cable)
                   ? cdpr_app_usage_error("cdpr-design", "--step-test: a winch 0..5")
                   : bad;
-    } else if (c == 'c') {
-        o->check = 1;
-    } else if (c == 'z') {
-        o->zoh = 1;
-    } else if (c == 'v') {
-        o->verdict = 1;
     } else {
-        return 1;
+        const cdpr_app_store_t stores[] = {
+            {.code = 'c', .flag = &o->check, .value = 1},
+            {.code = 'z', .flag = &o->zoh, .value = 1},
+            {.code = 'v', .flag = &o->verdict, .value = 1},
+        };
+        return cdpr_app_store(stores, sizeof stores / sizeof stores[0], c, arg);
     }
     return (bad != CDPR_OK) ? -1 : 0;
 }
@@ -352,8 +351,7 @@ int main(int argc, char **argv)
                                              {"verdict", no_argument, NULL, 'v'},
                                              CDPR_APP_QUIET_OPTION,
                                              CDPR_APP_OVERRIDE_OPTIONS,
-                                             CDPR_APP_STD_OPTIONS,
-                                             {NULL, 0, NULL, 0}};
+                                             CDPR_APP_STD_OPTIONS_END};
     options_t o;
     memset(&o, 0, sizeof o);
     o.at_s = (double)NAN;

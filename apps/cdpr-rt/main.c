@@ -100,14 +100,8 @@ static int take(int c, const char *arg, void *ctx)
     int bad = 0;
     double v = 0.0;
     switch (c) {
-    case 'l':
-        o->rt.lockstep = 1;
-        break;
     case 'L':
         bad = (int)cdpr_cli_real("cdpr-rt", "lockstep-timeout", arg, &o->rt.lockstep_timeout_s);
-        break;
-    case 'R':
-        o->rt.realtime = 1;
         break;
     case 'P':
         /* Whole and within an int here; its range is cdpr_rt_plant_init's. */
@@ -138,27 +132,24 @@ static int take(int c, const char *arg, void *ctx)
                   : bad;
         *((c == 'X') ? &o->rt.max_misses : &o->rt.max_misses_in_row) = (long)v;
         break;
-    case 'u':
-        o->rt.lcm.url = arg;
-        break;
-    case 'p':
-        o->rt.lcm.channel_prefix = arg;
-        break;
-    case 't':
-        o->with_tracker = 1;
-        break;
-    case 'o':
-        o->tracker_out = arg;
-        break;
-    default:
-        return 1;
+    default: {
+        const cdpr_app_store_t stores[] = {
+            {.code = 'l', .flag = &o->rt.lockstep, .value = 1},
+            {.code = 'R', .flag = &o->rt.realtime, .value = 1},
+            {.code = 'u', .text = &o->rt.lcm.url},
+            {.code = 'p', .text = &o->rt.lcm.channel_prefix},
+            {.code = 't', .flag = &o->with_tracker, .value = 1},
+            {.code = 'o', .text = &o->tracker_out},
+        };
+        return cdpr_app_store(stores, sizeof stores / sizeof stores[0], c, arg);
+    }
     }
     return (bad != 0) ? -1 : 0;
 }
 
 static int parse(int argc, char **argv, options_t *o)
 {
-    static const struct option longopts[] = {CDPR_APP_OVERRIDE_OPTIONS,
+    static const struct option longopts[] = {CDPR_APP_RUN_OPTIONS,
                                              {"lockstep", no_argument, NULL, 'l'},
                                              {"lockstep-timeout", required_argument, NULL, 'L'},
                                              {"realtime", no_argument, NULL, 'R'},
@@ -168,14 +159,11 @@ static int parse(int argc, char **argv, options_t *o)
                                              {"startup", required_argument, NULL, 'U'},
                                              {"max-misses", required_argument, NULL, 'X'},
                                              {"max-misses-in-row", required_argument, NULL, 'Y'},
-                                             {"lcm-url", required_argument, NULL, 'u'},
-                                             {"prefix", required_argument, NULL, 'p'},
+                                             CDPR_APP_LCM_OPTIONS,
                                              {"with-tracker", no_argument, NULL, 't'},
                                              {"tracker-out", required_argument, NULL, 'o'},
-                                             CDPR_APP_CHECK_DESIGN_OPTION,
-                                             CDPR_APP_QUIET_OPTION,
-                                             CDPR_APP_STD_OPTIONS,
-                                             {NULL, 0, NULL, 0}};
+
+                                             CDPR_APP_STD_OPTIONS_END};
     if (cdpr_app_parse("cdpr-rt", argc, argv, longopts, usage, take, o) != 0 ||
         cdpr_app_scenario_operand("cdpr-rt", argc, argv, &o->scenario) != CDPR_OK) {
         return -1;

@@ -131,15 +131,11 @@ static int take(int c, const char *arg, void *ctx)
 
 static int parse(int argc, char **argv, options_t *o)
 {
-    static const struct option longopts[] = {{"out", required_argument, NULL, 'o'},
-                                             {"length", required_argument, NULL, 'L'},
-                                             {"span", required_argument, NULL, 's'},
-                                             {"height", required_argument, NULL, 'H'},
-                                             {"ea", required_argument, NULL, 'e'},
-                                             {"rho", required_argument, NULL, 'r'},
-                                             {"segments", required_argument, NULL, 'n'},
-                                             CDPR_APP_STD_OPTIONS,
-                                             {NULL, 0, NULL, 0}};
+    static const struct option longopts[] = {
+        {"out", required_argument, NULL, 'o'},      {"length", required_argument, NULL, 'L'},
+        {"span", required_argument, NULL, 's'},     {"height", required_argument, NULL, 'H'},
+        {"ea", required_argument, NULL, 'e'},       {"rho", required_argument, NULL, 'r'},
+        {"segments", required_argument, NULL, 'n'}, CDPR_APP_STD_OPTIONS_END};
     if (cdpr_app_parse("cdpr-settle", argc, argv, longopts, usage, take, o) != 0) {
         return -1;
     }

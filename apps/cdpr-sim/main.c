@@ -76,26 +76,14 @@ static int take(int c, const char *arg, void *ctx)
     if (ov != 1) {
         return ov;
     }
-    switch (c) {
-    case 'o':
-        o->out_dir = arg;
-        break;
-    case 'n':
-        o->plot = 0;
-        break;
-    case 's':
-        o->plot_script = arg;
-        break;
-    case 'p':
-        o->progress = 1;
-        break;
-    case 'u':
-        o->check_design = -1;
-        break;
-    default:
-        return 1;
-    }
-    return 0;
+    const cdpr_app_store_t stores[] = {
+        {.code = 'o', .text = &o->out_dir},
+        {.code = 'n', .flag = &o->plot, .value = 0},
+        {.code = 's', .text = &o->plot_script},
+        {.code = 'p', .flag = &o->progress, .value = 1},
+        {.code = 'u', .flag = &o->check_design, .value = -1},
+    };
+    return cdpr_app_store(stores, sizeof stores / sizeof stores[0], c, arg);
 }
 
 static int parse(int argc, char **argv, options_t *o)
@@ -110,8 +98,7 @@ static int parse(int argc, char **argv, options_t *o)
         CDPR_APP_QUIET_OPTION,
         {"unchecked-gains", no_argument, NULL, 'u'},
         CDPR_APP_CHECK_DESIGN_OPTION,
-        CDPR_APP_STD_OPTIONS,
-        {NULL, 0, NULL, 0}};
+        CDPR_APP_STD_OPTIONS_END};
     if (cdpr_app_parse("cdpr-sim", argc, argv, longopts, usage, take, o) != 0 ||
         cdpr_app_scenario_operand("cdpr-sim", argc, argv, &o->scenario) != CDPR_OK) {
         return -1;

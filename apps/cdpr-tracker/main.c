@@ -99,45 +99,30 @@ static int take(int c, const char *arg, void *ctx)
     if (ov != 1) {
         return ov;
     }
-    int bad = 0;
-    switch (c) {
-    case 'i':
-        bad = (int)cdpr_cli_number("cdpr-tracker", "idle-exit", arg, 0.01, 1e6, &o->idle_exit_s);
-        break;
-    case 'u':
-        o->url = arg;
-        break;
-    case 'p':
-        o->prefix = arg;
-        break;
-    case 'o':
-        o->out_dir = arg;
-        break;
-    case 'n':
-        o->plot = 0;
-        break;
-    case 'R':
-        o->replay = arg;
-        break;
-    default:
-        return 1;
+    if (c == 'i') {
+        return (cdpr_cli_number("cdpr-tracker", "idle-exit", arg, 0.01, 1e6, &o->idle_exit_s) ==
+                CDPR_OK)
+                   ? 0
+                   : -1;
     }
-    return (bad != 0) ? -1 : 0;
+    const cdpr_app_store_t stores[] = {
+        {.code = 'u', .text = &o->url},     {.code = 'p', .text = &o->prefix},
+        {.code = 'o', .text = &o->out_dir}, {.code = 'n', .flag = &o->plot, .value = 0},
+        {.code = 'R', .text = &o->replay},
+    };
+    return cdpr_app_store(stores, sizeof stores / sizeof stores[0], c, arg);
 }
 
 static int parse(int argc, char **argv, options_t *o)
 {
-    static const struct option longopts[] = {CDPR_APP_OVERRIDE_OPTIONS,
+    static const struct option longopts[] = {CDPR_APP_RUN_OPTIONS,
                                              {"idle-exit", required_argument, NULL, 'i'},
-                                             {"lcm-url", required_argument, NULL, 'u'},
-                                             {"prefix", required_argument, NULL, 'p'},
+                                             CDPR_APP_LCM_OPTIONS,
                                              {"out", required_argument, NULL, 'o'},
                                              {"no-plot", no_argument, NULL, 'n'},
                                              {"replay", required_argument, NULL, 'R'},
-                                             CDPR_APP_CHECK_DESIGN_OPTION,
-                                             CDPR_APP_QUIET_OPTION,
-                                             CDPR_APP_STD_OPTIONS,
-                                             {NULL, 0, NULL, 0}};
+
+                                             CDPR_APP_STD_OPTIONS_END};
     if (cdpr_app_parse("cdpr-tracker", argc, argv, longopts, usage, take, o) != 0 ||
         cdpr_app_scenario_operand("cdpr-tracker", argc, argv, &o->scenario) != CDPR_OK) {
         return -1;
@@ -621,17 +606,7 @@ static cdpr_status_t finish(const options_t *o, const cdpr_scenario_t *sc, cdpr_
     /* What only the plant knows is unknown here (null in summary.json); the node events are
      * the changes of the segment counts in the tensions messages (cdpr_record_node_events). */
     cdpr_record_node_events(&g_record.rec, &g_sum.node_insertions, &g_sum.node_removals, NULL);
-    g_sum.capacity_hits = CDPR_SUMMARY_UNKNOWN;
-    g_sum.substep_limit_hits = CDPR_SUMMARY_UNKNOWN;
-    g_sum.min_length_periods = CDPR_SUMMARY_UNKNOWN;
-    g_sum.steps_accepted = CDPR_SUMMARY_UNKNOWN;
-    g_sum.steps_rejected = CDPR_SUMMARY_UNKNOWN;
-    g_sum.rhs_evals = CDPR_SUMMARY_UNKNOWN;
-    g_sum.max_rhs_per_period = CDPR_SUMMARY_UNKNOWN;
-    g_sum.max_err_norm = (double)NAN;
-    g_sum.err_above_one_periods = CDPR_SUMMARY_UNKNOWN;
-    g_sum.settle_steps = -1;
-    g_sum.settle_wall_time_s = (double)NAN;
+    cdpr_summary_plant_unknown(&g_sum);
     if (g_tracker.have_plant_diag != 0) {
         /* The plant's own figures as its newest diagnostics gave them (it sends one before
          * its last state): work per period, health of the fixed mode, overruns. */

@@ -192,6 +192,23 @@ cdpr_status_t cdpr_app_other_option(const char *prog, int c, char *const argv[],
     return cdpr_app_bad_option(prog, c, argv, longopts);
 }
 
+int cdpr_app_store(const cdpr_app_store_t *stores, size_t n, int c, const char *arg)
+{
+    for (size_t i = 0; i < n; ++i) {
+        const cdpr_app_store_t *st = &stores[i];
+        if (st->code != c) {
+            continue;
+        }
+        if (st->text != NULL) {
+            *st->text = arg;
+        } else {
+            *st->flag = st->value;
+        }
+        return 0;
+    }
+    return 1;
+}
+
 int cdpr_app_parse(const char *prog, int argc, char **argv, const struct option *longopts,
                    void (*usage)(FILE *), cdpr_app_option_fn take, void *ctx)
 {

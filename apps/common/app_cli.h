@@ -27,12 +27,14 @@
 /// The optstring of every app: ':' first (a missing argument returns ':'), then -h.
 #define CDPR_APP_OPTSTRING ":h"
 
-/// The --help and --version entries of the apps' getopt_long tables.
-#define CDPR_APP_STD_OPTIONS                                                                       \
+/// The tail of every app's getopt_long table: the --help and --version entries and the
+/// terminating all-zero entry.
+// clang-format off
+#define CDPR_APP_STD_OPTIONS_END                                                                   \
     {"help", no_argument, NULL, 'h'},                                                              \
-    {                                                                                              \
-        "version", no_argument, NULL, CDPR_APP_OPT_VERSION                                         \
-    }
+    {"version", no_argument, NULL, CDPR_APP_OPT_VERSION},                                          \
+    {NULL, 0, NULL, 0}
+// clang-format on
 
 #if defined(__GNUC__)
 #define CDPR_APP_PRINTF(f, a) __attribute__((format(printf, f, a)))
@@ -66,6 +68,19 @@ cdpr_status_t cdpr_app_other_option(const char *prog, int c, char *const argv[],
 /// 1 when `c` is not one of its options (cdpr_app_other_option then handles it: --help,
 /// --version), or -1 after printing a usage error (a bad argument).
 typedef int (*cdpr_app_option_fn)(int c, const char *arg, void *ctx);
+
+/// An option that only stores, for cdpr_app_store: a text option's argument goes to *text; a
+/// flag (text NULL) sets *flag = value.
+typedef struct {
+    int code;          ///< the getopt_long code
+    const char **text; ///< where the argument goes, or NULL for a flag
+    int *flag;         ///< where `value` goes (a flag)
+    int value;         ///< a flag's value
+} cdpr_app_store_t;
+
+/// The stored options of a cdpr_app_option_fn: when `c` is the code of one of the `n` entries
+/// of `stores`, store as it says and return 0; else return 1 (the caller's other options).
+int cdpr_app_store(const cdpr_app_store_t *stores, size_t n, int c, const char *arg);
 
 /// The getopt_long loop of every app: opterr = 0, CDPR_APP_OPTSTRING, `longopts`; each code to
 /// `take(c, optarg, ctx)`, what it does not take to cdpr_app_other_option (which exits 0 for

@@ -50,6 +50,17 @@ int cdpr_app_run_option(const char *prog, int c, const char *arg, cdpr_scenario_
         "quiet", no_argument, NULL, 'q'                                                            \
     }
 
+/// The getopt_long entries of every option cdpr_app_run_option takes: the overrides,
+/// --check-design and --quiet.
+#define CDPR_APP_RUN_OPTIONS                                                                       \
+    CDPR_APP_OVERRIDE_OPTIONS, CDPR_APP_CHECK_DESIGN_OPTION, CDPR_APP_QUIET_OPTION
+
+/// The LCM options of the apps on the bus (cdpr-rt, cdpr-tracker): --lcm-url 'u', --prefix 'p'.
+// clang-format off
+#define CDPR_APP_LCM_OPTIONS                                                                       \
+    {"lcm-url", required_argument, NULL, 'u'},                                                     \
+    {"prefix", required_argument, NULL, 'p'}
+// clang-format on
 /// Load scenario file `path` and apply the overrides `ov` (a note on stderr for each value
 /// that differs from the file). Returns CDPR_OK or the status after printing "PROG: error".
 cdpr_status_t cdpr_app_scenario(const char *prog, const char *path,

@@ -68,22 +68,8 @@
 
 static const cdpr_real_t DT_S = CDPR_R(0.001); /* control period [s] */
 
-/* Pulley exit points [m] (radius 25 m, azimuths 0, 60, ..., 300 deg, height 30 m) and cabin
- * attachments in body axes [m] (radius 2 m at 25, 35, 145, 155, 265, 275 deg, 0.5 m below the
- * origin). The cabin's home pose: 9.135 m above the ground, level. */
-static const cdpr_real_t EXIT_M[N_CABLES][3] = {{CDPR_R(25.0), CDPR_R(0.0), CDPR_R(30.0)},
-                                                {CDPR_R(12.5), CDPR_R(21.6506), CDPR_R(30.0)},
-                                                {CDPR_R(-12.5), CDPR_R(21.6506), CDPR_R(30.0)},
-                                                {CDPR_R(-25.0), CDPR_R(0.0), CDPR_R(30.0)},
-                                                {CDPR_R(-12.5), CDPR_R(-21.6506), CDPR_R(30.0)},
-                                                {CDPR_R(12.5), CDPR_R(-21.6506), CDPR_R(30.0)}};
-static const cdpr_real_t ATTACH_M[N_CABLES][3] = {
-    {CDPR_R(1.81262), CDPR_R(0.84524), CDPR_R(-0.5)},
-    {CDPR_R(1.6383), CDPR_R(1.14715), CDPR_R(-0.5)},
-    {CDPR_R(-1.6383), CDPR_R(1.14715), CDPR_R(-0.5)},
-    {CDPR_R(-1.81262), CDPR_R(0.84524), CDPR_R(-0.5)},
-    {CDPR_R(-0.17431), CDPR_R(-1.99239), CDPR_R(-0.5)},
-    {CDPR_R(0.17431), CDPR_R(-1.99239), CDPR_R(-0.5)}};
+/* The paper's robot (EXIT_M, ATTACH_M); the cabin's home pose: 9.135 m above the ground, level. */
+#include "paper_robot.h"
 static const cdpr_real_t CHORD_M = CDPR_R(31.541); /* initial guess only: the IK sets L */
 static const cdpr_real_t CABIN_Z_M = CDPR_R(9.135);
 /* Winch commands: a slow payout on two opposite cables, haul-in on two others [m/s]. */

@@ -42,20 +42,8 @@ static cdpr_tracker_cmd_t cmd;
 #endif
 
 #ifndef CDPR_CONSUMER_HOST
-/* The paper's 50 m robot (docs/robots.md), as apps/firmware-example/main.c writes it. */
-static const cdpr_real_t EXIT_M[N_CABLES][3] = {{CDPR_R(25.0), CDPR_R(0.0), CDPR_R(30.0)},
-                                                {CDPR_R(12.5), CDPR_R(21.6506), CDPR_R(30.0)},
-                                                {CDPR_R(-12.5), CDPR_R(21.6506), CDPR_R(30.0)},
-                                                {CDPR_R(-25.0), CDPR_R(0.0), CDPR_R(30.0)},
-                                                {CDPR_R(-12.5), CDPR_R(-21.6506), CDPR_R(30.0)},
-                                                {CDPR_R(12.5), CDPR_R(-21.6506), CDPR_R(30.0)}};
-static const cdpr_real_t ATTACH_M[N_CABLES][3] = {
-    {CDPR_R(1.81262), CDPR_R(0.84524), CDPR_R(-0.5)},
-    {CDPR_R(1.6383), CDPR_R(1.14715), CDPR_R(-0.5)},
-    {CDPR_R(-1.6383), CDPR_R(1.14715), CDPR_R(-0.5)},
-    {CDPR_R(-1.81262), CDPR_R(0.84524), CDPR_R(-0.5)},
-    {CDPR_R(-0.17431), CDPR_R(-1.99239), CDPR_R(-0.5)},
-    {CDPR_R(0.17431), CDPR_R(-1.99239), CDPR_R(-0.5)}};
+/* The paper's 50 m robot, as the firmware example writes it. */
+#include "../../apps/firmware-example/paper_robot.h"
 #endif
 static const cdpr_real_t HOME[6] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(9.135),
                                     CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
