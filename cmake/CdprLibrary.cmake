@@ -16,7 +16,9 @@
 #
 #   cdpr_add_library(<target> <component> SOURCES <files...> [HEADER_DIRS <dirs...>])
 #       add_library(<target>) as STATIC, or SHARED with CDPR_SHARED=ON; alias and export
-#       name cdpr::<component>; cdpr_numerics. Shared: SONAME lib<target>.so.<major> and a
+#       name cdpr::<component>; cdpr_numerics; each HEADER_DIR (a folder holding cdpr/...) a
+#       PUBLIC include directory of the build tree (the installed tree's is set by
+#       cdpr_install_library). Shared: SONAME lib<target>.so.<major> and a
 #       linker version script exporting exactly the cdpr_* functions the public headers
 #       under HEADER_DIRS declare (read at configure time); every other symbol is local.
 #
@@ -30,15 +32,20 @@ include(GNUInstallDirs)
 include(${CMAKE_CURRENT_LIST_DIR}/CdprVersion.cmake)
 
 option(CDPR_SHARED "Build cdpr's libraries as shared libraries (host only; default static)" OFF)
-if(NOT DEFINED CDPR_INSTALL)
-    if(PROJECT_NAME STREQUAL "cdpr" AND PROJECT_IS_TOP_LEVEL)
-        set(_cdpr_install_default ON)
-    else()
-        set(_cdpr_install_default OFF)
+# cdpr_top_level_option(<name> <doc>): option <name>, ON by default when cdpr is the top-level
+# project and OFF when cdpr (or lib/core alone) is added to another build; a value the
+# including build set before is kept.
+macro(cdpr_top_level_option name doc)
+    if(NOT DEFINED ${name})
+        if(PROJECT_NAME STREQUAL "cdpr" AND PROJECT_IS_TOP_LEVEL)
+            option(${name} "${doc}" ON)
+        else()
+            option(${name} "${doc}" OFF)
+        endif()
     endif()
-    option(CDPR_INSTALL "Generate cdpr's install rules" ${_cdpr_install_default})
-    unset(_cdpr_install_default)
-endif()
+endmacro()
+
+cdpr_top_level_option(CDPR_INSTALL "Generate cdpr's install rules")
 if(CDPR_SHARED AND CMAKE_CROSSCOMPILING)
     message(FATAL_ERROR "CDPR_SHARED=ON is for host builds; firmware links the static core")
 endif()
@@ -110,6 +117,9 @@ function(cdpr_add_library target component)
     endif()
     add_library(cdpr::${component} ALIAS ${target})
     set_target_properties(${target} PROPERTIES EXPORT_NAME ${component})
+    foreach(dir IN LISTS arg_HEADER_DIRS)
+        target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${dir}>)
+    endforeach()
     cdpr_numerics(${target})
 endfunction()
 

@@ -47,8 +47,11 @@ if(CDPR_REAL_FLOAT)
 endif()
 
 # _cdpr_pkgconfig(<component> <description> <public requires> <private requires>
-#                 <libs> <private libs>)
+#                 <libs> <private libs>): cdpr-<component>.pc when the build has the component.
 function(_cdpr_pkgconfig component description requires requires_private libs libs_private)
+    if(NOT component IN_LIST CDPR_COMPONENTS)
+        return()
+    endif()
     if(NOT CDPR_SHARED)
         string(STRIP "${requires} ${requires_private}" requires)
         string(STRIP "${libs} ${libs_private}" libs)
@@ -67,34 +70,20 @@ function(_cdpr_pkgconfig component description requires requires_private libs li
             DESTINATION ${CDPR_PKGCONFIG_INSTALL_DIR} COMPONENT devel)
 endfunction()
 
-if(core IN_LIST CDPR_COMPONENTS)
-    _cdpr_pkgconfig(core "cdpr core: cable-robot model, integrator and plant (C99, libm only)"
-        "" "" "-lcdpr_core" "-lm")
-endif()
-if(control IN_LIST CDPR_COMPONENTS)
-    _cdpr_pkgconfig(control "cdpr example controller: trajectories and the tracker (C99, libm only)"
-        "cdpr-core" "" "-lcdpr_control" "-lm")
-endif()
-if(gsl IN_LIST CDPR_COMPONENTS)
-    _cdpr_pkgconfig(gsl "cdpr GSL reference solvers (links GSL: GPL-3)"
-        "cdpr-core gsl" "" "-lcdpr_gsl" "")
-endif()
-if(host IN_LIST CDPR_COMPONENTS)
-    _cdpr_pkgconfig(host "cdpr host layer: presets, scenario files, controller, batch runner"
-        "cdpr-core cdpr-control" "libcyaml yaml-0.1" "-lcdpr_host" "-lm")
-endif()
-if(design IN_LIST CDPR_COMPONENTS)
-    _cdpr_pkgconfig(design "cdpr linear design: the loop's linearisation and margins (LAPACK)"
-        "cdpr-host" "lapack" "-lcdpr_design" "-lm")
-endif()
-if(lcm IN_LIST CDPR_COMPONENTS)
-    _cdpr_pkgconfig(lcm "cdpr LCM bridge and message types (links liblcm: LGPL-2.1+)"
-        "cdpr-core lcm" "" "-lcdpr_lcm -lcdpr_lcmtypes" "-pthread -lm")
-endif()
-if(rt IN_LIST CDPR_COMPONENTS)
-    _cdpr_pkgconfig(rt "cdpr real-time nodes (plant node, tracker node)"
-        "cdpr-host cdpr-lcm" "" "-lcdpr_rt" "-pthread -lm")
-endif()
+_cdpr_pkgconfig(core "cdpr core: cable-robot model, integrator and plant (C99, libm only)"
+    "" "" "-lcdpr_core" "-lm")
+_cdpr_pkgconfig(control "cdpr example controller: trajectories and the tracker (C99, libm only)"
+    "cdpr-core" "" "-lcdpr_control" "-lm")
+_cdpr_pkgconfig(gsl "cdpr GSL reference solvers (links GSL: GPL-3)"
+    "cdpr-core gsl" "" "-lcdpr_gsl" "")
+_cdpr_pkgconfig(host "cdpr host layer: robots, scenario files, outputs, batch runner"
+    "cdpr-core cdpr-control" "libcyaml yaml-0.1" "-lcdpr_host" "-lm")
+_cdpr_pkgconfig(design "cdpr linear design: the loop's linearisation and margins (LAPACK)"
+    "cdpr-host" "lapack" "-lcdpr_design" "-lm")
+_cdpr_pkgconfig(lcm "cdpr LCM bridge and message types (links liblcm: LGPL-2.1+)"
+    "cdpr-core lcm" "" "-lcdpr_lcm -lcdpr_lcmtypes" "-pthread -lm")
+_cdpr_pkgconfig(rt "cdpr real-time nodes (plant node, tracker node)"
+    "cdpr-host cdpr-lcm" "" "-lcdpr_rt" "-pthread -lm")
 
 # Data of the host tools, and the licence (every build).
 if(NOT CMAKE_CROSSCOMPILING)

@@ -6,15 +6,8 @@
 # cdpr is the top-level project (and set in every preset CI uses), OFF when cdpr, or lib/core
 # alone, is added to another build with add_subdirectory, so a consumer's newer compiler
 # with new warnings does not break the consumer's build.
-if(NOT DEFINED CDPR_WERROR)
-    if(PROJECT_NAME STREQUAL "cdpr" AND PROJECT_IS_TOP_LEVEL)
-        set(_cdpr_werror_default ON)
-    else()
-        set(_cdpr_werror_default OFF)
-    endif()
-    option(CDPR_WERROR "Treat warnings as errors in cdpr's own targets" ${_cdpr_werror_default})
-    unset(_cdpr_werror_default)
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/CdprLibrary.cmake) # cdpr_top_level_option
+cdpr_top_level_option(CDPR_WERROR "Treat warnings as errors in cdpr's own targets")
 
 function(cdpr_strict_warnings target)
     target_compile_options(${target} PRIVATE
