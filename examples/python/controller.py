@@ -223,6 +223,14 @@ def main():
         ctl["answered"] += 1
         ctl["last"] = k
 
+    def pair_up(mine, msg, other):
+        """Keep `msg` (the last 64 by seq) and answer once its partner is in `other`."""
+        mine[msg.seq] = msg
+        while len(mine) > 64:
+            del mine[min(mine)]
+        if msg.seq in other:
+            answer(msg.seq)
+
     def on_state(channel, data):
         s = cabin_state_t.decode(data)
         if not follows(s.plant_session, True):
@@ -232,21 +240,13 @@ def main():
             # plant ignores the copy as replayed if it had it.
             lc.publish(a.prefix + "WINCH_COMMAND", ctl["cmd"])
             return
-        states[s.seq] = s
-        while len(states) > 64:
-            del states[min(states)]
-        if s.seq in tens:
-            answer(s.seq)
+        pair_up(states, s, tens)
 
     def on_tensions(channel, data):
         m = cable_tensions_t.decode(data)
         if not follows(m.plant_session, False):
             return
-        tens[m.seq] = m
-        while len(tens) > 64:
-            del tens[min(tens)]
-        if m.seq in states:
-            answer(m.seq)
+        pair_up(tens, m, states)
 
     lc.subscribe(a.prefix + "CABIN_STATE", on_state)
     lc.subscribe(a.prefix + "CABLE_TENSIONS", on_tensions)
