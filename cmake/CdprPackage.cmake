@@ -26,9 +26,17 @@ endforeach()
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/cdprConfig.cmake.in
     ${PROJECT_BINARY_DIR}/cdprConfig.cmake
     INSTALL_DESTINATION ${CDPR_CMAKE_INSTALL_DIR})
+# Version policy: from 1.0 on, a minor version keeps the API and the object layouts
+# (SameMajorVersion); while the major version is 0, a minor version may change them, so the
+# check accepts the same major.minor only (find_package(cdpr 0.1) takes 0.1.x, not 0.2).
+if(PROJECT_VERSION_MAJOR EQUAL 0)
+    set(_cdpr_compat SameMinorVersion)
+else()
+    set(_cdpr_compat SameMajorVersion)
+endif()
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/cdprConfigVersion.cmake
     VERSION ${PROJECT_VERSION}
-    COMPATIBILITY SameMajorVersion)
+    COMPATIBILITY ${_cdpr_compat})
 install(FILES ${PROJECT_BINARY_DIR}/cdprConfig.cmake ${PROJECT_BINARY_DIR}/cdprConfigVersion.cmake
     DESTINATION ${CDPR_CMAKE_INSTALL_DIR}
     COMPONENT devel)
@@ -42,7 +50,9 @@ file(RELATIVE_PATH CDPR_PC_PREFIX_FROM_PCFILEDIR
     /root/${CDPR_PKGCONFIG_INSTALL_DIR} /root)
 string(REGEX REPLACE "/$" "" CDPR_PC_PREFIX_FROM_PCFILEDIR "${CDPR_PC_PREFIX_FROM_PCFILEDIR}")
 set(CDPR_PC_CFLAGS "")
+set(CDPR_PC_REAL double)
 if(CDPR_REAL_FLOAT)
+    set(CDPR_PC_REAL float)
     set(CDPR_PC_CFLAGS " -DCDPR_REAL_IS_FLOAT")
 endif()
 

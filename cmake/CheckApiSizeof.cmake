@@ -1,31 +1,39 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Fails unless the sizeof table of docs/api.md matches the build: PROG prints `name bytes`
-# lines (tests/docs/api_sizeof.c); the table between the lines `<!-- sizeof:begin -->` and
-# `<!-- sizeof:end -->` has one row per object, `| `name` | bytes |` (digits, optionally
-# grouped with spaces, as "221 624"). Every printed object needs a row with the same size, and
-# every row an object. Each difference is named; the test fails if there is any.
+# Fails unless the sizeof table of docs/api.md matches the builds: each program of PROGS (the
+# same tests/docs/api_sizeof.c compiled at one capacity each) prints `name bytes` lines; the
+# table between the lines `<!-- sizeof:begin -->` and `<!-- sizeof:end -->` has a header row
+# `| object | <label> | <label> | ... |` whose labels are COLUMNS (in that order: one per
+# program) and one row per object, `| `name` | bytes | bytes | ... |` (digits, optionally
+# grouped with spaces, as "221 624"). Every printed object needs a row with the same size in
+# its program's column, and every row an object. Each difference is named; the test fails if
+# there is any.
 #
-# Usage: cmake -DPROG=<cdpr_api_sizeof> -DDOC=<docs/api.md> -P CheckApiSizeof.cmake
+# Usage: cmake -DPROGS=<prog>:<prog>... -DCOLUMNS=<label>:<label>... -DDOC=<docs/api.md>
+#              -P CheckApiSizeof.cmake   (':'-separated: a ';' would split add_test's argument)
 
 cmake_minimum_required(VERSION 3.25)
 
-if(NOT PROG OR NOT DOC)
-    message(FATAL_ERROR "usage: cmake -DPROG=<program> -DDOC=<api.md> -P "
+if(NOT PROGS OR NOT COLUMNS OR NOT DOC)
+    message(FATAL_ERROR "usage: cmake -DPROGS=<programs> -DCOLUMNS=<labels> -DDOC=<api.md> -P "
                         "${CMAKE_CURRENT_LIST_FILE}")
+endif()
+string(REPLACE ":" ";" PROGS "${PROGS}")
+string(REPLACE ":" ";" COLUMNS "${COLUMNS}")
+list(LENGTH PROGS n_progs)
+list(LENGTH COLUMNS n_cols)
+if(NOT n_progs EQUAL n_cols)
+    message(FATAL_ERROR "${n_progs} programs but ${n_cols} column labels")
 endif()
 if(NOT EXISTS "${DOC}")
     message(FATAL_ERROR "${DOC} does not exist")
 endif()
 
-execute_process(COMMAND "${PROG}" OUTPUT_VARIABLE printed RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${PROG} failed (${rc})")
-endif()
-
-# The table rows (names and sizes contain no ';', so lists of lines are safe here).
+# The table: the header's labels, then per row the name and its cells (names and sizes contain
+# no ';', so lists of lines and cells are safe here).
 file(STRINGS "${DOC}" doc_lines)
 set(inside 0)
 set(seen_begin 0)
+set(header "")
 set(table_names "")
 foreach(line IN LISTS doc_lines)
     if(line STREQUAL "<!-- sizeof:begin -->")
@@ -33,51 +41,82 @@ foreach(line IN LISTS doc_lines)
         set(seen_begin 1)
     elseif(line STREQUAL "<!-- sizeof:end -->")
         set(inside 0)
-    elseif(inside AND line MATCHES "^\\| `([^`]+)` \\| ([0-9 ]+) \\|")
+    elseif(inside AND line MATCHES "^\\| object \\|(.*)\\|$")
+        string(REPLACE "|" ";" header "${CMAKE_MATCH_1}")
+        list(TRANSFORM header STRIP)
+    elseif(inside AND line MATCHES "^\\| `([^`]+)` \\|(.*)\\|$")
         set(name "${CMAKE_MATCH_1}")
-        string(REPLACE " " "" bytes "${CMAKE_MATCH_2}")
+        string(REPLACE "|" ";" cells "${CMAKE_MATCH_2}")
+        list(TRANSFORM cells STRIP)
+        list(TRANSFORM cells REPLACE " " "")
         if(DEFINED doc_${name})
             message(SEND_ERROR "${DOC}: row `${name}` appears twice in the sizeof table")
         endif()
-        set(doc_${name} "${bytes}")
+        set(doc_${name} "${cells}")
         list(APPEND table_names "${name}")
     endif()
 endforeach()
 if(NOT seen_begin)
     message(FATAL_ERROR "${DOC}: no '<!-- sizeof:begin -->' line")
 endif()
+if(NOT header STREQUAL COLUMNS)
+    message(FATAL_ERROR "${DOC}: the sizeof table's columns are '${header}', "
+                        "the test builds '${COLUMNS}' (in this order)")
+endif()
 if(NOT table_names)
-    message(FATAL_ERROR "${DOC}: no '| `name` | bytes |' rows between the sizeof markers")
+    message(FATAL_ERROR "${DOC}: no '| `name` | bytes | ... |' rows between the sizeof markers")
 endif()
 
-string(REPLACE "\n" ";" printed_lines "${printed}")
 set(bad 0)
 set(n 0)
-foreach(line IN LISTS printed_lines)
-    if(line STREQUAL "")
-        continue()
+set(seen_names "")
+math(EXPR last "${n_progs} - 1")
+foreach(col RANGE ${last})
+    list(GET PROGS ${col} prog)
+    list(GET COLUMNS ${col} label)
+    execute_process(COMMAND "${prog}" OUTPUT_VARIABLE printed RESULT_VARIABLE rc)
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "${prog} failed (${rc})")
     endif()
-    if(NOT line MATCHES "^([^ ]+) ([0-9]+)$")
-        message(FATAL_ERROR "${PROG}: unexpected output line '${line}'")
-    endif()
-    set(name "${CMAKE_MATCH_1}")
-    set(bytes "${CMAKE_MATCH_2}")
-    math(EXPR n "${n} + 1")
-    if(NOT DEFINED doc_${name})
-        message(SEND_ERROR "${DOC}: sizeof table has no row `${name}` (this build: ${bytes} bytes)")
-        set(bad 1)
-    elseif(NOT doc_${name} STREQUAL bytes)
-        message(SEND_ERROR "${DOC}: sizeof row `${name}` says ${doc_${name}} bytes, "
-                           "this build has ${bytes}")
-        set(bad 1)
-    endif()
-    list(REMOVE_ITEM table_names "${name}")
+    string(REPLACE "\n" ";" printed_lines "${printed}")
+    foreach(line IN LISTS printed_lines)
+        if(line STREQUAL "")
+            continue()
+        endif()
+        if(NOT line MATCHES "^([^ ]+) ([0-9]+)$")
+            message(FATAL_ERROR "${prog}: unexpected output line '${line}'")
+        endif()
+        set(name "${CMAKE_MATCH_1}")
+        set(bytes "${CMAKE_MATCH_2}")
+        math(EXPR n "${n} + 1")
+        list(APPEND seen_names "${name}")
+        if(NOT DEFINED doc_${name})
+            message(SEND_ERROR "${DOC}: sizeof table has no row `${name}` "
+                               "(${label}: ${bytes} bytes)")
+            set(bad 1)
+            continue()
+        endif()
+        list(LENGTH doc_${name} n_cells)
+        if(n_cells LESS_EQUAL col)
+            message(SEND_ERROR "${DOC}: sizeof row `${name}` has no ${label} cell")
+            set(bad 1)
+            continue()
+        endif()
+        list(GET doc_${name} ${col} cell)
+        if(NOT cell STREQUAL bytes)
+            message(SEND_ERROR "${DOC}: sizeof row `${name}`, ${label}: the table says ${cell} "
+                               "bytes, the build has ${bytes}")
+            set(bad 1)
+        endif()
+    endforeach()
 endforeach()
 foreach(name IN LISTS table_names)
-    message(SEND_ERROR "${DOC}: sizeof row `${name}` names no object ${PROG} prints")
-    set(bad 1)
+    if(NOT name IN_LIST seen_names)
+        message(SEND_ERROR "${DOC}: sizeof row `${name}` names no object the programs print")
+        set(bad 1)
+    endif()
 endforeach()
 if(bad)
-    message(FATAL_ERROR "docs/api.md's sizeof table does not match this build (rows above)")
+    message(FATAL_ERROR "docs/api.md's sizeof table does not match the builds (rows above)")
 endif()
-message(STATUS "docs/api.md's sizeof table matches all ${n} objects of this build")
+message(STATUS "docs/api.md's sizeof table matches ${n} sizes in ${n_progs} capacities")

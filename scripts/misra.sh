@@ -48,8 +48,12 @@ mkdir -p "$work/gen/cdpr"
 sed -e 's/@CDPR_VERSION_MAJOR@/0/; s/@CDPR_VERSION_MINOR@/0/; s/@CDPR_VERSION_PATCH@/0/' \
     -e 's/@CDPR_VERSION@/0.0.0/; s/@CDPR_GIT_DESCRIBE@/misra/' cmake/version.h.in \
     >"$work/gen/cdpr/version.h"
+# cdpr/build_config.h likewise, with the default capacities of a double build.
+sed -e 's/@CDPR_MAX_CABLES@/6/; s/@CDPR_MAX_SEGMENTS@/64/; s/@CDPR_BUILD_REAL_IS_FLOAT@/0/' \
+    cmake/build_config.h.in >"$work/gen/cdpr/build_config.h"
 cppcheck --addon=misra --addon-python="$python" --std=c99 --language=c --platform=unix32 \
-    -UCDPR_REAL_IS_FLOAT -I lib/core/include -I lib/core/src -I lib/control/include -I "$work/gen" \
+    -UCDPR_REAL_IS_FLOAT \
+    -I lib/core/include -I lib/core/src -I lib/control/include -I "$work/gen" \
     --cppcheck-build-dir="$work" --quiet \
     --template='{file}:{line}:{column}: {severity}: {id}: {message}' \
     "${sources[@]}" 2>"$out/report.txt"

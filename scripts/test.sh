@@ -54,7 +54,8 @@ stage "footprint (docs/firmware.md)" scripts/footprint.sh
 # Static analysis of the library and app sources (tests are exercised dynamically instead).
 mapfile -t cdpr_sources < <(git ls-files 'lib/*.c' 'apps/*.c')
 stage "cppcheck" cppcheck --enable=warning,style,portability,performance --std=c99 \
-    --error-exitcode=1 --inline-suppr --quiet -I lib/core/include -I lib/control/include -I lib/gsl/include \
+    --error-exitcode=1 --inline-suppr --quiet -I lib/core/include -I build/debug/lib/core/include \
+    -I lib/control/include -I lib/gsl/include \
     "${cdpr_sources[@]}"
 # .clang-tidy holds the check set and the reasons for each exclusion. The firmware example is
 # a cross-only source (no entry in the host compile database): the cortex builds compile it

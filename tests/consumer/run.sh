@@ -12,11 +12,14 @@
 #   2. pkg-config cdpr-core, cdpr-control, cdpr-host: cc $(pkg-config --cflags) state_bits.c
 #      $(pkg-config --libs);
 #      every .pc file validated and resolved;
+#   2b. the capacities recorded in cdpr-core.pc and cdprConfig.cmake, and a consumer compiled
+#      with other capacities or another real type refused at compile time naming both values;
 #   3. the libraries built shared (CDPR_SHARED=ON): SONAMEs, only cdpr_* exported, and 1.'s
 #      consumer linked against them;
 #   each prints the state bits of state_bits.c, byte-identical to build/release's
 #   tests/consumer/cdpr-consumer-{host,core}.
 #  Cortex-M7 (cortex-m7 preset, installed to its own prefix), tests/consumer/firmware, Release:
+#   a consumer compiled against the installed headers with other capacities refused (as 2b);
 #   4. the installed package;  5. add_subdirectory(<src>/lib/core and lib/control);
 #   each: 0 FMA instructions (vfma/vfms/vfnma/vfnms) in the libcdpr_core.a and
 #   libcdpr_control.a it links, and the
@@ -62,6 +65,22 @@ quiet() {
     if ! "$@" >"$log" 2>&1; then
         cat "$log" >&2
         return 1
+    fi
+}
+
+# refused <what> <needle> <needle> <command...>: the command (a compile against the installed
+# headers with other capacities or another real type than the library's) must fail, and its
+# messages must name both values (the two needles).
+refused() {
+    local what=$1 a=$2 b=$3
+    shift 3
+    if "$@" >"$work/refused.txt" 2>&1; then
+        bad "$what: compiled although the library was built otherwise"
+    elif grep -q -- "$a" "$work/refused.txt" && grep -q -- "$b" "$work/refused.txt"; then
+        ok "$what: refused at compile time, both values named"
+    else
+        bad "$what: refused, but the messages do not name '$a' and '$b'"
+        head -n 5 "$work/refused.txt" >&2
     fi
 }
 
@@ -167,6 +186,23 @@ if cc -O2 -Wall -Wextra -Werror -DCDPR_CONSUMER_HOST "${pc_cflags[@]}" tests/con
 else
     bad "pkg-config cdpr-host consumer: compile or link failed"
 fi
+# 2b. the capacities travel with the package: the .pc variables, the CMake package's
+#     variables, and a consumer compiled with other values is refused naming both.
+pc_caps="$(pkg-config --variable=max_cables cdpr-core) $(pkg-config --variable=max_segments cdpr-core) $(pkg-config --variable=real cdpr-core)"
+cfg=$(find "$host" -name cdprConfig.cmake | head -n 1)
+if [[ $pc_caps == "6 64 double" ]] && grep -q '^set(cdpr_MAX_CABLES 6)$' "$cfg" &&
+    grep -q '^set(cdpr_MAX_SEGMENTS 64)$' "$cfg"; then
+    ok "capacities recorded: cdpr-core.pc max_cables/max_segments/real = $pc_caps, cdprConfig.cmake 6 x 64"
+else
+    bad "capacities not recorded as built (pkg-config: '$pc_caps'; $cfg)"
+fi
+read -r -a pc_cflags <<<"$(pkg-config --cflags cdpr-core)"
+refused "host consumer with -DCDPR_MAX_SEGMENTS=16" "char\[16\]" "char\[64\]" \
+    cc -O2 "${pc_cflags[@]}" -DCDPR_MAX_SEGMENTS=16 -c tests/consumer/state_bits.c -o "$work/x.o"
+refused "host consumer with -DCDPR_MAX_CABLES=8" "char\[8\]" "char\[6\]" \
+    cc -O2 "${pc_cflags[@]}" -DCDPR_MAX_CABLES=8 -c tests/consumer/state_bits.c -o "$work/x.o"
+refused "host consumer with -DCDPR_REAL_IS_FLOAT" "CDPR_REAL_IS_FLOAT" "built in double" \
+    cc -O2 "${pc_cflags[@]}" -DCDPR_REAL_IS_FLOAT -c tests/consumer/state_bits.c -o "$work/x.o"
 unset PKG_CONFIG_PATH
 
 # 3. shared libraries (CDPR_SHARED=ON, the release preset's flags; libraries only): SONAMEs,
@@ -218,6 +254,15 @@ qemu_m7 build/cortex-m7/tests/consumer/cdpr-consumer-core >"$work/ref-m7.txt"
 qemu_m7 build/cortex-m7/tests/consumer/cdpr-consumer-control >"$work/ref-m7-control.txt"
 n=$(fma_count build/cortex-m7/lib/core/libcdpr_core.a)
 echo "consumers: the cortex-m7 preset's own libcdpr_core.a: $n FMA instructions"
+
+# A firmware compiled against the installed M7 headers with other capacities: refused too.
+m7_flags=(-mcpu=cortex-m7 -mthumb -mfpu=fpv5-d16 -mfloat-abi=hard -std=c99 -O2)
+refused "Cortex-M7 consumer with -DCDPR_MAX_SEGMENTS=16" "char\[16\]" "char\[64\]" \
+    arm-none-eabi-gcc "${m7_flags[@]}" -I"$m7/include" -DCDPR_MAX_SEGMENTS=16 \
+    -c tests/consumer/state_bits.c -o "$work/x-m7.o"
+refused "Cortex-M7 consumer with -DCDPR_REAL_IS_FLOAT" "CDPR_REAL_IS_FLOAT" "built in double" \
+    arm-none-eabi-gcc "${m7_flags[@]}" -I"$m7/include" -DCDPR_REAL_IS_FLOAT \
+    -c tests/consumer/state_bits.c -o "$work/x-m7.o"
 
 toolchain=$src/cmake/toolchains/arm-none-eabi-m7.cmake
 for route in package subdirectory; do

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /// @file api_sizeof.c
 /// Prints `name bytes` for each caller-owned object of the core, one per line, at the
-/// capacities and real type this build uses. ctest api_sizeof (cmake/CheckApiSizeof.cmake)
+/// capacities it is compiled with (tests/docs/CMakeLists.txt: one build per column of the
+/// table; the headers only). ctest api_sizeof (cmake/CheckApiSizeof.cmake)
 /// compares the lines with the sizeof table of docs/api.md.
 #include <stdio.h>
 

@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "check.h"
 
@@ -245,11 +246,11 @@ cdpr_status_t cdpr_plant_init(cdpr_plant_t *p, const cdpr_plant_params_t *pp, cd
     CDPR_TRY(choose_substeps(p, diag));
     CDPR_TRY(place_and_settle(p, diag));
     CDPR_TRY(start_run(p, diag));
-    /* Zero-initialised (static storage): the counters of a plant that has not stepped. */
-    static const cdpr_plant_stats_t no_stats;
-    static const cdpr_node_stats_t no_node_stats;
-    p->stats = no_stats; /* all counters 0, last_failure CDPR_OK */
-    p->nodes = no_node_stats;
+    /* The counters of a plant that has not stepped: all 0 (0.0 for the reals), last_failure
+     * CDPR_OK. */
+    (void)memset(&p->stats, 0, sizeof p->stats);
+    p->stats.last_failure = CDPR_OK;
+    (void)memset(&p->nodes, 0, sizeof p->nodes);
     p->k = 0;
     p->commanded = 0;
     p->ready = 1;
