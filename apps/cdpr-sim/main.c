@@ -31,6 +31,7 @@ typedef struct {
     int progress; /* -1 auto (a tty), 0 off, 1 forced */
     int quiet;
     int check_design; /* --check-design (1), --unchecked-gains (-1), neither (0) */
+    int validate;     /* --validate: check the operands, run nothing */
 } options_t;
 
 /* The default gnuplot script: the installation's (cdpr_app_data_file). */
@@ -40,6 +41,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: cdpr-sim SCENARIO --out DIR [options]\n"
+            "       cdpr-sim --validate SCENARIO... [overrides]\n"
             "Run a scenario file (robot, initial pose, trajectory, controller, integrator,\n"
             "duration) in closed loop and write DIR/timeseries.csv, DIR/summary.json and\n"
             "figures with gnuplot: figure4.png (circle: path and error, the paper's Figure 4),\n"
@@ -60,6 +62,10 @@ static void usage(FILE *f)
             "                      2) when the closed loop grows or the learning diverges\n"
             "  --unchecked-gains   no check and no note that it was skipped (the default runs\n"
             "                      no check and says so once; the last of the two wins)\n"
+            "  --validate          load and check each SCENARIO (with the overrides) and run\n"
+            "                      nothing: one line per refused file, exit 0 when all pass,\n"
+            "                      2 when any is refused (the sweep tool's check, many files\n"
+            "                      in one process)\n"
             "  --help              this text\n"
             "  --version           version and git description\n\n"
             "exit codes: 0 run completed (status ok or warnings), 1 simulation stopped early,\n"
@@ -82,6 +88,7 @@ static int take(int c, const char *arg, void *ctx)
         {.code = 's', .text = &o->plot_script},
         {.code = 'p', .flag = &o->progress, .value = 1},
         {.code = 'u', .flag = &o->check_design, .value = -1},
+        {.code = 'V', .flag = &o->validate, .value = 1},
     };
     return cdpr_app_store(stores, sizeof stores / sizeof stores[0], c, arg);
 }
@@ -97,10 +104,20 @@ static int parse(int argc, char **argv, options_t *o)
         {"progress", no_argument, NULL, 'p'},
         CDPR_APP_QUIET_OPTION,
         {"unchecked-gains", no_argument, NULL, 'u'},
+        {"validate", no_argument, NULL, 'V'},
         CDPR_APP_CHECK_DESIGN_OPTION,
         CDPR_APP_STD_OPTIONS_END};
-    if (cdpr_app_parse("cdpr-sim", argc, argv, longopts, usage, take, o) != 0 ||
-        cdpr_app_scenario_operand("cdpr-sim", argc, argv, &o->scenario) != CDPR_OK) {
+    if (cdpr_app_parse("cdpr-sim", argc, argv, longopts, usage, take, o) != 0) {
+        return -1;
+    }
+    if (o->validate != 0) {
+        if (optind >= argc) {
+            (void)cdpr_app_usage_error("cdpr-sim", "--validate needs at least one scenario file");
+            return -1;
+        }
+        return 0;
+    }
+    if (cdpr_app_scenario_operand("cdpr-sim", argc, argv, &o->scenario) != CDPR_OK) {
         return -1;
     }
     if (o->out_dir == NULL) {
@@ -121,6 +138,27 @@ static void print_figures(const char *dir, cdpr_traj_type_t type)
     }
 }
 
+/* --validate: every operand loaded and checked (cdpr_app_scenario prints why one is refused).
+ * Exit code of the first refusal's status, 0 when all pass. */
+static int validate(int argc, char **argv, const options_t *o)
+{
+    static cdpr_scenario_t sc; /* one at a time; static: large for the stack of a loop */
+    cdpr_status_t first = CDPR_OK;
+    int refused = 0;
+    for (int i = optind; i < argc; ++i) {
+        const cdpr_status_t st = cdpr_app_scenario("cdpr-sim", argv[i], &o->ov, &sc);
+        if (st != CDPR_OK) {
+            first = (refused == 0) ? st : first;
+            ++refused;
+        }
+    }
+    if (o->quiet == 0) {
+        printf("cdpr-sim: %d of %d scenario files pass every check\n", argc - optind - refused,
+               argc - optind);
+    }
+    return cdpr_app_exit_code(first);
+}
+
 int main(int argc, char **argv)
 {
     options_t o;
@@ -132,6 +170,9 @@ int main(int argc, char **argv)
     cdpr_scenario_overrides_none(&o.ov);
     if (parse(argc, argv, &o) != 0) {
         return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
+    }
+    if (o.validate != 0) {
+        return validate(argc, argv, &o);
     }
     cdpr_scenario_t sc;
     const cdpr_status_t ls = cdpr_app_scenario("cdpr-sim", o.scenario, &o.ov, &sc);

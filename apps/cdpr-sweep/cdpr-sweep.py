@@ -1,0 +1,683 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""cdpr-sweep: run a load-case matrix of cdpr-sim scenarios on this machine (docs/sweeps.md).
+
+  cdpr-sweep SWEEP.yaml --out DIR [--jobs N] [--sim PATH] [--dry-run] [--quiet]
+
+A sweep file names a base scenario and axes over its keys (scenario keys and, in the same
+schema, the robot's: a robot file named by the scenario is inlined into every case). The cases
+are the product of the axes (a `zip` axis pairs its members). Every case is written as a
+resolved scenario (DIR/cases/NNNN/scenario.yaml) and checked by `cdpr-sim --validate` before
+any case runs; then N workers run `cdpr-sim` on them (default: the CPU count). A rerun with
+the same DIR skips the cases whose outputs are complete and whose resolved input is unchanged,
+and reruns an interrupted one. DIR/results.csv and DIR/results.json hold one row per case.
+
+Exit status: 0 every case completed (status ok or warnings); 1 a case failed or the sweep
+was interrupted (SIGINT/SIGTERM: the running cases stop with whole outputs and run again on
+the next call); 2 a bad sweep file, a case refused by the check, or DIR holds another sweep
+(nothing run, nothing written into DIR); 3 an output or input error.
+"""
+import argparse
+import concurrent.futures
+import csv
+import hashlib
+import io
+import json
+import math
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+try:
+    from ruamel.yaml import YAML
+    from ruamel.yaml.error import YAMLError
+except ImportError:  # pragma: no cover - the set-up installs it
+    sys.stderr.write("cdpr-sweep: needs ruamel.yaml (Debian: apt-get install python3-ruamel.yaml)\n")
+    sys.exit(3)
+
+PROG = "cdpr-sweep"
+SWEEP_KEYS = {"description", "scenario", "set", "axes"}
+AXIS_KEYS = {"key", "values", "range"}
+RANGE_KEYS = {"from", "to", "step", "count"}
+MAX_CASES = 100000
+KEY_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\[[0-9]+\])*$")
+
+
+class SweepError(Exception):
+    """A bad sweep file or a refused case: exit 2, nothing run."""
+
+
+class OutputError(Exception):
+    """A file that cannot be read or written: exit 3."""
+
+
+def sha256_bytes(data):
+    return hashlib.sha256(data).hexdigest()
+
+
+def sha256_file(path):
+    with open(path, "rb") as f:
+        return sha256_bytes(f.read())
+
+
+# ------------------------------------------------------------------ the sweep file
+
+def number(x):
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def range_values(where, r):
+    if not isinstance(r, dict) or not set(r) <= RANGE_KEYS or "from" not in r or "to" not in r:
+        raise SweepError("%s: range: a mapping with from, to and step or count" % where)
+    a, b = r["from"], r["to"]
+    if not number(a) or not number(b):
+        raise SweepError("%s: range: from and to must be finite numbers" % where)
+    if ("step" in r) == ("count" in r):
+        raise SweepError("%s: range: give step or count (one of them)" % where)
+    if "count" in r:
+        n = r["count"]
+        if not isinstance(n, int) or isinstance(n, bool) or n < 1 or n > MAX_CASES:
+            raise SweepError("%s: range: count must be a whole number in [1, %d]" % (where, MAX_CASES))
+        if n == 1:
+            return [a]
+        return [a + (b - a) * i / (n - 1) for i in range(n)]
+    s = r["step"]
+    if not number(s) or s == 0 or (b - a) * s < 0:
+        raise SweepError("%s: range: step must be a non-zero number towards 'to'" % where)
+    n = int(math.floor((b - a) / s + 1e-9)) + 1
+    if n > MAX_CASES:
+        raise SweepError("%s: range: %d values (at most %d)" % (where, n, MAX_CASES))
+    vals = [a + s * i for i in range(n)]
+    if all(isinstance(v, int) for v in (a, b, s)):
+        vals = [int(v) for v in vals]
+    return vals
+
+
+def one_axis(where, ax):
+    """(key, values) of an axis mapping {key, values | range}."""
+    if not isinstance(ax, dict) or not set(ax) <= AXIS_KEYS or "key" not in ax:
+        raise SweepError("%s: an axis is a mapping with key and values (or range)" % where)
+    key = ax["key"]
+    check_key(where, key)
+    if ("values" in ax) == ("range" in ax):
+        raise SweepError("%s (%s): give values or range (one of them)" % (where, key))
+    if "values" in ax:
+        vals = ax["values"]
+        if not isinstance(vals, list) or not vals:
+            raise SweepError("%s (%s): values must be a non-empty list" % (where, key))
+        return key, list(vals)
+    return key, range_values("%s (%s)" % (where, key), ax["range"])
+
+
+def check_key(where, key):
+    if not isinstance(key, str) or not key:
+        raise SweepError("%s: key must be a dotted key path such as robot.rope.ea_N" % where)
+    for part in key.split("."):
+        if not KEY_RE.match(part):
+            raise SweepError("%s: key '%s': '%s' is not a key name (letters, digits, _; "
+                             "[i] for a list entry)" % (where, key, part))
+
+
+def parse_axes(axes):
+    """A list of groups; a group is a list of (key, values) of one length (a zip, or one axis)."""
+    if not isinstance(axes, list) or not axes:
+        raise SweepError("axes: a non-empty list of axes")
+    groups = []
+    keys = set()
+    for i, ax in enumerate(axes):
+        where = "axes[%d]" % i
+        if isinstance(ax, dict) and "zip" in ax:
+            if set(ax) != {"zip"} or not isinstance(ax["zip"], list) or len(ax["zip"]) < 2:
+                raise SweepError("%s: zip: a list of two or more axes (and nothing else)" % where)
+            members = [one_axis("%s.zip[%d]" % (where, k), m) for k, m in enumerate(ax["zip"])]
+            lengths = {len(v) for _, v in members}
+            if len(lengths) != 1:
+                raise SweepError("%s: zip: the axes have different lengths (%s)" % (
+                    where, ", ".join("%s: %d" % (k, len(v)) for k, v in members)))
+            group = members
+        else:
+            group = [one_axis(where, ax)]
+        for k, _ in group:
+            if k in keys:
+                raise SweepError("%s: key %s is swept twice" % (where, k))
+            keys.add(k)
+        groups.append(group)
+    return groups
+
+
+def expand(groups):
+    """Every case as a list of (key, value), in product order (the last axis fastest)."""
+    n = 1
+    for g in groups:
+        n *= len(g[0][1])
+    if n > MAX_CASES:
+        raise SweepError("%d cases (at most %d)" % (n, MAX_CASES))
+    cases = [[]]
+    for g in groups:
+        cases = [c + [(k, v[i]) for k, v in g] for c in cases for i in range(len(g[0][1]))]
+    return cases
+
+
+# ------------------------------------------------------------------ the scenario of a case
+
+def split_key(key):
+    out = []
+    for part in key.split("."):
+        name = part.split("[", 1)[0]
+        out.append(name)
+        out.extend(int(i) for i in re.findall(r"\[([0-9]+)\]", part))
+    return out
+
+
+def set_key(doc, key, value):
+    """doc[key] = value for a dotted key path: missing mappings are created (the scenario's
+    own check then refuses a key that does not exist), list entries must exist."""
+    node = doc
+    parts = split_key(key)
+    for i, p in enumerate(parts):
+        last = i == len(parts) - 1
+        if isinstance(p, int):
+            if not isinstance(node, list):
+                raise SweepError("key %s: '%s' is not a list" % (key, ".".join(map(str, parts[:i]))))
+            if p >= len(node):
+                raise SweepError("key %s: index %d is outside the list (%d entries)" % (key, p, len(node)))
+            if last:
+                node[p] = value
+            else:
+                node = node[p]
+            continue
+        if not isinstance(node, dict):
+            raise SweepError("key %s: '%s' is not a mapping" % (key, p))
+        if last:
+            node[p] = value
+        else:
+            if p not in node or node[p] is None:
+                node[p] = {}
+            node = node[p]
+
+
+def plain(v):
+    """A YAML value (ruamel's round-trip types included) as plain JSON/CSV data."""
+    if isinstance(v, bool) or v is None:
+        return v
+    if isinstance(v, int):
+        return int(v)
+    if isinstance(v, float):
+        return float(v)
+    if isinstance(v, (list, tuple)):
+        return [plain(x) for x in v]
+    if isinstance(v, dict):
+        return {str(k): plain(x) for k, x in v.items()}
+    return str(v)
+
+
+def load_yaml(path, what):
+    try:
+        with open(path, "r", encoding="utf-8") as f:
+            return YAML().load(f)
+    except OSError as e:
+        raise OutputError("%s: cannot read %s: %s" % (path, what, e.strerror))
+    except YAMLError as e:
+        raise SweepError("%s: not a YAML %s: %s" % (path, what, str(e).splitlines()[0]))
+
+
+def dump_yaml(doc):
+    buf = io.StringIO()
+    y = YAML()
+    y.width = 4096
+    y.dump(doc, buf)
+    return buf.getvalue()
+
+
+class Sweep:
+    def __init__(self, path):
+        self.path = path
+        try:
+            raw = YAML(typ="safe").load(open(path, "r", encoding="utf-8"))
+        except OSError as e:
+            raise OutputError("%s: cannot read the sweep file: %s" % (path, e.strerror))
+        except YAMLError as e:
+            raise SweepError("%s: not a YAML file: %s" % (path, str(e).splitlines()[0]))
+        if not isinstance(raw, dict):
+            raise SweepError("%s: a sweep file is a mapping (scenario, axes, set)" % path)
+        unknown = set(raw) - SWEEP_KEYS
+        if unknown:
+            raise SweepError("%s: unknown key %s (known: %s)" % (
+                path, ", ".join(sorted(unknown)), ", ".join(sorted(SWEEP_KEYS))))
+        if not isinstance(raw.get("scenario"), str):
+            raise SweepError("%s: scenario: the base scenario file (relative to the sweep file)" % path)
+        here = os.path.dirname(os.path.abspath(path))
+        self.scenario = os.path.normpath(os.path.join(here, raw["scenario"]))
+        self.fixed = raw.get("set") or {}
+        if not isinstance(self.fixed, dict):
+            raise SweepError("%s: set: a mapping of key paths to values" % path)
+        for k in self.fixed:
+            check_key("set", k)
+        try:
+            self.groups = parse_axes(raw.get("axes"))
+        except SweepError as e:
+            raise SweepError("%s: %s" % (path, e))
+        self.keys = [k for g in self.groups for k, _ in g]
+        clash = set(self.keys) & set(self.fixed)
+        if clash:
+            raise SweepError("%s: %s both set and swept" % (path, ", ".join(sorted(clash))))
+        self.cases = expand(self.groups)
+        self.base_text = open(self.scenario, "rb").read() if os.path.exists(self.scenario) else None
+        if self.base_text is None:
+            raise OutputError("%s: scenario: cannot read %s" % (path, self.scenario))
+        base = load_yaml(self.scenario, "scenario")
+        if not isinstance(base, dict):
+            raise SweepError("%s: not a scenario (a mapping)" % self.scenario)
+        # A robot file is inlined: one schema for both (docs/robots.md), and a case file that
+        # stands alone (its hash covers the robot; no relative path to break).
+        self.robot_file = None
+        self.robot_sha256 = None
+        robot = base.get("robot")
+        if isinstance(robot, dict) and "file" in robot:
+            rf = robot["file"]
+            self.robot_file = os.path.normpath(os.path.join(os.path.dirname(self.scenario), str(rf)))
+            self.robot_sha256 = sha256_file(self.robot_file) if os.path.exists(self.robot_file) else None
+            if self.robot_sha256 is None:
+                raise OutputError("%s: robot.file: cannot read %s" % (self.scenario, self.robot_file))
+            base["robot"] = load_yaml(self.robot_file, "robot file")
+        self.base = base
+
+    def case_text(self, values):
+        doc = YAML().load(dump_yaml(self.base))  # a fresh copy
+        for k, v in list(self.fixed.items()) + list(values):
+            set_key(doc, k, v)
+        return dump_yaml(doc)
+
+
+# ------------------------------------------------------------------ running
+
+def find_sim(given):
+    here = os.path.dirname(os.path.realpath(__file__))
+    candidates = [given, os.environ.get("CDPR_SIM"), os.path.join(here, "cdpr-sim"),
+                  os.path.join(here, "..", "..", "build", "release", "apps", "cdpr-sim"),
+                  os.path.join(here, "..", "..", "build", "debug", "apps", "cdpr-sim")]
+    for c in candidates:
+        if c and os.path.isfile(c) and os.access(c, os.X_OK):
+            return os.path.abspath(c)
+    if given:
+        raise OutputError("--sim %s: not an executable" % given)
+    found = shutil.which("cdpr-sim")
+    if found:
+        return found
+    raise OutputError("cdpr-sim not found (next to cdpr-sweep, in build/release or on PATH): "
+                      "give --sim PATH")
+
+
+def validate(sim, files, labels):
+    """cdpr-sim --validate on the case files; SweepError naming each refused case."""
+    problems = []
+    for i in range(0, len(files), 400):
+        chunk = files[i:i + 400]
+        r = subprocess.run([sim, "--validate", "--quiet"] + chunk, stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True)
+        if r.returncode not in (0, 2):
+            raise OutputError("cdpr-sim --validate exited %d: %s" % (r.returncode, r.stderr.strip()))
+        for line in r.stderr.splitlines():
+            for f in chunk:
+                if f in line:
+                    line = line.replace("cdpr-sim: ", "")
+                    line = re.sub(re.escape(f) + r":([0-9]+):", lambda m: "%s, line %s of its "
+                                  "scenario:" % (labels[f], m.group(1)), line)
+                    line = line.replace(f, labels[f])
+                    break
+            problems.append(line)
+    if problems:
+        raise SweepError("%d case(s) refused before anything ran:\n  %s" % (
+            len(problems), "\n  ".join(problems)))
+
+
+def write_atomic(path, text):
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(text)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+class Runner:
+    def __init__(self, sim, out, jobs, quiet):
+        self.sim, self.out, self.jobs, self.quiet = sim, out, jobs, quiet
+        self.lock = threading.Lock()
+        self.stop = threading.Event()
+        self.procs = set()
+        self.done = 0
+        self.failed = 0
+        self.durations = []
+
+    def interrupt(self, signum, frame):
+        # Under the lock: a worker either sees the stop before it starts its cdpr-sim, or its
+        # cdpr-sim is registered and gets the SIGTERM (main thread only: no worker holds the
+        # lock for long, and the main thread never takes it but here).
+        with self.lock:
+            self.stop.set()
+            for p in self.procs:
+                try:
+                    p.send_signal(signal.SIGTERM)
+                except OSError:
+                    pass
+
+    def run_case(self, cid, total_left, t0):
+        d = os.path.join(self.out, "cases", cid)
+        if self.stop.is_set():
+            return None
+        for name in os.listdir(d):  # an interrupted earlier run's outputs
+            if name not in ("scenario.yaml",):
+                p = os.path.join(d, name)
+                shutil.rmtree(p) if os.path.isdir(p) else os.remove(p)
+        start = time.monotonic()
+        with open(os.path.join(d, "log.txt"), "w") as log:
+            with self.lock:
+                if self.stop.is_set():
+                    return None
+                p = subprocess.Popen([self.sim, os.path.join(d, "scenario.yaml"), "--out", d,
+                                      "--no-plot", "--quiet"], stdout=log,
+                                     stderr=subprocess.STDOUT, start_new_session=True)
+                self.procs.add(p)
+            rc = p.wait()
+            with self.lock:
+                self.procs.discard(p)
+        wall = time.monotonic() - start
+        status = "failed"
+        try:
+            with open(os.path.join(d, "summary.json")) as f:
+                status = json.load(f).get("status", "failed")
+        except (OSError, ValueError):
+            pass
+        if self.stop.is_set() or status == "interrupted":
+            return None  # not done: the next call runs it again
+        text = open(os.path.join(d, "scenario.yaml"), "rb").read()
+        write_atomic(os.path.join(d, "done.json"), json.dumps({
+            "status": status, "exit_code": rc, "input_sha256": sha256_bytes(text),
+            "wall_s": round(wall, 3)}, indent=2) + "\n")
+        with self.lock:
+            self.done += 1
+            self.durations.append(wall)
+            bad = rc != 0 or status not in ("ok", "warnings")
+            self.failed += 1 if bad else 0
+            if not self.quiet:
+                left = total_left - self.done
+                mean = sum(self.durations) / len(self.durations)
+                eta = mean * left / max(1, min(self.jobs, left)) if left > 0 else 0.0
+                sys.stderr.write("%s: [%d/%d] case %s %s (exit %d, %.1f s); %d failed; "
+                                 "elapsed %s, ETA %s\n" % (
+                                     PROG, self.done, total_left, cid, status, rc, wall,
+                                     self.failed, hms(time.monotonic() - t0), hms(eta)))
+        return rc
+
+    def run(self, todo):
+        t0 = time.monotonic()
+        with concurrent.futures.ThreadPoolExecutor(max_workers=self.jobs) as ex:
+            futs = [ex.submit(self.run_case, cid, len(todo), t0) for cid in todo]
+            for f in futs:
+                f.result()
+
+
+def hms(s):
+    s = int(round(s))
+    return "%d:%02d:%02d" % (s // 3600, s // 60 % 60, s % 60)
+
+
+# ------------------------------------------------------------------ the results table
+
+FIGURES = ["rms_error_m", "max_error_m", "final_error_m", "rms_error_rad", "max_error_rad",
+           "max_tension_N", "min_tension_N", "max_payout_m_per_s", "node_insertions",
+           "node_removals", "ik_failures", "substep_limit_hits", "capacity_hits", "periods",
+           "rhs_evals", "sim_time_s", "wall_time_s"]
+
+
+def cable_extremes(path):
+    """Per cable, the smallest and largest tension at either end over the run."""
+    lo, hi = {}, {}
+    try:
+        with open(path, newline="") as f:
+            rows = csv.reader(line for line in f if not line.startswith("#"))
+            head = next(rows)
+            cols = [(i, int(m.group(2))) for i, h in enumerate(head)
+                    for m in [re.match(r"^T_(cabin|winch)([0-9]+)_N$", h)] if m]
+            for r in rows:
+                for i, j in cols:
+                    v = float(r[i])
+                    lo[j] = min(lo.get(j, v), v)
+                    hi[j] = max(hi.get(j, v), v)
+    except (OSError, StopIteration, ValueError, IndexError):
+        return {}
+    out = {}
+    for j in sorted(hi):
+        out["T%d_min_N" % j] = lo[j]
+        out["T%d_max_N" % j] = hi[j]
+    return out
+
+
+def results(sweep, out, ids):
+    rows = []
+    for cid, values in zip(ids, sweep.cases):
+        d = os.path.join(out, "cases", cid)
+        row = {"case": cid}
+        for k, v in values:
+            row[k] = json.dumps(plain(v)) if isinstance(plain(v), (list, dict)) else plain(v)
+        done = None
+        try:
+            with open(os.path.join(d, "done.json")) as f:
+                done = json.load(f)
+        except (OSError, ValueError):
+            pass
+        row["status"] = done["status"] if done else "not run"
+        row["exit_code"] = done["exit_code"] if done else None
+        row["input_sha256"] = done["input_sha256"] if done else None
+        row["robot_file_sha256"] = sweep.robot_sha256
+        summ = {}
+        if done:
+            try:
+                with open(os.path.join(d, "summary.json")) as f:
+                    summ = json.load(f)
+            except (OSError, ValueError):
+                summ = {}
+        row["version"] = summ.get("version")
+        row["scenario_sha256"] = summ.get("scenario_sha256")
+        for k in FIGURES:
+            row[k] = summ.get(k)
+        sp = summ.get("slack_periods")
+        if isinstance(sp, list):
+            for j, n in enumerate(sp, 1):
+                row["slack_periods_%d" % j] = n
+        if done:
+            row.update(cable_extremes(os.path.join(d, "timeseries.csv")))
+        rows.append(row)
+    cols = []
+    for r in rows:
+        for k in r:
+            if k not in cols:
+                cols.append(k)
+    with open(os.path.join(out, "results.csv.tmp"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols, lineterminator="\n")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("" if r.get(k) is None else r.get(k)) for k in cols})
+    os.replace(os.path.join(out, "results.csv.tmp"), os.path.join(out, "results.csv"))
+    write_atomic(os.path.join(out, "results.json"), json.dumps(rows, indent=1) + "\n")
+    return rows
+
+
+# ------------------------------------------------------------------ main
+
+class Parser(argparse.ArgumentParser):
+    """Usage errors as the other apps give them: one line, exit status 2."""
+
+    def error(self, message):
+        m = re.match(r"argument (\S+/)?(--[a-z-]+): (expected one argument|ignored explicit "
+                     r"argument .*)$", message)
+        if m:
+            message = ("option '%s' requires an argument" if m.group(3).startswith("expected")
+                       else "option '%s' doesn't allow an argument") % m.group(2)
+        sys.stderr.write("%s: %s; try '%s --help'\n" % (PROG, message, PROG))
+        sys.exit(2)
+
+
+class Version(argparse.Action):
+    """--version: this tool's line with the version of the cdpr-sim it runs."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        try:
+            sim = find_sim(getattr(namespace, "sim", None))
+            line = subprocess.run([sim, "--version"], stdout=subprocess.PIPE, text=True).stdout
+            print("%s %s" % (PROG, line.strip().split(" ", 1)[1]))
+        except (OutputError, IndexError, OSError) as e:
+            sys.stderr.write("%s: --version: %s\n" % (PROG, e))
+            sys.exit(3)
+        sys.exit(0)
+
+
+def main(argv):
+    ap = Parser(prog=PROG, description=__doc__.splitlines()[0],
+                formatter_class=argparse.RawDescriptionHelpFormatter,
+                epilog="\n".join(__doc__.splitlines()[2:]))
+    ap.add_argument("sweep", nargs="?", help="the sweep file (YAML)")
+    ap.add_argument("--out", help="output directory (required; created; a rerun resumes)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                    help="cases run at once (default: the CPU count, %(default)s here)")
+    ap.add_argument("--sim", help="the cdpr-sim to run (default: next to cdpr-sweep, then "
+                    "build/release, then PATH)")
+    ap.add_argument("--dry-run", action="store_true",
+                    help="expand and check the cases, list them, run nothing")
+    ap.add_argument("--quiet", action="store_true", help="no progress lines")
+    ap.add_argument("--version", action=Version, nargs=0,
+                    help="version and git description (those of the cdpr-sim it runs)")
+    a, extra = ap.parse_known_args(argv)
+    for x in extra:  # as getopt says it, options first
+        if x.startswith("--"):
+            ap.error("unrecognized option '%s'" % x)
+        if x.startswith("-") and len(x) > 1:
+            ap.error("invalid option -- '%s'" % x[1])
+    if extra:
+        ap.error("one sweep file (got '%s' too)" % extra[0])
+    if a.sweep is None:
+        ap.error("a sweep file is required")
+    if a.out is None:
+        ap.error("--out DIR is required")
+    if a.jobs < 1:
+        ap.error("--jobs: at least 1")
+    try:
+        return sweep_main(a)
+    except SweepError as e:
+        sys.stderr.write("%s: %s\n" % (PROG, e))
+        return 2
+    except OutputError as e:
+        sys.stderr.write("%s: %s\n" % (PROG, e))
+        return 3
+
+
+def sweep_main(a):
+    t_start = time.monotonic()
+    sweep = Sweep(a.sweep)
+    sim = find_sim(a.sim)
+    n = len(sweep.cases)
+    width = max(4, len(str(n)))
+    ids = ["%0*d" % (width, i + 1) for i in range(n)]
+    texts = [sweep.case_text(v) for v in sweep.cases]
+    hashes = [sha256_bytes(t.encode("utf-8")) for t in texts]
+    out = os.path.abspath(a.out)
+    record_path = os.path.join(out, "sweep.json")
+    if os.path.exists(record_path):
+        try:
+            with open(record_path) as f:
+                old = json.load(f)
+        except (OSError, ValueError) as e:
+            raise SweepError("%s: exists but cannot be read (%s): another sweep's? nothing "
+                             "touched" % (record_path, e))
+        if [c.get("input_sha256") for c in old.get("cases", [])] != hashes:
+            raise SweepError("%s holds another sweep (%s, %d cases): give another --out; "
+                             "nothing touched" % (out, old.get("sweep"), len(old.get("cases", []))))
+    elif os.path.isdir(out) and os.listdir(out):
+        raise SweepError("%s is not empty and holds no sweep: give another --out; nothing "
+                         "touched" % out)
+
+    # Check every case before anything runs (in a scratch folder: DIR is not touched yet).
+    t_check = time.monotonic()
+    scratch = tempfile.mkdtemp(prefix="cdpr-sweep-")
+    try:
+        files, labels = [], {}
+        for cid, values, text in zip(ids, sweep.cases, texts):
+            f = os.path.join(scratch, cid + ".yaml")
+            with open(f, "w", encoding="utf-8") as fh:
+                fh.write(text)
+            files.append(f)
+            labels[f] = "case %s (%s)" % (cid, ", ".join(
+                "%s = %s" % (k, json.dumps(plain(v))) for k, v in values))
+        validate(sim, files, labels)
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    t_check = time.monotonic() - t_check
+
+    if a.dry_run:
+        for cid, values in zip(ids, sweep.cases):
+            print("%s  %s" % (cid, "  ".join("%s=%s" % (k, json.dumps(plain(v))) for k, v in values)))
+        sys.stderr.write("%s: %d cases pass the check (%.2f s); nothing run\n" % (PROG, n, t_check))
+        return 0
+
+    try:
+        os.makedirs(os.path.join(out, "cases"), exist_ok=True)
+        if not os.path.exists(record_path):
+            write_atomic(record_path, json.dumps({
+                "sweep": os.path.abspath(a.sweep), "sweep_sha256": sha256_file(a.sweep),
+                "scenario": sweep.scenario, "scenario_sha256": sha256_bytes(sweep.base_text),
+                "robot_file": sweep.robot_file, "robot_file_sha256": sweep.robot_sha256,
+                "keys": sweep.keys, "set": plain(sweep.fixed),
+                "cases": [{"case": cid, "values": {k: plain(v) for k, v in vals},
+                           "input_sha256": h} for cid, vals, h in zip(ids, sweep.cases, hashes)],
+            }, indent=1) + "\n")
+        todo = []
+        for cid, text, h in zip(ids, texts, hashes):
+            d = os.path.join(out, "cases", cid)
+            os.makedirs(d, exist_ok=True)
+            done = os.path.join(d, "done.json")
+            if os.path.exists(done):
+                try:
+                    with open(done) as f:
+                        if json.load(f).get("input_sha256") == h:
+                            continue  # complete, same input: kept
+                except (OSError, ValueError):
+                    pass
+                os.remove(done)
+            write_atomic(os.path.join(d, "scenario.yaml"), text)
+            todo.append(cid)
+    except OSError as e:
+        raise OutputError("%s: %s" % (e.filename or out, e.strerror))
+
+    runner = Runner(sim, out, min(a.jobs, max(1, len(todo))), a.quiet)
+    old_int = signal.signal(signal.SIGINT, runner.interrupt)
+    old_term = signal.signal(signal.SIGTERM, runner.interrupt)
+    if not a.quiet:
+        sys.stderr.write("%s: %d cases (%d to run, %d complete from before), %d workers, "
+                         "cdpr-sim %s\n" % (PROG, n, len(todo), n - len(todo), runner.jobs, sim))
+    try:
+        runner.run(todo)
+    finally:
+        signal.signal(signal.SIGINT, old_int)
+        signal.signal(signal.SIGTERM, old_term)
+    rows = results(sweep, out, ids)
+    bad = [r for r in rows if r["status"] not in ("ok", "warnings") or r["exit_code"] not in (0,)]
+    if not a.quiet:
+        sys.stderr.write("%s: %d of %d cases completed, %d failed or not run; %s/results.csv "
+                         "(%.1f s in all, check %.2f s)\n" % (
+                             PROG, n - len(bad), n, len(bad), out, time.monotonic() - t_start,
+                             t_check))
+    if runner.stop.is_set():
+        sys.stderr.write("%s: interrupted: run the same command again to finish\n" % PROG)
+        return 1
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
