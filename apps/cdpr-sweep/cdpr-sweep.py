@@ -510,6 +510,68 @@ def results(sweep, out, ids):
     return rows
 
 
+# ------------------------------------------------------------------ figures
+
+PLOTTED = [("rms_error_m", "RMS position error [m]"), ("max_error_m", "max position error [m]"),
+           ("rms_error_rad", "RMS attitude error [rad]"), ("max_tension_N", "max tension [N]"),
+           ("min_tension_N", "min tension [N]")]
+
+
+def figures(sweep, out, rows):
+    """DIR/figures/METRIC_vs_KEY.{png,svg}: each figure of merit against each swept key, one
+    line per combination of the other keys' values (at most 12; categorical values such as
+    vectors are placed at equal steps and labelled). Completed cases only. Returns the count."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        sys.stderr.write("%s: no figures: matplotlib is missing (python3-matplotlib)\n" % PROG)
+        return 0
+    ok = [r for r in rows if r["status"] in ("ok", "warnings")]
+    if not ok:
+        return 0
+    d = os.path.join(out, "figures")
+    os.makedirs(d, exist_ok=True)
+    n = 0
+    for key in sweep.keys:
+        xs = []
+        for r in ok:
+            if r[key] not in xs:
+                xs.append(r[key])
+        numeric = all(isinstance(x, (int, float)) for x in xs)
+        pos = {x: (x if numeric else i) for i, x in enumerate(xs)}
+        others = [k for k in sweep.keys if k != key]
+        for metric, label in PLOTTED:
+            lines = {}
+            for r in ok:
+                if isinstance(r.get(metric), (int, float)):
+                    tag = ", ".join("%s = %s" % (k, r[k]) for k in others)
+                    lines.setdefault(tag, []).append((pos[r[key]], r[metric]))
+            if not lines:
+                continue
+            fig, ax = plt.subplots(figsize=(7.0, 4.2))
+            for i, (tag, pts) in enumerate(sorted(lines.items())[:12]):
+                pts.sort()
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=tag or None)
+            if not numeric:
+                ax.set_xticks(range(len(xs)))
+                ax.set_xticklabels([str(x) for x in xs], rotation=30, ha="right", fontsize=8)
+            ax.set_xlabel(key)
+            ax.set_ylabel(label)
+            ax.set_title("%s: %s" % (os.path.basename(sweep.path), label), fontsize=10)
+            ax.grid(True, alpha=0.3)
+            if len(lines) > 1:
+                ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+            fig.tight_layout()
+            stem = os.path.join(d, "%s_vs_%s" % (metric, re.sub(r"[^A-Za-z0-9_.-]", "_", key)))
+            fig.savefig(stem + ".png", dpi=120)
+            fig.savefig(stem + ".svg")
+            plt.close(fig)
+            n += 1
+    return n
+
+
 # ------------------------------------------------------------------ main
 
 class Parser(argparse.ArgumentParser):
@@ -552,6 +614,8 @@ def main(argv):
     ap.add_argument("--dry-run", action="store_true",
                     help="expand and check the cases, list them, run nothing")
     ap.add_argument("--quiet", action="store_true", help="no progress lines")
+    ap.add_argument("--no-figures", action="store_true",
+                    help="no DIR/figures (each figure of merit against each swept key)")
     ap.add_argument("--version", action=Version, nargs=0,
                     help="version and git description (those of the cdpr-sim it runs)")
     a, extra = ap.parse_known_args(argv)
@@ -667,12 +731,13 @@ def sweep_main(a):
         signal.signal(signal.SIGINT, old_int)
         signal.signal(signal.SIGTERM, old_term)
     rows = results(sweep, out, ids)
+    n_fig = 0 if a.no_figures else figures(sweep, out, rows)
     bad = [r for r in rows if r["status"] not in ("ok", "warnings") or r["exit_code"] not in (0,)]
     if not a.quiet:
-        sys.stderr.write("%s: %d of %d cases completed, %d failed or not run; %s/results.csv "
-                         "(%.1f s in all, check %.2f s)\n" % (
-                             PROG, n - len(bad), n, len(bad), out, time.monotonic() - t_start,
-                             t_check))
+        sys.stderr.write("%s: %d of %d cases completed, %d failed or not run; %s/results.csv, "
+                         "%d figures in %s/figures (%.1f s in all, check %.2f s)\n" % (
+                             PROG, n - len(bad), n, len(bad), out, n_fig, out,
+                             time.monotonic() - t_start, t_check))
     if runner.stop.is_set():
         sys.stderr.write("%s: interrupted: run the same command again to finish\n" % PROG)
         return 1

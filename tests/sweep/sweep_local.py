@@ -40,7 +40,13 @@ def check(cond, what):
 
 
 def sweep(path, out, *extra):
-    return subprocess.run([PY, TOOL, path, "--out", out, "--sim", SIM] + list(extra),
+    """One cdpr-sweep call; figures only where asked for ("--figures": a test option here)."""
+    extra = list(extra)
+    if "--figures" in extra:
+        extra.remove("--figures")
+    else:
+        extra.append("--no-figures")
+    return subprocess.run([PY, TOOL, path, "--out", out, "--sim", SIM] + extra,
                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
@@ -88,7 +94,7 @@ axes:
 
 # 1. parallel == serial, byte for byte
 out = os.path.join(WORK, "a")
-p = sweep(good, out, "--jobs", "2")
+p = sweep(good, out, "--jobs", "2", "--figures")
 check(p.returncode == 0, "4-case sweep on 2 workers exits 0" +
       ("" if p.returncode == 0 else " (exit %d: %s)" % (p.returncode, p.stderr[-300:])))
 check(ran(p) == 4, "it ran 4 cases")
@@ -97,6 +103,11 @@ check(len(rows) == 4 and all(r["status"] == "ok" for r in rows), "results.csv: 4
 check([(r["controller.kp"], r["robot.rope.damping_Ns"], r["robot.segments"]) for r in rows] ==
       [("0.5", "170.0", "12"), ("0.5", "340.0", "16"), ("1.0", "170.0", "12"), ("1.0", "340.0", "16")],
       "the rows carry the axis values in product order (zip members paired)")
+figs = sorted(os.listdir(os.path.join(out, "figures")))
+check(len([f for f in figs if f.endswith(".png")]) == 15 and
+      len([f for f in figs if f.endswith(".svg")]) == 15 and
+      "rms_error_m_vs_robot.segments.svg" in figs,
+      "figures: 5 figures of merit x 3 swept keys, PNG and SVG (%d files)" % len(figs))
 same = 0
 for r in rows:
     d = os.path.join(out, "cases", r["case"])
@@ -137,7 +148,8 @@ case "$1" in */0002/*) while [ ! -e "%s" ]; do sleep 0.05; done ;; esac
 exec "%s" "$@"
 """ % (os.path.join(WORK, "never-opened"), SIM))
 os.chmod(gated, 0o755)
-proc = subprocess.Popen([PY, TOOL, good, "--out", out_i, "--sim", gated, "--jobs", "1"],
+proc = subprocess.Popen([PY, TOOL, good, "--out", out_i, "--sim", gated, "--jobs", "1",
+                         "--no-figures"],
                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 for line in proc.stderr:
     if "] case 0001 " in line:
