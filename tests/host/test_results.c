@@ -231,6 +231,11 @@ static void test_provenance_of_an_existing_scenario_file(void)
     cdpr_scenario_t sc;
     scenario(&sc);
     snprintf(sc.path, sizeof sc.path, "%s", CDPR_TEST_TMP "/abc.yaml");
+    /* Its robot a robot file of the bytes "abcd" (the hash Python's hashlib and sha256sum give:
+     * 88d4266f...589). */
+    write_text(CDPR_TEST_TMP "/abcd.yaml", "abcd");
+    sc.robot_source = CDPR_ROBOT_FROM_FILE;
+    snprintf(sc.rig.name, sizeof sc.rig.name, "%s", CDPR_TEST_TMP "/abcd.yaml");
     cdpr_plant_params_t pp;
     cdpr_plant_params_default(&pp);
     pp.integrator = CDPR_PLANT_RKF45;
@@ -242,7 +247,9 @@ static void test_provenance_of_an_existing_scenario_file(void)
         CDPR_OK, cdpr_record_open(&rec, &sc, &pp, CDPR_TEST_TMP "/prov", 2, &sum, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     const char *abc = "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad";
+    const char *abcd = "88d4266fd4e6338d13b845fcf289579d209c897823b9217da3e161936f031589";
     TEST_ASSERT_EQUAL_STRING(abc, sum.prov.scenario_sha256);
+    TEST_ASSERT_EQUAL_STRING(abcd, sum.prov.robot_sha256);
     TEST_ASSERT_EQUAL_STRING("rkf45", sum.prov.integrator);
     TEST_ASSERT_EQUAL_STRING(CDPR_VERSION_STRING, sum.prov.version);
     TEST_ASSERT_EQUAL_STRING(CDPR_GIT_DESCRIBE, sum.prov.git_describe);
@@ -269,9 +276,15 @@ static void test_provenance_of_an_existing_scenario_file(void)
                                         "0ff61f20015ad\",\n"),
                                  text);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"integrator\": \"rkf45\",\n"), text);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text,
+                                        "\"robot_sha256\": "
+                                        "\"88d4266fd4e6338d13b845fcf289579d209c897823b9217da3e1"
+                                        "61936f031589\",\n"),
+                                 text);
     cdpr_summary_t back;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_summary_read(path, &back, &err), err.msg);
     TEST_ASSERT_EQUAL_STRING(abc, back.prov.scenario_sha256);
+    TEST_ASSERT_EQUAL_STRING(abcd, back.prov.robot_sha256);
     TEST_ASSERT_EQUAL_STRING("rkf45", back.prov.integrator);
     TEST_ASSERT_EQUAL_STRING(CDPR_VERSION_STRING, back.prov.version);
     TEST_ASSERT_EQUAL_STRING(CDPR_GIT_DESCRIBE, back.prov.git_describe);
@@ -295,6 +308,7 @@ static void test_unknown_values_are_null_both_ways(void)
                                         "\"git_describe\": null,\n",
                                         "\"build_type\": null,\n",
                                         "\"scenario_sha256\": null,\n",
+                                        "\"robot_sha256\": null,\n",
                                         "\"integrator\": null,\n",
                                         "\"capacity_hits\": null,\n",
                                         "\"substep_limit_hits\": null,\n",

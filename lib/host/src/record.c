@@ -126,7 +126,8 @@ cdpr_status_t cdpr_record_open(cdpr_record_t *rec, const cdpr_scenario_t *sc,
     rec->traj = sc->traj;
     rec->lap = -1;
     rec->last_row_k = -1;
-    cdpr_summary_provenance_init(&sum->prov, sc->path, pp);
+    cdpr_summary_provenance_init(
+        &sum->prov, sc->path, (sc->robot_source == CDPR_ROBOT_FROM_FILE) ? sc->rig.name : NULL, pp);
     rec->n_cables = n_cables;
     rec->every = cdpr_scenario_output_every(sc);
     rec->duration_s = sc->duration_s;

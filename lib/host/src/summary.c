@@ -66,7 +66,7 @@ static void json_string_or_null(FILE *f, const char *s)
 }
 
 void cdpr_summary_provenance_init(cdpr_summary_provenance_t *prov, const char *scenario_path,
-                                  const cdpr_plant_params_t *pp)
+                                  const char *robot_path, const cdpr_plant_params_t *pp)
 {
     memset(prov, 0, sizeof *prov);
     snprintf(prov->version, sizeof prov->version, "%s", CDPR_VERSION_STRING);
@@ -74,6 +74,9 @@ void cdpr_summary_provenance_init(cdpr_summary_provenance_t *prov, const char *s
     snprintf(prov->build_type, sizeof prov->build_type, "%s", CDPR_HOST_BUILD_TYPE);
     if (scenario_path != NULL && scenario_path[0] != '\0') {
         (void)cdpr_sha256_file(scenario_path, prov->scenario_sha256);
+    }
+    if (robot_path != NULL && robot_path[0] != '\0') {
+        (void)cdpr_sha256_file(robot_path, prov->robot_sha256);
     }
     if (pp != NULL) {
         const char *name = cdpr_plant_integrator_name(pp->integrator);
@@ -233,6 +236,8 @@ cdpr_status_t cdpr_summary_write(const char *path, const cdpr_scenario_t *sc,
     json_string_or_null(f, pv->scenario_sha256);
     fprintf(f, ",\n  \"robot\": ");
     json_string(f, cdpr_scenario_robot_name(sc));
+    fprintf(f, ",\n  \"robot_sha256\": ");
+    json_string_or_null(f, pv->robot_sha256);
     fprintf(f, ",\n  \"trajectory\": ");
     json_string(f, cdpr_traj_type_name(sc->traj.type));
     fprintf(f, ",\n  \"integrator\": ");
@@ -324,7 +329,7 @@ cdpr_status_t cdpr_summary_write(const char *path, const cdpr_scenario_t *sc,
  * (files written before they existed). */
 typedef struct {
     char *status;
-    char *version, *git_describe, *build_type, *scenario_sha256, *integrator;
+    char *version, *git_describe, *build_type, *scenario_sha256, *robot_sha256, *integrator;
     double *rms_error_m, *max_error_m, *final_error_m, *initial_error_m, *rms_error_second_half_m;
     double *rms_error_rad, *max_error_rad, *final_error_rad;
     double *max_tension_N, *min_tension_N, *max_payout_m_per_s, *sim_time_s, *wall_time_s;
@@ -356,6 +361,7 @@ static const cyaml_schema_field_t summary_fields[] = {
     SUM_OPT_STR(git_describe),
     SUM_OPT_STR(build_type),
     SUM_OPT_STR(scenario_sha256),
+    SUM_OPT_STR(robot_sha256),
     SUM_OPT_STR(integrator),
     SUM_NUM(rms_error_m),
     SUM_NUM(max_error_m),
@@ -467,6 +473,7 @@ static void from_raw(const raw_summary_t *r, cdpr_summary_t *sum)
     string_or_empty(pv->git_describe, sizeof pv->git_describe, r->git_describe);
     string_or_empty(pv->build_type, sizeof pv->build_type, r->build_type);
     string_or_empty(pv->scenario_sha256, sizeof pv->scenario_sha256, r->scenario_sha256);
+    string_or_empty(pv->robot_sha256, sizeof pv->robot_sha256, r->robot_sha256);
     string_or_empty(pv->integrator, sizeof pv->integrator, r->integrator);
     sum->rms_error_m = real_or_nan(r->rms_error_m);
     sum->max_error_m = real_or_nan(r->max_error_m);

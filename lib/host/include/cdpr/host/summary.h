@@ -29,14 +29,17 @@ typedef struct {
     char git_describe[64];                     ///< CDPR_GIT_DESCRIBE of the writer's build
     char build_type[32];                       ///< CMAKE_BUILD_TYPE of the host library
     char scenario_sha256[CDPR_SHA256_HEX + 1]; ///< SHA-256 of the scenario file's bytes (hex)
+    char robot_sha256[CDPR_SHA256_HEX + 1];    ///< SHA-256 of the robot file's bytes (hex; ""
+                                               ///< for a robot the scenario writes itself)
     char integrator[32];                       ///< the plant's scheme ("rkf45")
 } cdpr_summary_provenance_t;
 
-/// Provenance of a run of the scenario file `scenario_path` (its bytes are hashed now; ""
-/// when it cannot be read) with plant parameters `pp` (NULL: integrator unknown); version, git
-/// description and build type of this build.
+/// Provenance of a run of the scenario file `scenario_path` whose robot is the robot file
+/// `robot_path` (NULL or "": the scenario describes the robot itself) with plant parameters
+/// `pp` (NULL: integrator unknown): both files' bytes are hashed now ("" when one cannot be
+/// read); version, git description and build type of this build.
 void cdpr_summary_provenance_init(cdpr_summary_provenance_t *prov, const char *scenario_path,
-                                  const cdpr_plant_params_t *pp);
+                                  const char *robot_path, const cdpr_plant_params_t *pp);
 
 /// Laps of a periodic trajectory the summary keeps statistics of (the first ones).
 #define CDPR_SUMMARY_MAX_LAPS 100
