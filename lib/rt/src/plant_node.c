@@ -26,17 +26,12 @@ static const int64_t LOCKSTEP_RESEND_NS = 100000000;
 
 void cdpr_rt_plant_opts_default(cdpr_rt_plant_opts_t *o)
 {
-    memset(o, 0, sizeof *o);
-    o->lockstep = 0;
+    memset(o, 0, sizeof *o); /* lockstep, realtime, start_delay_s, max_misses(_in_row): 0 */
     o->lockstep_timeout_s = 2.0;
-    o->realtime = 0;
     o->rt_priority = 80;
     o->shape_rate_hz = 10.0;
     o->diag_rate_hz = 1.0;
-    o->start_delay_s = 0.0;
     o->startup_s = CDPR_RT_STARTUP_DEFAULT_S;
-    o->max_misses = 0;
-    o->max_misses_in_row = 0;
     cdpr_lcm_bridge_params_default(&o->lcm);
     o->lcm.watchdog_timeout_s = 0.0; /* follow the period (cdpr_rt_plant_init) */
 }
