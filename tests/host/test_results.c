@@ -123,6 +123,15 @@ static void test_csv_header_and_row(void)
     TEST_ASSERT_EQUAL_DOUBLE(210.0, sum.max_tension_N);
     TEST_ASSERT_EQUAL_INT(20, sum.nodes_min);
     TEST_ASSERT_EQUAL_INT(21, sum.nodes_max);
+    /* Per cable, either end: cable 1 had 100 (cabin) and 110 (winch), cable 2 200 and 210. */
+    TEST_ASSERT_EQUAL_DOUBLE(100.0, sum.cable_min_tension_N[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(110.0, sum.cable_max_tension_N[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(200.0, sum.cable_min_tension_N[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(210.0, sum.cable_max_tension_N[1]);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_summary_write(CDPR_TEST_TMP "/csv/s.json", &sc, &sum));
+    const char *text = slurp(CDPR_TEST_TMP "/csv/s.json");
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"cable_max_tension_N\": [110, 210],\n"), text);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"cable_min_tension_N\": [100, 200],\n"), text);
 }
 
 static void fill(cdpr_summary_t *s)

@@ -121,6 +121,32 @@ for r in rows:
     same += 1 if (q.returncode == 0 and ts_same and sm_same) else 0
 check(same == 4, "every case's timeseries.csv and summary.json == a serial cdpr-sim run (%d/4)" % same)
 
+# 1b. a case whose values are the base's own: the same run as cdpr-sim on the base file itself
+# (the case file is the base re-written by the YAML library; its data lines must not differ).
+kp = [l.split(":")[1].split("#")[0].strip() for l in open(base) if l.startswith("  kp:")][0]
+same_as_base = write("base-values.yaml", """
+scenario: %s
+set: {run.duration_s: 0.3}
+axes:
+  - key: controller.kp
+    values: [%s]
+""" % (base, kp))
+out_s = os.path.join(WORK, "base-values")
+p = sweep(same_as_base, out_s)
+q = subprocess.run([SIM, base, "--out", os.path.join(WORK, "base-run"), "--duration", "0.3",
+                    "--no-plot", "--quiet"], stderr=subprocess.DEVNULL)
+
+
+def data_lines(path):
+    with open(path) as f:
+        return [line for line in f if not line.startswith("#")]
+
+
+check(p.returncode == 0 and q.returncode == 0 and
+      data_lines(os.path.join(out_s, "cases", "0001", "timeseries.csv")) ==
+      data_lines(os.path.join(WORK, "base-run", "timeseries.csv")),
+      "a case with the base's own values == cdpr-sim on the base file (timeseries data lines)")
+
 # 2. resume
 before = {r["case"]: os.stat(os.path.join(out, "cases", r["case"], "done.json")).st_mtime_ns
           for r in rows}

@@ -137,6 +137,10 @@ cdpr_status_t cdpr_record_open(cdpr_record_t *rec, const cdpr_scenario_t *sc,
     sum->first_slack_demand_t_s = (double)NAN;
     sum->first_slack_demand_N = (double)NAN;
     sum->min_tension_N = (double)INFINITY;
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
+        sum->cable_max_tension_N[j] = -(double)INFINITY;
+        sum->cable_min_tension_N[j] = (double)INFINITY;
+    }
     /* Known only if state 0 is recorded (a tracker over LCM may miss it): else null. */
     sum->initial_error_m = (double)NAN;
     sum->nodes_min = CDPR_MAX_SEGMENTS;
@@ -224,6 +228,8 @@ cdpr_status_t cdpr_record_period(cdpr_record_t *rec, long k, int last, const cdp
         const double b = row->tension_winch_N[j];
         sum->max_tension_N = fmax(sum->max_tension_N, fmax(a, b));
         sum->min_tension_N = fmin(sum->min_tension_N, fmin(a, b));
+        sum->cable_max_tension_N[j] = fmax(sum->cable_max_tension_N[j], fmax(a, b));
+        sum->cable_min_tension_N[j] = fmin(sum->cable_min_tension_N[j], fmin(a, b));
         sum->nodes_min = (row->segments[j] < sum->nodes_min) ? row->segments[j] : sum->nodes_min;
         sum->nodes_max = (row->segments[j] > sum->nodes_max) ? row->segments[j] : sum->nodes_max;
     }
@@ -298,6 +304,12 @@ cdpr_status_t cdpr_record_close(cdpr_record_t *rec)
         (rec->n_after > 0) ? sqrt(rec->sum2_pos_after / (double)rec->n_after) : 0.0;
     if (!isfinite(sum->min_tension_N)) {
         sum->min_tension_N = 0.0;
+    }
+    for (int j = 0; j < CDPR_MAX_CABLES; ++j) { /* no period recorded: 0, as the totals */
+        sum->cable_max_tension_N[j] =
+            isfinite(sum->cable_max_tension_N[j]) ? sum->cable_max_tension_N[j] : 0.0;
+        sum->cable_min_tension_N[j] =
+            isfinite(sum->cable_min_tension_N[j]) ? sum->cable_min_tension_N[j] : 0.0;
     }
     if (rec->csv_open != 0) {
         (void)cdpr_csv_close(&rec->csv);

@@ -168,6 +168,16 @@ static void write_reals(FILE *f, const char *key, int n, const double *v)
     fputc(']', f);
 }
 
+/* A per-cable list of reals (%.17g; null when the cable count is unknown). */
+static void write_cable_reals(FILE *f, const char *key, int n, const double *v)
+{
+    if (n <= 0 || n > CDPR_MAX_CABLES) {
+        fprintf(f, ",\n  \"%s\": null", key);
+    } else {
+        write_reals(f, key, n, v);
+    }
+}
+
 static void write_counts(FILE *f, const char *key, int n, const unsigned long *c)
 {
     fprintf(f, ",\n  \"%s\": ", key);
@@ -316,6 +326,8 @@ cdpr_status_t cdpr_summary_write(const char *path, const cdpr_scenario_t *sc,
     write_rt(f, &sum->rt);
     write_counts(f, "slack_periods", sum->n_cables, sum->slack_periods);
     write_counts(f, "slack_demand_periods", sum->n_cables, sum->slack_demand_periods);
+    write_cable_reals(f, "cable_max_tension_N", sum->n_cables, sum->cable_max_tension_N);
+    write_cable_reals(f, "cable_min_tension_N", sum->n_cables, sum->cable_min_tension_N);
     write_reals(f, "lap_rms_m", sum->n_laps, sum->lap_rms_m);
     write_reals(f, "lap_max_m", sum->n_laps, sum->lap_max_m);
     write_reals(f, "lap_rms_rad", sum->n_laps, sum->lap_rms_rad);

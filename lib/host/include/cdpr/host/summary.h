@@ -121,6 +121,8 @@ typedef struct {
                                                          ///< or winch-end tension <= 0 (the plant)
     unsigned long slack_demand_periods[CDPR_MAX_CABLES]; ///< periods whose feed-forward
                                                          ///< demanded tension <= 0 of cable j
+    double cable_max_tension_N[CDPR_MAX_CABLES]; ///< largest tension of cable j, either end [N]
+    double cable_min_tension_N[CDPR_MAX_CABLES]; ///< smallest tension of cable j, either end [N]
     int first_slack_demand_cable;       ///< 1-based cable of the first slack demand (0: none)
     double first_slack_demand_t_s;      ///< its time [s] (NaN: none)
     double first_slack_demand_N;        ///< its straight-cable tension [N] (NaN: none)
