@@ -62,9 +62,18 @@ def sha256_bytes(data):
     return hashlib.sha256(data).hexdigest()
 
 
+def read_bytes(path):
+    """A file's bytes, or None when it cannot be read (missing, a directory, no permission)."""
+    try:
+        with open(path, "rb") as f:
+            return f.read()
+    except OSError:
+        return None
+
+
 def sha256_file(path):
-    with open(path, "rb") as f:
-        return sha256_bytes(f.read())
+    data = read_bytes(path)
+    return None if data is None else sha256_bytes(data)
 
 
 # ------------------------------------------------------------------ the sweep file
@@ -246,7 +255,8 @@ class Sweep:
     def __init__(self, path):
         self.path = path
         try:
-            raw = YAML(typ="safe").load(open(path, "r", encoding="utf-8"))
+            with open(path, "r", encoding="utf-8") as f:
+                raw = YAML(typ="safe").load(f)
         except OSError as e:
             raise OutputError("%s: cannot read the sweep file: %s" % (path, e.strerror))
         except YAMLError as e:
@@ -275,7 +285,7 @@ class Sweep:
         if clash:
             raise SweepError("%s: %s both set and swept" % (path, ", ".join(sorted(clash))))
         self.cases = expand(self.groups)
-        self.base_text = open(self.scenario, "rb").read() if os.path.exists(self.scenario) else None
+        self.base_text = read_bytes(self.scenario)
         if self.base_text is None:
             raise OutputError("%s: scenario: cannot read %s" % (path, self.scenario))
         base = load_yaml(self.scenario, "scenario")
@@ -289,7 +299,7 @@ class Sweep:
         if isinstance(robot, dict) and "file" in robot:
             rf = robot["file"]
             self.robot_file = os.path.normpath(os.path.join(os.path.dirname(self.scenario), str(rf)))
-            self.robot_sha256 = sha256_file(self.robot_file) if os.path.exists(self.robot_file) else None
+            self.robot_sha256 = sha256_file(self.robot_file)
             if self.robot_sha256 is None:
                 raise OutputError("%s: robot.file: cannot read %s" % (self.scenario, self.robot_file))
             base["robot"] = load_yaml(self.robot_file, "robot file")
@@ -620,6 +630,9 @@ def main(argv):
         ap.error("--jobs: at least 1")
     try:
         return sweep_main(a)
+    except KeyboardInterrupt:  # before the workers start (expansion, check): nothing written
+        sys.stderr.write("%s: interrupted before any case ran\n" % PROG)
+        return 1
     except SweepError as e:
         sys.stderr.write("%s: %s\n" % (PROG, e))
         return 2
