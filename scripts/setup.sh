@@ -20,6 +20,7 @@ cdpr_packages=(
     gnuplot-nox libcyaml-dev libyaml-dev dpkg-dev xz-utils python3-matplotlib iproute2
     python3-dev python3-setuptools python3-distutils patch
     python3-numpy python3-scipy python3-ruamel.yaml
+    slurm-wlm munge
     liblapack-dev
 )
 

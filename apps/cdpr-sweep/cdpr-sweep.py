@@ -1,21 +1,25 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: BSD-3-Clause
-"""cdpr-sweep: run a load-case matrix of cdpr-sim scenarios on this machine (docs/sweeps.md).
+"""cdpr-sweep: run a load-case matrix of cdpr-sim scenarios here or through Slurm (docs/sweeps.md).
 
-  cdpr-sweep SWEEP.yaml --out DIR [--jobs N] [--sim PATH] [--dry-run] [--quiet]
+  cdpr-sweep SWEEP.yaml --out DIR [--jobs N] [--engine local|slurm] [--sim PATH] [--dry-run]
 
 A sweep file names a base scenario and axes over its keys (scenario keys and, in the same
 schema, the robot's: a robot file named by the scenario is inlined into every case). The cases
 are the product of the axes (a `zip` axis pairs its members). Every case is written as a
 resolved scenario (DIR/cases/NNNN/scenario.yaml) and checked by `cdpr-sim --validate` before
-any case runs; then N workers run `cdpr-sim` on them (default: the CPU count). A rerun with
-the same DIR skips the cases whose outputs are complete and whose resolved input is unchanged,
-and reruns an interrupted one. DIR/results.csv and DIR/results.json hold one row per case.
+any case runs; then N workers run `cdpr-sim` on them (default: the CPU count), or, with
+--engine slurm, one Slurm job array does (DIR/slurm/submit-K.sbatch, followed with squeue).
+A rerun with the same DIR skips the cases whose outputs are complete and whose resolved input
+is unchanged, and reruns an interrupted one. DIR/results.csv and DIR/results.json hold one row
+per case. --prepare and --run-case let another runner (GNU parallel) run the cases; --collect
+then writes the table.
 
-Exit status: 0 every case completed (status ok or warnings); 1 a case failed or the sweep
-was interrupted (SIGINT/SIGTERM: the running cases stop with whole outputs and run again on
-the next call); 2 a bad sweep file, a case refused by the check, or DIR holds another sweep
-(nothing run, nothing written into DIR); 3 an output or input error.
+Exit status: 0 every case completed (status ok or warnings); 1 a case failed or was killed, or
+the sweep was interrupted (SIGINT/SIGTERM: the running cases stop with whole outputs and run
+again on the next call); 2 a bad sweep file, a case refused by the check, or DIR holds another
+sweep (nothing run, nothing written into DIR); 3 an output or input error; 4 Slurm not reachable
+or the job array refused (complete cases kept).
 """
 import argparse
 import concurrent.futures
@@ -365,6 +369,48 @@ def write_atomic(path, text):
     os.replace(tmp, path)
 
 
+def clear_case(d):
+    """Remove an earlier, interrupted run's outputs from a case folder (its scenario stays)."""
+    for name in os.listdir(d):
+        if name != "scenario.yaml":
+            p = os.path.join(d, name)
+            shutil.rmtree(p) if os.path.isdir(p) else os.remove(p)
+
+
+def start_sim(sim, d, log):
+    return subprocess.Popen([sim, os.path.join(d, "scenario.yaml"), "--out", d, "--no-plot",
+                             "--quiet"], stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True)
+
+
+def finish_case(d, rc, wall, stopped):
+    """Mark a finished case complete (done.json, written atomically) and return its status;
+    None for an interrupted run (no done.json: the next call runs it again)."""
+    status = "failed"
+    try:
+        with open(os.path.join(d, "summary.json")) as f:
+            status = json.load(f).get("status", "failed")
+    except (OSError, ValueError):
+        pass
+    if stopped or status == "interrupted":
+        return None
+    text = read_bytes(os.path.join(d, "scenario.yaml"))
+    write_atomic(os.path.join(d, "done.json"), json.dumps({
+        "status": status, "exit_code": rc, "input_sha256": sha256_bytes(text),
+        "wall_s": round(wall, 3)}, indent=2) + "\n")
+    return status
+
+
+def case_complete(d):
+    """True when the case folder holds a done.json for its current scenario.yaml."""
+    text = read_bytes(os.path.join(d, "scenario.yaml"))
+    try:
+        with open(os.path.join(d, "done.json")) as f:
+            return text is not None and json.load(f).get("input_sha256") == sha256_bytes(text)
+    except (OSError, ValueError):
+        return False
+
+
 class Runner:
     def __init__(self, sim, out, jobs, quiet):
         self.sim, self.out, self.jobs, self.quiet = sim, out, jobs, quiet
@@ -391,35 +437,21 @@ class Runner:
         d = os.path.join(self.out, "cases", cid)
         if self.stop.is_set():
             return None
-        for name in os.listdir(d):  # an interrupted earlier run's outputs
-            if name not in ("scenario.yaml",):
-                p = os.path.join(d, name)
-                shutil.rmtree(p) if os.path.isdir(p) else os.remove(p)
+        clear_case(d)
         start = time.monotonic()
         with open(os.path.join(d, "log.txt"), "w") as log:
             with self.lock:
                 if self.stop.is_set():
                     return None
-                p = subprocess.Popen([self.sim, os.path.join(d, "scenario.yaml"), "--out", d,
-                                      "--no-plot", "--quiet"], stdout=log,
-                                     stderr=subprocess.STDOUT, start_new_session=True)
+                p = start_sim(self.sim, d, log)
                 self.procs.add(p)
             rc = p.wait()
             with self.lock:
                 self.procs.discard(p)
         wall = time.monotonic() - start
-        status = "failed"
-        try:
-            with open(os.path.join(d, "summary.json")) as f:
-                status = json.load(f).get("status", "failed")
-        except (OSError, ValueError):
-            pass
-        if self.stop.is_set() or status == "interrupted":
+        status = finish_case(d, rc, wall, self.stop.is_set())
+        if status is None:
             return None  # not done: the next call runs it again
-        text = open(os.path.join(d, "scenario.yaml"), "rb").read()
-        write_atomic(os.path.join(d, "done.json"), json.dumps({
-            "status": status, "exit_code": rc, "input_sha256": sha256_bytes(text),
-            "wall_s": round(wall, 3)}, indent=2) + "\n")
         with self.lock:
             self.done += 1
             self.durations.append(wall)
@@ -441,6 +473,201 @@ class Runner:
             futs = [ex.submit(self.run_case, cid, len(todo), t0) for cid in todo]
             for f in futs:
                 f.result()
+
+
+# ------------------------------------------------------------------ the Slurm engine
+
+class EngineError(Exception):
+    """Slurm not reachable, or the job array refused: exit 4 (finished cases are kept)."""
+
+
+def run_case_main(case_dir, sim):
+    """`cdpr-sweep --run-case DIR/cases/NNNN`: what one array task of the Slurm engine runs.
+    Runs the case as the local engine does and marks it complete; a SIGTERM (Slurm's time limit
+    or scancel) is passed on to cdpr-sim, which writes whole outputs, and no done.json is written,
+    so that the next call runs the case again. A case already complete is not run twice."""
+    d = os.path.abspath(case_dir)
+    if not os.path.isfile(os.path.join(d, "scenario.yaml")):
+        raise OutputError("%s: not a case folder (no scenario.yaml)" % d)
+    if case_complete(d):
+        return 0
+    stopped = threading.Event()
+    proc = []
+
+    def on_signal(signum, frame):
+        stopped.set()
+        for p in proc:
+            try:
+                p.send_signal(signal.SIGTERM)
+            except OSError:
+                pass
+
+    signal.signal(signal.SIGTERM, on_signal)
+    signal.signal(signal.SIGINT, on_signal)
+    clear_case(d)
+    start = time.monotonic()
+    with open(os.path.join(d, "log.txt"), "w") as log:
+        if stopped.is_set():
+            return 143
+        proc.append(start_sim(sim, d, log))
+        rc = proc[0].wait()
+    status = finish_case(d, rc, time.monotonic() - start, stopped.is_set())
+    if status is None:
+        sys.stderr.write("%s: case %s interrupted (outputs whole; not complete)\n" % (
+            PROG, os.path.basename(d)))
+        return 143
+    return rc
+
+
+def slurm_command(args, what):
+    """A Slurm client command's stdout; EngineError with its own message when it fails."""
+    try:
+        r = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           timeout=120)
+    except FileNotFoundError:
+        raise EngineError("%s: %s not found: is Slurm's client installed (Debian: slurm-client)?"
+                          % (what, args[0]))
+    except subprocess.TimeoutExpired:
+        raise EngineError("%s: %s did not answer in 120 s" % (what, " ".join(args[:2])))
+    if r.returncode != 0:
+        msg = " ".join(r.stderr.split()) or "exit %d" % r.returncode
+        raise EngineError("%s: %s" % (what, msg))
+    return r.stdout
+
+
+def sh_quote(x):
+    return "'" + str(x).replace("'", "'\\''") + "'"
+
+
+class Slurm:
+    """Runs the cases as one Slurm job array per call (docs/sweeps.md): writes a batch script,
+    submits it with sbatch, follows the array with squeue and leaves the table to the caller.
+    The array's job name is made from the output folder, so that a rerun finds this sweep's
+    tasks still queued or running (its own or a user's submission of the script) and follows
+    them instead of submitting their cases again."""
+
+    def __init__(self, a, sweep_path, sim, out):
+        self.a, self.sim, self.out = a, sim, out
+        self.name = "cdpr-sweep-" + sha256_bytes(out.encode("utf-8"))[:10]
+        self.dir = os.path.join(out, "slurm")
+        self.sweep_path = os.path.abspath(sweep_path)
+        self.job = None
+
+    def ping(self):
+        """Before anything is written: the controller answers."""
+        text = slurm_command(["scontrol", "ping"], "Slurm not reachable (scontrol ping)")
+        if "UP" not in text:
+            raise EngineError("Slurm not reachable: scontrol ping says: %s" % " ".join(text.split()))
+
+    def active(self):
+        """Array tasks of this sweep still in the queue: [(job id, state)]."""
+        text = slurm_command(["squeue", "--noheader", "--array", "--name", self.name,
+                              "--format", "%i %T"], "squeue")
+        return [tuple(line.split()[:2]) for line in text.splitlines() if line.strip()]
+
+    def script(self, k, todo):
+        a = self.a
+        lines = ["#!/bin/sh",
+                 "# Generated by cdpr-sweep for %s: %d case(s), one array task each (the case" % (
+                     self.sweep_path, len(todo)),
+                 "# ids are the lines of submit-%d.cases). Submitted by cdpr-sweep --engine slurm;" % k,
+                 "# to change it, edit and submit it yourself (sbatch %s)," % (
+                     os.path.join(self.dir, "submit-%d.sbatch" % k)),
+                 "# then run cdpr-sweep again to follow the job and collect the table.",
+                 "#SBATCH --job-name=%s" % self.name,
+                 "#SBATCH --array=1-%d%s" % (len(todo), "%%%d" % a.jobs if a.jobs else ""),
+                 "#SBATCH --output=%s" % os.path.join(self.dir, "%A_%a.out"),
+                 "#SBATCH --ntasks=1",
+                 "#SBATCH --cpus-per-task=1"]
+        for opt, val in (("partition", a.partition), ("time", a.time), ("mem", a.mem)):
+            if val:
+                lines.append("#SBATCH --%s=%s" % (opt, val))
+        for extra in a.slurm_option or []:
+            lines.append("#SBATCH %s" % extra)
+        lines += ["set -eu",
+                  "case_id=$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" %s)" % sh_quote(
+                      os.path.join(self.dir, "submit-%d.cases" % k)),
+                  "exec %s %s --run-case %s --sim %s" % (
+                      sh_quote(sys.executable), sh_quote(os.path.realpath(__file__)),
+                      "\"%s/$case_id\"" % os.path.join(self.out, "cases"), sh_quote(self.sim)),
+                  ""]
+        return "\n".join(lines)
+
+    def submit(self, todo):
+        os.makedirs(self.dir, exist_ok=True)
+        k = 1
+        while os.path.exists(os.path.join(self.dir, "submit-%d.sbatch" % k)):
+            k += 1
+        write_atomic(os.path.join(self.dir, "submit-%d.cases" % k), "".join(c + "\n" for c in todo))
+        path = os.path.join(self.dir, "submit-%d.sbatch" % k)
+        write_atomic(path, self.script(k, todo))
+        text = slurm_command(["sbatch", "--parsable", path],
+                             "the job array was refused (sbatch %s)" % path)
+        self.job = text.strip().split(";")[0]
+        with open(os.path.join(self.dir, "jobs.txt"), "a") as f:
+            f.write("%s submit-%d.sbatch %d\n" % (self.job, k, len(todo)))
+        return self.job
+
+    def follow(self, cases, stop, quiet):
+        """Poll until no task of this sweep is queued or running; progress from the cases'
+        done.json files. On stop (SIGINT/SIGTERM) cancel the array once (its tasks get SIGTERM
+        and write whole outputs) and wait for it to drain."""
+        t0 = time.monotonic()
+        cancelled = False
+        seen = -1
+        misses = 0
+        while True:
+            try:
+                tasks = self.active()
+                misses = 0
+            except EngineError:
+                misses += 1  # a controller restart: keep asking for a while
+                if misses * self.a.poll > 300:
+                    raise
+                tasks = None
+            if stop.is_set() and not cancelled:
+                slurm_command(["scancel", "--name", self.name], "scancel")
+                cancelled = True
+            done = sum(1 for c in cases if case_complete(os.path.join(self.out, "cases", c)))
+            if not quiet and tasks is not None and (done != seen or not tasks):
+                running = sum(1 for _, st in tasks if st == "RUNNING")
+                sys.stderr.write("%s: [%d/%d] complete; %d running, %d queued; elapsed %s\n" % (
+                    PROG, done, len(cases), running, len(tasks) - running,
+                    hms(time.monotonic() - t0)))
+                seen = done
+            if tasks == []:
+                return
+            time.sleep(self.a.poll)
+
+    def timed_out(self):
+        """Case ids whose last task log says Slurm killed it at its time limit."""
+        out = set()
+        if not os.path.isdir(self.dir):
+            return out
+        for name in os.listdir(self.dir):
+            if not name.endswith(".out"):
+                continue
+            text = read_bytes(os.path.join(self.dir, name)) or b""
+            if b"DUE TO TIME LIMIT" in text:
+                m = re.match(r"^([0-9]+)_([0-9]+)\.out$", name)
+                cases = self.cases_of(m.group(1)) if m else []
+                i = int(m.group(2)) - 1 if m else -1
+                if 0 <= i < len(cases):
+                    out.add(cases[i])
+        return out
+
+    def cases_of(self, job):
+        try:
+            with open(os.path.join(self.dir, "jobs.txt")) as f:
+                for line in f:
+                    j, script, _ = line.split()
+                    if j == job:
+                        cases = script.replace(".sbatch", ".cases")
+                        with open(os.path.join(self.dir, cases)) as g:
+                            return g.read().split()
+        except (OSError, ValueError):
+            pass
+        return []
 
 
 def hms(s):
@@ -469,17 +696,20 @@ def results(sweep, out, ids):
                 done = json.load(f)
         except (OSError, ValueError):
             pass
-        row["status"] = done["status"] if done else "not run"
+        summ = {}
+        try:
+            with open(os.path.join(d, "summary.json")) as f:
+                summ = json.load(f)
+        except (OSError, ValueError):
+            summ = {}
+        if done:
+            row["status"] = done["status"]
+        else:  # an interrupted run's figures are partial: status only
+            row["status"] = "interrupted" if summ.get("status") == "interrupted" else "not run"
+            summ = {}
         row["exit_code"] = done["exit_code"] if done else None
         row["input_sha256"] = done["input_sha256"] if done else None
         row["robot_file_sha256"] = sweep.robot_sha256
-        summ = {}
-        if done:
-            try:
-                with open(os.path.join(d, "summary.json")) as f:
-                    summ = json.load(f)
-            except (OSError, ValueError):
-                summ = {}
         row["version"] = summ.get("version")
         row["scenario_sha256"] = summ.get("scenario_sha256")
         for k in FIGURES:
@@ -603,8 +833,29 @@ def main(argv):
                 epilog="\n".join(__doc__.splitlines()[2:]))
     ap.add_argument("sweep", nargs="?", help="the sweep file (YAML)")
     ap.add_argument("--out", help="output directory (required; created; a rerun resumes)")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                    help="cases run at once (default: the CPU count, %(default)s here)")
+    ap.add_argument("--jobs", type=int,
+                    help="cases run at once (local default: the CPU count, %d here; slurm: the "
+                    "array's throttle, default none)" % (os.cpu_count() or 1))
+    ap.add_argument("--engine", choices=["local", "slurm"], default="local",
+                    help="where the cases run: this machine (default) or a Slurm job array")
+    ap.add_argument("--partition", help="slurm: the partition (sbatch --partition)")
+    ap.add_argument("--time", help="slurm: each case's time limit (sbatch --time, e.g. 30 or "
+                    "1:00:00); a case killed at it keeps whole outputs and runs again on resume")
+    ap.add_argument("--mem", help="slurm: memory per case (sbatch --mem, e.g. 1G)")
+    ap.add_argument("--slurm-option", action="append", metavar="OPT",
+                    help="slurm: one more #SBATCH line, verbatim (repeatable), e.g. "
+                    "--slurm-option=--account=wind")
+    ap.add_argument("--no-wait", action="store_true",
+                    help="slurm: submit and exit; the same command again follows and collects")
+    ap.add_argument("--poll", type=float, default=5.0,
+                    help="slurm: seconds between squeue calls (default %(default)s)")
+    ap.add_argument("--prepare", action="store_true",
+                    help="write the case folders, print those not complete (one a line), run "
+                    "nothing: for another runner (GNU parallel with --run-case)")
+    ap.add_argument("--collect", action="store_true",
+                    help="run nothing: write the table and figures from the complete cases")
+    ap.add_argument("--run-case", metavar="CASE_DIR",
+                    help="run one case folder (what a Slurm array task runs) and exit")
     ap.add_argument("--sim", help="the cdpr-sim to run (default: next to cdpr-sweep, then "
                     "build/release, then PATH)")
     ap.add_argument("--dry-run", action="store_true",
@@ -622,12 +873,30 @@ def main(argv):
             ap.error("invalid option -- '%s'" % x[1])
     if extra:
         ap.error("one sweep file (got '%s' too)" % extra[0])
+    if a.run_case is not None:
+        try:
+            return run_case_main(a.run_case, find_sim(a.sim))
+        except OutputError as e:
+            sys.stderr.write("%s: %s\n" % (PROG, e))
+            return 3
     if a.sweep is None:
         ap.error("a sweep file is required")
     if a.out is None:
         ap.error("--out DIR is required")
-    if a.jobs < 1:
+    if a.jobs is not None and a.jobs < 1:
         ap.error("--jobs: at least 1")
+    if a.prepare and a.collect:
+        ap.error("--prepare and --collect: one of them")
+    if (a.prepare or a.collect) and a.engine != "local":
+        ap.error("--%s: runs nothing, so takes no --engine" % ("prepare" if a.prepare else
+                                                               "collect"))
+    if a.engine == "local":
+        for opt in ("partition", "time", "mem", "slurm_option", "no_wait"):
+            if getattr(a, opt):
+                ap.error("--%s: for --engine slurm only" % opt.replace("_", "-"))
+        a.jobs = a.jobs or os.cpu_count() or 1
+    if not a.poll > 0:
+        ap.error("--poll: a positive number of seconds")
     try:
         return sweep_main(a)
     except KeyboardInterrupt:  # before the workers start (expansion, check): nothing written
@@ -639,6 +908,9 @@ def main(argv):
     except OutputError as e:
         sys.stderr.write("%s: %s\n" % (PROG, e))
         return 3
+    except EngineError as e:
+        sys.stderr.write("%s: %s; finished cases are kept\n" % (PROG, e))
+        return 4
 
 
 def sweep_main(a):
@@ -689,43 +961,94 @@ def sweep_main(a):
         sys.stderr.write("%s: %d cases pass the check (%.2f s); nothing run\n" % (PROG, n, t_check))
         return 0
 
-    try:
-        os.makedirs(os.path.join(out, "cases"), exist_ok=True)
-        if not os.path.exists(record_path):
-            write_atomic(record_path, json.dumps({
-                "sweep": os.path.abspath(a.sweep), "sweep_sha256": sha256_file(a.sweep),
-                "scenario": sweep.scenario, "scenario_sha256": sha256_bytes(sweep.base_text),
-                "robot_file": sweep.robot_file, "robot_file_sha256": sweep.robot_sha256,
-                "keys": sweep.keys, "set": plain(sweep.fixed),
-                "cases": [{"case": cid, "values": {k: plain(v) for k, v in vals},
-                           "input_sha256": h} for cid, vals, h in zip(ids, sweep.cases, hashes)],
-            }, indent=1) + "\n")
-        todo = []
-        for cid, text, h in zip(ids, texts, hashes):
-            d = os.path.join(out, "cases", cid)
-            os.makedirs(d, exist_ok=True)
-            done = os.path.join(d, "done.json")
-            if os.path.exists(done):
-                try:
-                    with open(done) as f:
-                        if json.load(f).get("input_sha256") == h:
-                            continue  # complete, same input: kept
-                except (OSError, ValueError):
-                    pass
-                os.remove(done)
-            write_atomic(os.path.join(d, "scenario.yaml"), text)
-            todo.append(cid)
-    except OSError as e:
-        raise OutputError("%s: %s" % (e.filename or out, e.strerror))
+    slurm = None
+    if a.engine == "slurm":
+        slurm = Slurm(a, a.sweep, sim, out)
+        slurm.ping()  # before anything is written
+    stop = threading.Event()
+    runner = None
+    followed = False  # a call that followed an earlier array submits nothing (one per call)
 
-    runner = Runner(sim, out, min(a.jobs, max(1, len(todo))), a.quiet)
-    old_int = signal.signal(signal.SIGINT, runner.interrupt)
-    old_term = signal.signal(signal.SIGTERM, runner.interrupt)
-    if not a.quiet:
-        sys.stderr.write("%s: %d cases (%d to run, %d complete from before), %d workers, "
-                         "cdpr-sim %s\n" % (PROG, n, len(todo), n - len(todo), runner.jobs, sim))
+    def interrupt(signum, frame):
+        if runner is not None:
+            runner.interrupt(signum, frame)
+        stop.set()
+
+    old_int = signal.signal(signal.SIGINT, interrupt)
+    old_term = signal.signal(signal.SIGTERM, interrupt)
     try:
-        runner.run(todo)
+        try:
+            os.makedirs(os.path.join(out, "cases"), exist_ok=True)
+            if not os.path.exists(record_path):
+                write_atomic(record_path, json.dumps({
+                    "sweep": os.path.abspath(a.sweep), "sweep_sha256": sha256_file(a.sweep),
+                    "scenario": sweep.scenario, "scenario_sha256": sha256_bytes(sweep.base_text),
+                    "robot_file": sweep.robot_file, "robot_file_sha256": sweep.robot_sha256,
+                    "keys": sweep.keys, "set": plain(sweep.fixed),
+                    "cases": [{"case": cid, "values": {k: plain(v) for k, v in vals},
+                               "input_sha256": h} for cid, vals, h in zip(ids, sweep.cases, hashes)],
+                }, indent=1) + "\n")
+            if slurm is not None:
+                queued = slurm.active()
+                if queued:  # an earlier call's array (or the user's): follow it, submit nothing
+                    jobs = sorted({j.split("_")[0] for j, _ in queued})
+                    sys.stderr.write("%s: job %s of this sweep still has %d task(s) queued or "
+                                     "running%s\n" % (PROG, ", ".join(jobs), len(queued),
+                                                       "" if a.no_wait else ": following it"))
+                    if a.no_wait:
+                        return 0
+                    slurm.follow(ids, stop, a.quiet)
+                    followed = True
+            todo = []
+            for cid, text, h in zip(ids, texts, hashes):
+                d = os.path.join(out, "cases", cid)
+                os.makedirs(d, exist_ok=True)
+                done = os.path.join(d, "done.json")
+                if os.path.exists(done):
+                    try:
+                        with open(done) as f:
+                            if json.load(f).get("input_sha256") == h:
+                                continue  # complete, same input: kept
+                    except (OSError, ValueError):
+                        pass
+                    os.remove(done)
+                write_atomic(os.path.join(d, "scenario.yaml"), text)
+                todo.append(cid)
+        except OSError as e:
+            raise OutputError("%s: %s" % (e.filename or out, e.strerror))
+
+        if a.prepare:
+            for cid in todo:
+                print(os.path.join(out, "cases", cid))
+            sys.stderr.write("%s: %d cases written, %d not complete (listed); nothing run\n" % (
+                PROG, n, len(todo)))
+            return 0
+        if a.collect:
+            sys.stderr.write("%s: %d cases, %d complete; collecting, running nothing\n" % (
+                PROG, n, n - len(todo)))
+            todo = []
+        elif followed:
+            sys.stderr.write("%s: %d cases, %d not complete after the earlier job array%s\n" % (
+                PROG, n, len(todo), ": run the same command again to submit them" if todo else ""))
+        elif not a.quiet:
+            sys.stderr.write("%s: %d cases (%d to run, %d complete from before), %s, cdpr-sim %s\n"
+                             % (PROG, n, len(todo), n - len(todo),
+                                "Slurm job array" if slurm else "%d workers" % min(
+                                    a.jobs, max(1, len(todo))), sim))
+        if slurm is None:
+            runner = Runner(sim, out, min(a.jobs, max(1, len(todo))), a.quiet)
+            if stop.is_set():
+                runner.stop.set()
+            runner.run(todo)
+        elif todo and not stop.is_set() and not followed:
+            job = slurm.submit(todo)
+            sys.stderr.write("%s: submitted job array %s (%d tasks): %s\n" % (
+                PROG, job, len(todo), os.path.join(slurm.dir, "jobs.txt")))
+            if a.no_wait:
+                sys.stderr.write("%s: not waiting: run the same command again to follow the "
+                                 "job and collect the table\n" % PROG)
+                return 0
+            slurm.follow(todo, stop, a.quiet)
     finally:
         signal.signal(signal.SIGINT, old_int)
         signal.signal(signal.SIGTERM, old_term)
@@ -737,7 +1060,14 @@ def sweep_main(a):
                          "%d figures in %s/figures (%.1f s in all, check %.2f s)\n" % (
                              PROG, n - len(bad), n, len(bad), out, n_fig, out,
                              time.monotonic() - t_start, t_check))
-    if runner.stop.is_set():
+    if slurm is not None:
+        late = sorted(c for c in slurm.timed_out() if not case_complete(
+            os.path.join(out, "cases", c)))
+        if late:
+            sys.stderr.write("%s: killed at the time limit (--time): case %s; their outputs are "
+                             "whole; run again (with a longer --time) to rerun them\n" % (
+                                 PROG, ", ".join(late)))
+    if stop.is_set():
         sys.stderr.write("%s: interrupted: run the same command again to finish\n" % PROG)
         return 1
     return 1 if bad else 0

@@ -17,6 +17,8 @@
    different lengths; an empty axis; an unknown sweep key.
 5. A case that fails (a substep budget of one trial) is recorded with its status while the
    others complete; the sweep exits 1.
+6. Another runner: --prepare lists the case folders without running them, `--run-case` runs
+   each (xargs -P 2 standing in for GNU parallel), --collect writes the same table.
 Every check counts events the code controls (cases run, bytes written), never wall time.
 """
 import csv
@@ -235,6 +237,23 @@ rows_f = table(out_f)
 check(p.returncode == 1, "a failing case: the sweep exits 1")
 check([r["status"] for r in rows_f] == ["ok", "failed"] and rows_f[1]["exit_code"] == "1",
       "... the good case completes, the failed one is recorded (status failed, exit 1)")
+
+# 6. another runner (docs/sweeps.md, GNU parallel): --prepare lists the case folders, each is
+# run by `--run-case` (here two at a time by xargs, as parallel would), --collect writes the
+# table, running nothing: the same table as the local engine's.
+out_p = os.path.join(WORK, "prepared")
+p = sweep(good, out_p, "--prepare")
+listed = p.stdout.split()
+check(p.returncode == 0 and listed == [os.path.join(out_p, "cases", c) for c in sorted(before)]
+      and not any(os.path.exists(os.path.join(d, "done.json")) for d in listed),
+      "--prepare: exit 0, the 4 case folders listed, none run")
+x = subprocess.run(["xargs", "-P", "2", "-n", "1", PY, TOOL, "--sim", SIM, "--run-case"],
+                   input=p.stdout, text=True)
+p = sweep(good, out_p, "--collect")
+check(x.returncode == 0 and p.returncode == 0 and "running nothing" in p.stderr and
+      table(out_p) == rows, "--run-case on each (xargs -P 2), then --collect: the same table")
+p = sweep(good, out_p, "--prepare")
+check(p.returncode == 0 and p.stdout == "", "--prepare again: nothing left to list")
 
 print("%d passed, %d failed" % (len(passes), len(failures)))
 sys.exit(1 if failures else 0)
