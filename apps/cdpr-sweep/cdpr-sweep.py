@@ -795,6 +795,76 @@ def figures(sweep, out, rows):
             fig.savefig(stem + ".svg")
             plt.close(fig)
             n += 1
+    return n + heat_maps(sweep, d, ok, plt)
+
+
+def label(v):
+    return "%.4g" % v if isinstance(v, float) else str(v)
+
+
+def heat_maps(sweep, d, ok, plt):
+    """DIR/figures/METRIC_map_A_B[_at_K=V...].{png,svg}: each figure of merit over each pair of
+    swept keys that are not zipped together (A across, B up), one map per combination of the
+    values of the keys outside their axes (the first 4), cells at equal steps labelled with the
+    keys' values and, up to 12 x 12, the figure's value. A case that did not complete is a
+    blank cell."""
+    n = 0
+    keys = sweep.keys
+    group = {k: i for i, g in enumerate(sweep.groups) for k, _ in g}
+    for ia in range(len(keys)):
+        for ib in range(ia + 1, len(keys)):
+            a, b = keys[ia], keys[ib]
+            if group[a] == group[b]:
+                continue  # zipped: one moves with the other
+            # The keys zipped with a or b move with them; the others are held at each value.
+            others = [k for k in keys if group[k] not in (group[a], group[b])]
+            xa, xb, combos = [], [], []
+            for r in ok:
+                xa += [r[a]] if r[a] not in xa else []
+                xb += [r[b]] if r[b] not in xb else []
+                c = tuple(r[k] for k in others)
+                combos += [c] if c not in combos else []
+            if len(xa) < 2 or len(xb) < 2:
+                continue
+            for combo in combos[:4]:
+                at = dict(zip(others, combo))
+                for metric, title in PLOTTED:
+                    grid = [[float("nan")] * len(xa) for _ in xb]
+                    for r in ok:
+                        if all(r[k] == at[k] for k in others) and \
+                                isinstance(r.get(metric), (int, float)):
+                            grid[xb.index(r[b])][xa.index(r[a])] = r[metric]
+                    if all(math.isnan(v) for row in grid for v in row):
+                        continue
+                    fig, ax = plt.subplots(figsize=(7.0, 4.8))
+                    im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis")
+                    fig.colorbar(im, ax=ax, label=title)
+                    ax.set_xticks(range(len(xa)))
+                    ax.set_xticklabels([label(x) for x in xa], rotation=30, ha="right", fontsize=8)
+                    ax.set_yticks(range(len(xb)))
+                    ax.set_yticklabels([label(x) for x in xb], fontsize=8)
+                    ax.set_xlabel(a)
+                    ax.set_ylabel(b)
+                    if len(xa) <= 12 and len(xb) <= 12:
+                        lo = min(v for row in grid for v in row if not math.isnan(v))
+                        hi = max(v for row in grid for v in row if not math.isnan(v))
+                        for i, row in enumerate(grid):
+                            for j, v in enumerate(row):
+                                if not math.isnan(v):
+                                    dark = hi > lo and (v - lo) / (hi - lo) < 0.5
+                                    ax.text(j, i, "%.4g" % v, ha="center", va="center",
+                                            fontsize=7, color="white" if dark else "black")
+                    where = ", ".join("%s = %s" % (k, label(v)) for k, v in at.items())
+                    ax.set_title("%s: %s%s" % (os.path.basename(sweep.path), title,
+                                               "\n(%s)" % where if where else ""), fontsize=9)
+                    fig.tight_layout()
+                    name = "%s_map_%s_%s%s" % (metric, a, b, "".join(
+                        "_at_%s=%s" % (k, label(v)) for k, v in at.items()))
+                    stem = os.path.join(d, re.sub(r"[^A-Za-z0-9_.=-]", "_", name))
+                    fig.savefig(stem + ".png", dpi=120)
+                    fig.savefig(stem + ".svg")
+                    plt.close(fig)
+                    n += 1
     return n
 
 

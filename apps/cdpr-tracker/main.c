@@ -463,6 +463,7 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
         fprintf(stderr, "cdpr-tracker: controller: field '%s': %s\n", d.field, cdpr_status_str(st));
         return st;
     }
+    g_tracker.wind = &sc->wind; /* a wind profile for the feed-forward (sc outlives the run) */
     g_record.traj = &sc->traj;
     g_record.period_s = sc->period_s;
     /* The integrator is the plant's as the scenario configures it (cdpr-rt reads the same). */

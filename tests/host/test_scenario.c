@@ -674,6 +674,120 @@ static void test_cyclic_and_counts(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "run.period_s: 1e-20 s gives"), err.msg);
 }
 
+/* a and b the same double, bit for bit (an exact zero is +0 here). */
+static int same(double a, double b)
+{
+    return memcmp(&a, &b, sizeof a) == 0;
+}
+
+/* Load MINIMAL plus `wind` into sc; returns the load's status. */
+static cdpr_status_t load_with_wind(const char *wind, cdpr_scenario_t *sc,
+                                    cdpr_scenario_error_t *err)
+{
+    static char text[sizeof MINIMAL + 512];
+    snprintf(text, sizeof text, "%s%s", MINIMAL, wind);
+    char path[700];
+    snprintf(path, sizeof path, "%s/wind.yaml", tmp_dir);
+    write_text(path, text);
+    err->msg[0] = '\0';
+    return cdpr_scenario_load(path, sc, err);
+}
+
+/* The wind section (issue 23): each profile against its closed form, written here from
+ * docs/scenarios.md; exact zeros at whole quarter turns; the rig's wind at t = 0; keys that
+ * a profile does not read, missing ones and ranges refused with the key named. */
+static void test_wind_section(void)
+{
+    make_tmp();
+    cdpr_scenario_t sc;
+    cdpr_scenario_error_t err;
+    double v[3];
+    /* No section: the robot's steady wind at every time. */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, load_with_wind("", &sc, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(0, sc.wind.given);
+    sc.rig.wind_m_per_s[1] = 3.0;
+    cdpr_scenario_wind_at(&sc, 123.0, v);
+    TEST_ASSERT_TRUE(same(v[0], 0.0) && same(v[1], 3.0) && same(v[2], 0.0));
+    /* Steady, towards +y (90 deg and -270 deg): exactly (0, 8, 0); the rig holds it. */
+    const char *const quarter[] = {"90", "-270"};
+    for (int i = 0; i < 2; ++i) {
+        char w[256];
+        snprintf(w, sizeof w, "wind:\n  speed_m_per_s: 8.0\n  towards_deg: %s\n", quarter[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, load_with_wind(w, &sc, &err), err.msg);
+        TEST_ASSERT_EQUAL_INT(CDPR_WIND_STEADY, sc.wind.profile);
+        cdpr_scenario_wind_at(&sc, 5.0, v);
+        TEST_ASSERT_TRUE(same(v[0], 0.0) && same(v[1], 8.0) && same(v[2], 0.0));
+        TEST_ASSERT_TRUE(same(sc.rig.wind_m_per_s[0], 0.0) && same(sc.rig.wind_m_per_s[1], 8.0));
+    }
+    /* Ramp: 0 until 2 s, linear to 8 m/s at 12 s, towards 30 deg. */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        CDPR_OK,
+        load_with_wind("wind:\n  speed_m_per_s: 8.0\n  towards_deg: 30\n"
+                       "  profile: ramp\n  start_s: 2.0\n  rise_s: 10.0\n",
+                       &sc, &err),
+        err.msg);
+    TEST_ASSERT_EQUAL_STRING("ramp", cdpr_wind_profile_name(sc.wind.profile));
+    const double c30 = cos(PI / 6.0);
+    const double s30 = 0.5;
+    const double ramp_t[] = {0.0, 2.0, 4.5, 7.0, 12.0, 20.0};
+    const double ramp_v[] = {0.0, 0.0, 2.0, 4.0, 8.0, 8.0};
+    for (int i = 0; i < 6; ++i) {
+        cdpr_scenario_wind_at(&sc, ramp_t[i], v);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-14, ramp_v[i] * c30, v[0]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-14, ramp_v[i] * s30, v[1]);
+        TEST_ASSERT_TRUE(same(v[2], 0.0));
+    }
+    TEST_ASSERT_TRUE(same(sc.rig.wind_m_per_s[0], 0.0) && same(sc.rig.wind_m_per_s[1], 0.0));
+    /* Gust: 5 m/s towards -x, plus 3 m/s (1 - cos) over [1, 5] s: peak 8 at 3 s, 6.5 at 2 s. */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        CDPR_OK,
+        load_with_wind("wind:\n  speed_m_per_s: 5.0\n  towards_deg: 180\n  profile: gust\n"
+                       "  start_s: 1.0\n  rise_s: 4.0\n  gust_m_per_s: 3.0\n",
+                       &sc, &err),
+        err.msg);
+    const double gust_t[] = {0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 9.0};
+    const double gust_v[] = {5.0, 5.0, 6.5, 8.0, 6.5, 5.0, 5.0};
+    for (int i = 0; i < 7; ++i) {
+        cdpr_scenario_wind_at(&sc, gust_t[i], v);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-14, -gust_v[i], v[0]);
+        TEST_ASSERT_TRUE(same(v[1], 0.0));
+    }
+    /* Refused: each names its key. */
+    static const struct {
+        const char *text;
+        const char *key;
+        cdpr_status_t st;
+    } bad[] = {
+        {"wind:\n  speed_m_per_s: 8\n  towards_deg: 0\n  rise_s: 2\n", "wind.rise_s", CDPR_E_PARSE},
+        {"wind:\n  speed_m_per_s: 8\n  towards_deg: 0\n  profile: ramp\n", "wind.rise_s",
+         CDPR_E_PARSE},
+        {"wind:\n  speed_m_per_s: 8\n  towards_deg: 0\n  profile: ramp\n  rise_s: 1\n"
+         "  gust_m_per_s: 1\n",
+         "wind.gust_m_per_s", CDPR_E_PARSE},
+        {"wind:\n  speed_m_per_s: 8\n  towards_deg: 0\n  profile: gust\n  rise_s: 1\n",
+         "wind.gust_m_per_s", CDPR_E_PARSE},
+        {"wind:\n  speed_m_per_s: 8\n  towards_deg: 0\n  profile: gale\n", "wind.profile",
+         CDPR_E_PARSE},
+        {"wind:\n  speed_m_per_s: 8\n", "wind.towards_deg", CDPR_E_PARSE},
+        {"wind:\n  speed_m_per_s: -1\n  towards_deg: 0\n", "wind.speed_m_per_s",
+         CDPR_E_OUT_OF_RANGE},
+        {"wind:\n  speed_m_per_s: 8\n  towards_deg: 400\n", "wind.towards_deg",
+         CDPR_E_OUT_OF_RANGE},
+        {"wind:\n  speed_m_per_s: 8\n  towards_deg: 0\n  profile: ramp\n  rise_s: 0\n",
+         "wind.rise_s", CDPR_E_OUT_OF_RANGE},
+        {"wind:\n  speed_m_per_s: 80\n  towards_deg: 0\n  profile: gust\n  rise_s: 1\n"
+         "  gust_m_per_s: 30\n",
+         "wind.gust_m_per_s", CDPR_E_OUT_OF_RANGE},
+        {"wind:\n  speed_m_per_s: nan\n  towards_deg: 0\n", "wind.speed_m_per_s",
+         CDPR_E_NOT_FINITE},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+        const cdpr_status_t st = load_with_wind(bad[k].text, &sc, &err);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(bad[k].st, st, bad[k].text);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, bad[k].key), err.msg);
+    }
+}
+
 /* Files refused before any parse (issue 10, L6 and L9): a directory, a file over 1 MiB. */
 static void test_file_checks_before_parsing(void)
 {
@@ -791,6 +905,7 @@ int main(void)
     RUN_TEST(test_command_line);
     RUN_TEST(test_design_check_refuses_good_line);
     RUN_TEST(test_cyclic_and_counts);
+    RUN_TEST(test_wind_section);
     RUN_TEST(test_file_checks_before_parsing);
     RUN_TEST(test_long_paths_are_refused_not_cut);
     return UNITY_END() ? 1 : 0;

@@ -471,6 +471,105 @@ static void test_a_changed_scenario_is_checked_again(void)
     free(sc);
 }
 
+/* The data rows of a timeseries.csv (comment lines dropped). */
+typedef struct {
+    char *buf;
+    char *row[1024];
+    int n;
+} rows_t;
+
+static int data_rows(const char *path, rows_t *r)
+{
+    (void)file_bytes(path, &r->buf);
+    r->n = 0;
+    for (char *line = strtok(r->buf, "\n"); line != NULL && r->n < 1024;
+         line = strtok(NULL, "\n")) {
+        if (line[0] != '#') {
+            r->row[r->n++] = line;
+        }
+    }
+    return r->n;
+}
+
+/* paper-circle.yaml (calm) with its robot wind replaced by `robot_wind` and `wind` appended:
+ * written to tmp/NAME.yaml and run for 1 s into tmp/NAME; returns the timeseries path. */
+static const char *wind_run(const char *name, const char *robot_wind, const char *wind)
+{
+    static char out[4][700];
+    static int next = 0;
+    char *base = NULL;
+    (void)file_bytes(CDPR_SOURCE_DIR "/scenarios/paper-circle.yaml", &base);
+    const char *calm = "wind_m_per_s: [0.0, 0.0, 0.0]";
+    char *at = strstr(base, calm);
+    TEST_ASSERT_NOT_NULL(at);
+    char path[700];
+    snprintf(path, sizeof path, "%s/%s.yaml", CDPR_TEST_TMP, name);
+    mkdir(CDPR_TEST_TMP, 0775);
+    FILE *f = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL(f);
+    fprintf(f, "%.*swind_m_per_s: %s%s%s", (int)(at - base), base, robot_wind, at + strlen(calm),
+            wind);
+    fclose(f);
+    free(base);
+    char *o = out[next++ % 4];
+    snprintf(o, sizeof out[0], "%s/%s", CDPR_TEST_TMP, name);
+    static cdpr_summary_t sum;
+    run(path, 1.0, o, &sum);
+    static char ts[4][760];
+    char *t = ts[(next - 1) % 4];
+    snprintf(t, sizeof ts[0], "%s/timeseries.csv", o);
+    return t;
+}
+
+/* The scenario's wind section in the run (issue 23): a steady section is the robot's
+ * wind_m_per_s, bit for bit; a ramp that starts after the run leaves a calm run as it was; a
+ * gust changes nothing up to its start and the run from the period after it (the plant takes
+ * each period's wind at its midpoint: cdpr_scenario_wind_at). */
+static void test_wind_section_in_the_run(void)
+{
+    static rows_t a;
+    static rows_t b;
+    static rows_t c;
+    static rows_t d;
+    const char *robot = wind_run("wind-robot", "[0.0, 4.0, 0.0]", "");
+    const char *steady = wind_run("wind-steady", "[0.0, 0.0, 0.0]",
+                                  "wind:\n  speed_m_per_s: 4.0\n  towards_deg: 90\n");
+    const int n = data_rows(robot, &a);
+    TEST_ASSERT_EQUAL_INT(1 + 101, n); /* header, t = 0 .. 1 s at 100 Hz */
+    TEST_ASSERT_EQUAL_INT(n, data_rows(steady, &b));
+    for (int i = 0; i < n; ++i) {
+        TEST_ASSERT_EQUAL_STRING(a.row[i], b.row[i]);
+    }
+    const char *calm = wind_run("wind-calm", "[0.0, 0.0, 0.0]", "");
+    const char *later = wind_run("wind-later", "[0.0, 0.0, 0.0]",
+                                 "wind:\n  speed_m_per_s: 4.0\n  towards_deg: 90\n"
+                                 "  profile: ramp\n  start_s: 5.0\n  rise_s: 1.0\n");
+    TEST_ASSERT_EQUAL_INT(n, data_rows(calm, &c));
+    TEST_ASSERT_EQUAL_INT(n, data_rows(later, &d));
+    int calm_differs = 0;
+    for (int i = 0; i < n; ++i) {
+        TEST_ASSERT_EQUAL_STRING(c.row[i], d.row[i]);
+        calm_differs += (strcmp(c.row[i], a.row[i]) != 0) ? 1 : 0;
+    }
+    TEST_ASSERT_TRUE(calm_differs > 50); /* the wind does act on this robot */
+    free(c.buf);
+    free(d.buf);
+    /* A gust from 0.5 s (the row of t = 0.5 s is row 51): the rows up to it as the steady
+     * run's, every row after it different. */
+    const char *gust = wind_run("wind-gust", "[0.0, 0.0, 0.0]",
+                                "wind:\n  speed_m_per_s: 4.0\n  towards_deg: 90\n"
+                                "  profile: gust\n  start_s: 0.5\n  rise_s: 0.4\n"
+                                "  gust_m_per_s: 6.0\n");
+    TEST_ASSERT_EQUAL_INT(n, data_rows(gust, &c));
+    for (int i = 0; i < n; ++i) {
+        const int same_row = (strcmp(c.row[i], b.row[i]) == 0) ? 1 : 0;
+        TEST_ASSERT_EQUAL_INT_MESSAGE((i <= 51) ? 1 : 0, same_row, c.row[i]);
+    }
+    free(a.buf);
+    free(b.buf);
+    free(c.buf);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -481,5 +580,6 @@ int main(void)
     RUN_TEST(test_summary_real_time_block_round_trip);
     RUN_TEST(test_substep_limit_names_the_key_and_a_budget_that_works);
     RUN_TEST(test_a_changed_scenario_is_checked_again);
+    RUN_TEST(test_wind_section_in_the_run);
     return UNITY_END() ? 1 : 0;
 }

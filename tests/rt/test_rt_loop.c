@@ -106,12 +106,21 @@ static void bits_equal(const double *a, const double *b, int n, const char *what
     TEST_ASSERT_EQUAL_MEMORY_MESSAGE(a, b, sizeof(double) * (size_t)n, msg);
 }
 
-static void test_lockstep_memq_equals_in_process_loop(void)
+/* `gust`: 0, or 1 for a wind gust (scenario wind section) with the wind feed-forward on: the
+ * plant node and the tracker node take each period's wind from the section, the in-process
+ * loop sets the same value (at the period's midpoint) on its plant and controller. */
+static void lockstep_equals_in_process(int gust)
 {
     load("paper-line");
     const double rate = 100.0;
     const long periods = 150;
     cdpr_scenario_error_t err;
+    if (gust != 0) {
+        const cdpr_scenario_wind_t w = {1, 4.0, 90.0, CDPR_WIND_GUST, 0.5, 0.4, 6.0};
+        g_sc.wind = w;
+        cdpr_scenario_wind_at(&g_sc, 0.0, g_sc.rig.wind_m_per_s);
+        g_sc.gains.wind_ff = 1.0;
+    }
 
     /* Over LCM: cdpr_rt in lockstep, the tracker node on the bridge thread (memq). */
     cdpr_rt_plant_opts_t o;
@@ -129,6 +138,8 @@ static void test_lockstep_memq_equals_in_process_loop(void)
     g_tracker.answer_in_handler = 1;
     g_tracker.on_step = record_lcm;
     g_tracker.on_step_ctx = &g_lcm_rec;
+    g_tracker.wind = &g_sc.wind;
+    g_lcm_rec.n = 0;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_rt_plant_run(&g_rt, &err), err.msg);
     TEST_ASSERT_EQUAL_INT(periods, g_rt.tel.periods);
     TEST_ASSERT_EQUAL_INT(0, g_rt.tel.lockstep_timeouts);
@@ -178,6 +189,13 @@ static void test_lockstep_memq_equals_in_process_loop(void)
         bits_equal(&m.cabin.v_m_per_s.x, &l->cabin.v_m_per_s.x, 3, "velocity", k);
         bits_equal(&m.cabin.w_rad_per_s.x, &l->cabin.w_rad_per_s.x, 3, "angular velocity", k);
         bits_equal(m.length_m, l->length_m, CDPR_ROBOT_CABLES, "lengths", k);
+        if (gust != 0) {
+            double w[3];
+            cdpr_scenario_wind_at(&g_sc, m.t_s + 0.5 * g_ref.pp.period_s, w);
+            g_ref.robot.in.wind_m_per_s = cdpr_v3(w[0], w[1], w[2]);
+            TEST_ASSERT_EQUAL_INT(CDPR_OK,
+                                  cdpr_tracker_set_wind(&g_ref_ctl, g_ref.robot.in.wind_m_per_s));
+        }
         cdpr_tracker_cmd_t c;
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&g_ref_ctl, &m, &c));
         /* The tracker node clamps to the winch limit before publishing; the plant's winch
@@ -199,6 +217,18 @@ static void test_lockstep_memq_equals_in_process_loop(void)
                          fabs(g_ref.y[1] - g_ref.initial.pose.p_m.y) +
                          fabs(g_ref.y[2] - g_ref.initial.pose.p_m.z) >
                      0.1);
+}
+
+static void test_lockstep_memq_equals_in_process_loop(void)
+{
+    lockstep_equals_in_process(0);
+}
+
+/* A scenario wind section through the real-time loop (issue 23): the gust reaches the plant
+ * node and the controller node's feed-forward exactly as in the in-process loop. */
+static void test_lockstep_with_a_wind_gust_equals_in_process_loop(void)
+{
+    lockstep_equals_in_process(1);
 }
 
 /* ------------------------------------------------ RT thread: no allocation, no lcm_* */
@@ -683,6 +713,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_lockstep_memq_equals_in_process_loop);
+    RUN_TEST(test_lockstep_with_a_wind_gust_equals_in_process_loop);
     RUN_TEST(test_rt_thread_makes_no_allocation_and_no_lcm_call);
     RUN_TEST(test_silence_holds_then_resumes_and_bad_commands_are_ignored);
     RUN_TEST(test_stalled_publisher_drops_and_rt_thread_keeps_stepping);

@@ -106,10 +106,14 @@ check([(r["controller.kp"], r["robot.rope.damping_Ns"], r["robot.segments"]) for
       [("0.5", "170.0", "12"), ("0.5", "340.0", "16"), ("1.0", "170.0", "12"), ("1.0", "340.0", "16")],
       "the rows carry the axis values in product order (zip members paired)")
 figs = sorted(os.listdir(os.path.join(out, "figures")))
-check(len([f for f in figs if f.endswith(".png")]) == 15 and
-      len([f for f in figs if f.endswith(".svg")]) == 15 and
-      "rms_error_m_vs_robot.segments.svg" in figs,
-      "figures: 5 figures of merit x 3 swept keys, PNG and SVG (%d files)" % len(figs))
+maps = [f for f in figs if "_map_" in f and f.endswith(".png")]
+check(len([f for f in figs if f.endswith(".png")]) == 25 and
+      len([f for f in figs if f.endswith(".svg")]) == 25 and
+      "rms_error_m_vs_robot.segments.svg" in figs and len(maps) == 10 and
+      "max_tension_N_map_controller.kp_robot.rope.damping_Ns.svg" in figs and
+      not any("robot.rope.damping_Ns_robot.segments" in f for f in maps),
+      "figures: 5 figures of merit x 3 swept keys, and heat maps over the 2 pairs of keys that "
+      "are not zipped together, PNG and SVG (%d files)" % len(figs))
 same = 0
 for r in rows:
     d = os.path.join(out, "cases", r["case"])

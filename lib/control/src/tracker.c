@@ -121,6 +121,19 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t peri
     return check_learning(g, diag);
 }
 
+cdpr_status_t cdpr_tracker_set_wind(cdpr_tracker_t *tr, cdpr_vec3_t wind_m_per_s)
+{
+    cdpr_status_t st = CDPR_E_INVALID_ARG;
+    if (tr != NULL) {
+        st = CDPR_E_NOT_FINITE;
+        if (cdpr_v3_isfinite(wind_m_per_s)) {
+            tr->g.wind_m_per_s = wind_m_per_s;
+            st = CDPR_OK;
+        }
+    }
+    return st;
+}
+
 void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion_t *pose,
                               cdpr_vec3_t wind_m_per_s, cdpr_vec3_t *f_N, cdpr_vec3_t *tau_Nm)
 {

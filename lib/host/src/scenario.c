@@ -111,6 +111,15 @@ typedef struct {
 } raw_run_t;
 
 typedef struct {
+    double speed_m_per_s;
+    double towards_deg;
+    cdpr_wind_profile_t *profile;
+    double *start_s;
+    double *rise_s;
+    double *gust_m_per_s;
+} raw_wind_t;
+
+typedef struct {
     char *description;
     cdpr_raw_rig_t *robot; /* robot: one schema with robot files (rig_raw.h) */
     raw_initial_t *initial;
@@ -118,6 +127,7 @@ typedef struct {
     raw_controller_t controller;
     raw_integrator_t *integrator;
     raw_run_t run;
+    raw_wind_t *wind;
 } raw_t;
 
 /* ---------------------------------------------------------------- schema */
@@ -270,6 +280,21 @@ static const cyaml_schema_field_t run_fields[] = {
     OPT_NUMP("output_rate_hz", raw_run_t, output_rate_hz),
     CYAML_FIELD_END,
 };
+static const cyaml_strval_t wind_profile_names[] = {
+    {"steady", CDPR_WIND_STEADY},
+    {"ramp", CDPR_WIND_RAMP},
+    {"gust", CDPR_WIND_GUST},
+};
+static const cyaml_schema_field_t wind_fields[] = {
+    CYAML_FIELD_FLOAT("speed_m_per_s", REQ_NUM, raw_wind_t, speed_m_per_s),
+    CYAML_FIELD_FLOAT("towards_deg", REQ_NUM, raw_wind_t, towards_deg),
+    CYAML_FIELD_ENUM_PTR("profile", OPT | CYAML_FLAG_STRICT, raw_wind_t, profile,
+                         wind_profile_names, CYAML_ARRAY_LEN(wind_profile_names)),
+    OPT_NUMP("start_s", raw_wind_t, start_s),
+    OPT_NUMP("rise_s", raw_wind_t, rise_s),
+    OPT_NUMP("gust_m_per_s", raw_wind_t, gust_m_per_s),
+    CYAML_FIELD_END,
+};
 static const cyaml_schema_field_t top_fields[] = {
     CYAML_FIELD_STRING_PTR("description", OPT, raw_t, description, 0, 255),
     CYAML_FIELD_MAPPING_PTR("robot", REQ, raw_t, robot, robot_fields),
@@ -278,6 +303,7 @@ static const cyaml_schema_field_t top_fields[] = {
     CYAML_FIELD_MAPPING("controller", REQ, raw_t, controller, controller_fields),
     CYAML_FIELD_MAPPING_PTR("integrator", OPT, raw_t, integrator, integrator_fields),
     CYAML_FIELD_MAPPING("run", REQ, raw_t, run, run_fields),
+    CYAML_FIELD_MAPPING_PTR("wind", OPT, raw_t, wind, wind_fields),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_value_t top_schema = {
@@ -288,6 +314,12 @@ static const cyaml_schema_value_t top_schema = {
 const char *cdpr_traj_type_name(cdpr_traj_type_t type)
 {
     return cdpr_yaml_enum_name(traj_names, CYAML_ARRAY_LEN(traj_names), type, "hold");
+}
+
+const char *cdpr_wind_profile_name(cdpr_wind_profile_t profile)
+{
+    return cdpr_yaml_enum_name(wind_profile_names, CYAML_ARRAY_LEN(wind_profile_names), profile,
+                               "steady");
 }
 
 static void format_error(cdpr_scenario_error_t *err, const char *path, int line, const char *key,
@@ -481,10 +513,84 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     }
 }
 
+/* The wind section; the rig's wind becomes the profile's value at t = 0 (the settled start). */
+static void resolve_wind(const raw_t *r, cdpr_scenario_t *sc)
+{
+    const raw_wind_t *w = r->wind;
+    if (w == NULL) {
+        return;
+    }
+    cdpr_scenario_wind_t *o = &sc->wind;
+    o->given = 1;
+    o->speed_m_per_s = w->speed_m_per_s;
+    o->towards_deg = w->towards_deg;
+    o->profile = (w->profile != NULL) ? *w->profile : CDPR_WIND_STEADY;
+    o->start_s = 0.0;
+    o->rise_s = 1.0;
+    o->gust_m_per_s = 0.0;
+    take(&o->start_s, w->start_s, 1);
+    take(&o->rise_s, w->rise_s, 1);
+    take(&o->gust_m_per_s, w->gust_m_per_s, 1);
+    cdpr_scenario_wind_at(sc, 0.0, sc->rig.wind_m_per_s);
+}
+
 static void resolve(const raw_t *r, cdpr_scenario_t *sc)
 {
     resolve_motion(r, sc);
     resolve_run(r, sc);
+    resolve_wind(r, sc);
+}
+
+/* cos and sin of an angle in degrees; exact at whole multiples of 90 degrees. */
+static void cos_sin_deg(double deg, double *c, double *s)
+{
+    static const double cq[4] = {1.0, 0.0, -1.0, 0.0};
+    const double q = deg / 90.0;
+    const double k = nearbyint(q);
+    if (fabs(q - k) < 1e-12 && fabs(k) < 1e6) {
+        const long i = (((long)k % 4L) + 4L) % 4L;
+        *c = cq[i];
+        *s = cq[(i + 3L) % 4L];
+    } else {
+        *c = cos(deg * CDPR_PI / 180.0);
+        *s = sin(deg * CDPR_PI / 180.0);
+    }
+}
+
+void cdpr_scenario_wind_at(const cdpr_scenario_t *sc, double t, double v[3])
+{
+    if (sc->wind.given == 0) {
+        memcpy(v, sc->rig.wind_m_per_s, sizeof(double) * 3U);
+    } else {
+        cdpr_scenario_wind_eval(&sc->wind, t, v);
+    }
+}
+
+void cdpr_scenario_wind_eval(const cdpr_scenario_wind_t *w, double t, double v[3])
+{
+    if (w->given == 0) {
+        v[0] = 0.0;
+        v[1] = 0.0;
+        v[2] = 0.0;
+        return;
+    }
+    double speed = w->speed_m_per_s;
+    /* rise_s > 0 once checked; before the check (the rig's value at t = 0), a bad one gives
+     * the steady speed, so that the message names wind.rise_s rather than a NaN wind. */
+    const double x = (w->rise_s > 0.0) ? (t - w->start_s) / w->rise_s : 2.0;
+    if (w->profile == CDPR_WIND_RAMP) {
+        speed *= (x <= 0.0) ? 0.0 : ((x >= 1.0) ? 1.0 : x);
+    } else if (w->profile == CDPR_WIND_GUST && x > 0.0 && x < 1.0) {
+        speed += w->gust_m_per_s * 0.5 * (1.0 - cos(2.0 * CDPR_PI * x));
+    } else {
+        /* steady, or outside the gust */
+    }
+    double c = 1.0;
+    double s = 0.0;
+    cos_sin_deg(w->towards_deg, &c, &s);
+    v[0] = speed * c;
+    v[1] = speed * s;
+    v[2] = 0.0;
 }
 
 /* Every x[i] finite and in [lo, hi] (or (lo, hi] when lo_open), named `key` in errors. */
@@ -751,6 +857,39 @@ static cdpr_status_t check_all(const cdpr_scenario_t *sc, int rig_checked,
                                cdpr_scenario_error_t *err);
 static uint64_t fingerprint(const cdpr_scenario_t *sc);
 
+/* The wind keys a profile reads, and no others: a gust size on a ramp is a mistake, not a
+ * no-op. */
+static cdpr_status_t check_wind_keys(const raw_wind_t *w, const cdpr_scenario_t *sc,
+                                     cdpr_scenario_error_t *err)
+{
+    if (w == NULL) {
+        return CDPR_OK;
+    }
+    const cdpr_wind_profile_t p = (w->profile != NULL) ? *w->profile : CDPR_WIND_STEADY;
+    const char *key = NULL;
+    if (p == CDPR_WIND_STEADY && (w->start_s != NULL || w->rise_s != NULL)) {
+        key = (w->start_s != NULL) ? "wind.start_s" : "wind.rise_s";
+    } else if (p != CDPR_WIND_GUST && w->gust_m_per_s != NULL) {
+        key = "wind.gust_m_per_s";
+    } else if (p != CDPR_WIND_STEADY && w->rise_s == NULL) {
+        cdpr_scenario_error(sc, "wind.rise_s",
+                            "required for a ramp (its rise time) or a gust (its duration)", err);
+        return CDPR_E_PARSE;
+    } else if (p == CDPR_WIND_GUST && w->gust_m_per_s == NULL) {
+        cdpr_scenario_error(sc, "wind.gust_m_per_s", "required for a gust (its peak)", err);
+        return CDPR_E_PARSE;
+    } else {
+        return CDPR_OK;
+    }
+    char what[256];
+    snprintf(what, sizeof what,
+             "not a key of wind.profile %s (steady: speed_m_per_s, "
+             "towards_deg; ramp: also start_s, rise_s; gust: also gust_m_per_s)",
+             cdpr_wind_profile_name(p));
+    cdpr_scenario_error(sc, key, what, err);
+    return CDPR_E_PARSE;
+}
+
 cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_scenario_error_t *err)
 {
     memset(sc, 0, sizeof *sc);
@@ -785,6 +924,9 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     }
     if (st == CDPR_OK) {
         st = check_integrator_sections(raw, sc, err);
+    }
+    if (st == CDPR_OK) {
+        st = check_wind_keys(raw->wind, sc, err);
     }
     if (st == CDPR_OK) {
         st = resolve_rig(raw->robot, sc, err);
@@ -1021,6 +1163,14 @@ static void check_run(vctx_t *vp)
     range(&v, "run.duration_s", &sc->duration_s, 1, 0.0, 1e6, 1);
     range(&v, "run.period_s", &sc->period_s, 1, 0.0, 10.0, 1);
     range(&v, "run.output_rate_hz", &sc->output_rate_hz, 1, 0.0, 1e6, 0);
+    if (sc->wind.given != 0) {
+        const cdpr_scenario_wind_t *w = &sc->wind;
+        range(&v, "wind.speed_m_per_s", &w->speed_m_per_s, 1, 0.0, 100.0, 0);
+        range(&v, "wind.towards_deg", &w->towards_deg, 1, -360.0, 360.0, 0);
+        range(&v, "wind.start_s", &w->start_s, 1, 0.0, 1e6, 0);
+        range(&v, "wind.rise_s", &w->rise_s, 1, 0.0, 1e6, 1);
+        range(&v, "wind.gust_m_per_s", &w->gust_m_per_s, 1, 0.0, 100.0 - w->speed_m_per_s, 0);
+    }
     *vp = v;
 }
 

@@ -138,6 +138,15 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
         cdpr_robot_out_t out; /* end forces at t_k, for the row below */
         cdpr_plant_measure_out(p, &meas, &out);
         const int last = (k >= n_periods) ? 1 : 0;
+        if (sc->wind.given != 0 && last == 0) {
+            /* The wind of the coming period, at its midpoint, for the plant and the
+             * controller's feed-forward (cdpr_scenario_wind_at). */
+            double w[3];
+            cdpr_scenario_wind_at(sc, t + 0.5 * dt, w);
+            p->robot.in.wind_m_per_s =
+                cdpr_v3((cdpr_real_t)w[0], (cdpr_real_t)w[1], (cdpr_real_t)w[2]);
+            (void)cdpr_tracker_set_wind(&s->tracker, p->robot.in.wind_m_per_s); /* finite */
+        }
         cdpr_tracker_cmd_t cmd;
         if (last == 0) {
             if (cdpr_tracker_step(&s->tracker, &meas, &cmd) != CDPR_OK) {

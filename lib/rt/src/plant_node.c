@@ -117,6 +117,7 @@ cdpr_status_t cdpr_rt_plant_init(cdpr_rt_plant_t *rt, const cdpr_scenario_t *sc,
 {
     memset(rt, 0, sizeof *rt);
     rt->o = *o;
+    rt->wind = sc->wind;
     cdpr_status_t st = (cdpr_scenario_is_checked(sc) != 0) ? CDPR_OK : cdpr_scenario_check(sc, err);
     if (st != CDPR_OK) {
         return st;
@@ -494,6 +495,12 @@ static void *periodic(void *arg)
         const cdpr_winch_mode_t mode =
             (cmd.mode == CDPR_WINCH_LENGTH) ? CDPR_WINCH_LENGTH : CDPR_WINCH_RATE;
         int pf = 0;
+        if (rt->wind.given != 0) { /* the coming period's wind, at its midpoint */
+            double w[3];
+            cdpr_scenario_wind_eval(&rt->wind,
+                                    cdpr_plant_time(&rt->plant) + 0.5 * rt->plant.pp.period_s, w);
+            rt->plant.robot.in.wind_m_per_s = cdpr_v3(w[0], w[1], w[2]);
+        }
         const cdpr_status_t st = cdpr_plant_step(&rt->plant, mode, cmd.value, &pf);
         if (st >= 0) {
             rt->command_seq = cmd.seq;

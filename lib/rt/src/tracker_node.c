@@ -581,6 +581,11 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
     cdpr_tracker_meas_t m;
     cdpr_tracker_cmd_t c;
     (void)cdpr_rt_tracker_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m);
+    if (t->wind != NULL && t->wind->given != 0) {
+        double w[3];
+        cdpr_scenario_wind_eval(t->wind, m.t_s + 0.5 * t->period_s, w);
+        (void)cdpr_tracker_set_wind(&t->tracker, cdpr_v3(w[0], w[1], w[2])); /* finite */
+    }
     const int64_t t0 = now_ns();
     const cdpr_status_t st = cdpr_tracker_step(&t->tracker, &m, &c);
     time_step(t, now_ns() - t0);

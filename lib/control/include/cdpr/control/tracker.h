@@ -251,6 +251,11 @@ void cdpr_tracker_inertial_wrench(const cdpr_robot_t *model, const cdpr_traj_sam
 void cdpr_tracker_wind_wrench(const cdpr_robot_t *model, const cdpr_cabin_motion_t *pose,
                               cdpr_vec3_t wind_m_per_s, cdpr_vec3_t *f_N, cdpr_vec3_t *tau_Nm);
 
+/// The steady wind the feed-forward assumes from the next step on (gains.wind_m_per_s; with
+/// wind_ff > 0): a wind that changes during a run, read by an anemometer. Returns CDPR_OK, or
+/// CDPR_E_NOT_FINITE (the tracker keeps its wind) or CDPR_E_INVALID_ARG (NULL). O(1).
+cdpr_status_t cdpr_tracker_set_wind(cdpr_tracker_t *tr, cdpr_vec3_t wind_m_per_s);
+
 /// Reference of tracker `tr` at t: the trajectory, or the transfer onto it once the first
 /// step has set it (transfer_s > 0).
 void cdpr_tracker_reference(const cdpr_tracker_t *tr, cdpr_real_t t_s, cdpr_traj_sample_t *out);

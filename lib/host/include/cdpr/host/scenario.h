@@ -59,6 +59,30 @@ typedef enum {
     CDPR_ROBOT_EMBEDDED = 2     ///< `robot: {cables: [...], cabin: {...}, ...}` ("embedded")
 } cdpr_robot_source_t;
 
+/// Time profile of a scenario's wind (`wind.profile`; docs/scenarios.md, "wind").
+typedef enum {
+    CDPR_WIND_STEADY = 0, ///< the speed from t = 0
+    CDPR_WIND_RAMP = 1,   ///< 0 until start_s, rising linearly to the speed over rise_s
+    CDPR_WIND_GUST = 2    ///< the speed, plus a (1 - cos) gust of peak gust_m_per_s over
+                          ///< [start_s, start_s + rise_s]
+} cdpr_wind_profile_t;
+
+/// A scenario's wind (`wind:`): uniform and horizontal, with a time profile. It replaces the
+/// robot's steady `wind_m_per_s` for the run (a scenario that names a robot file can set it).
+typedef struct {
+    int given;                   ///< 1 when the scenario has a wind section
+    double speed_m_per_s;        ///< wind.speed_m_per_s, in [0, 100]
+    double towards_deg;          ///< wind.towards_deg: the direction the air moves to, from +x
+                                 ///< towards +y [deg], in [-360, 360]
+    cdpr_wind_profile_t profile; ///< wind.profile (default steady)
+    double start_s;              ///< wind.start_s: ramp or gust start [s], >= 0
+    double rise_s;               ///< wind.rise_s: ramp rise or gust duration [s], > 0
+    double gust_m_per_s;         ///< wind.gust_m_per_s: the gust's peak added speed, [0, 100]
+} cdpr_scenario_wind_t;
+
+/// Names of the wind profiles ("steady", "ramp", "gust"), as the scenario file spells them.
+const char *cdpr_wind_profile_name(cdpr_wind_profile_t profile);
+
 /// A resolved scenario: every default applied, every value checked (plain data, no
 /// pointers; nothing to free).
 typedef struct {
@@ -82,6 +106,9 @@ typedef struct {
     double period_s;       ///< control period of plant, controller and
                            ///< outputs [s] (run.period_s)
     double output_rate_hz; ///< CSV rows per simulated second
+    /// The wind section (given = 0: the robot's steady rig.wind_m_per_s). With a section,
+    /// rig.wind_m_per_s holds the profile's value at t = 0 (the settled start's wind).
+    cdpr_scenario_wind_t wind;
     /// Fingerprint of the values above when cdpr_scenario_load or cdpr_scenario_override last
     /// checked them (0: never): cdpr_scenario_is_checked. Last member; not a value.
     uint64_t checked_stamp;
@@ -149,6 +176,17 @@ const char *cdpr_scenario_trajectory_key(const cdpr_scenario_t *sc);
 
 /// Name of the scenario's robot: the preset's name, the robot file's path or "embedded".
 const char *cdpr_scenario_robot_name(const cdpr_scenario_t *sc);
+
+/// The wind at time t [s] in world axes [m/s]: the wind section's profile, or the robot's
+/// steady wind_m_per_s without one. The simulation loops (cdpr_sim_run, cdpr-rt) set the
+/// plant's wind each period to its value at the period's midpoint (exact on average for a
+/// ramp), and the controller's wind feed-forward to the same value (an ideal anemometer).
+/// Directions that are whole multiples of 90 degrees give exact zeros. O(1); cannot fail.
+void cdpr_scenario_wind_at(const cdpr_scenario_t *sc, double t, double v[3]);
+
+/// The profile of a wind section at time t [s] in world axes [m/s] (as cdpr_scenario_wind_at;
+/// for loops that keep the section without the scenario). A section with given = 0: zero.
+void cdpr_scenario_wind_eval(const cdpr_scenario_wind_t *w, double t, double v[3]);
 
 /// Segments of the scenario robot's first cable (the initial discretisation).
 int cdpr_scenario_segments(const cdpr_scenario_t *sc);

@@ -207,6 +207,9 @@ typedef struct {
     long mon_periods;     ///< periods and misses for the overload check (atomic; RT thread)
     long mon_misses;
     int done; ///< the periodic thread has finished (atomic)
+    /// The scenario's wind section (given = 0: the robot's steady wind): set each period to
+    /// its value at the period's midpoint (cdpr_scenario_wind_at).
+    cdpr_scenario_wind_t wind;
 } cdpr_rt_plant_t;
 
 /// Defaults (see the field comments).

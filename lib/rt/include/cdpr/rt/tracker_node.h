@@ -207,6 +207,10 @@ typedef struct {
     /// are not older than the one kept; cleared when another plant session is followed.
     cdpr_diagnostics_t plant_diag;
     int have_plant_diag; ///< 1: plant_diag holds one
+    /// The scenario's wind section for the wind feed-forward (NULL, or given = 0: the steady
+    /// gains.wind_m_per_s): each step assumes its value at the state's time plus half a period,
+    /// as the plant (caller-owned; set after cdpr_rt_tracker_init).
+    const cdpr_scenario_wind_t *wind;
 } cdpr_rt_tracker_t;
 
 /// Build the node: the controller (cdpr_tracker_init with `model` params, `traj`, gains `g`
