@@ -46,7 +46,7 @@ import numpy as np
 import scipy.linalg as sla
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gain_sweep import set_key  # noqa: E402
+from scenario_edit import edit  # noqa: E402
 
 GOAL_GM_DB = 6.0
 GOAL_PM_DEG = 30.0
@@ -367,10 +367,8 @@ def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     exe = a.bin or os.path.join(root, "build", "release", "apps", "cdpr-design")
     os.makedirs(a.out, exist_ok=True)
-    text = open(a.scenario).read()
-    for s in a.settings:
-        k, v = s.split("=", 1)
-        text = set_key(text, k, v)
+    text = edit(open(a.scenario).read(), [tuple(s.split("=", 1)) for s in a.settings],
+                os.path.dirname(a.scenario))
     scen = os.path.join(a.out, "scenario.yaml")
     with open(scen, "w") as fh:
         fh.write(text)

@@ -5,16 +5,15 @@ targets"), on the plant and controller of this build.
 
     scripts/tracking_targets.py [--out DIR] [--bin DIR] [--jobs N] [--only NAME ...]
 
-Runs cdpr-sim on the shipped scenarios and on copies changed by key=value (as
-scripts/gain_sweep.py does; every copy is kept in OUT/<case>/scenario.yaml, so any row can be
-rerun), and cdpr-rt with its in-process tracker for the controller's cost per period. Prints a
+Runs cdpr-sim on the shipped scenarios and on copies changed by key=value (edited with
+ruamel.yaml: scripts/scenario_edit.py; every copy is kept in OUT/<case>/scenario.yaml, so any
+row can be rerun), and cdpr-rt with its in-process tracker for the controller's cost per period. Prints a
 Markdown table (target, case, measured, met) and writes OUT/targets.json. The error measures
 are computed here from each run's timeseries.csv (the error from the trajectory, not from the
 reference), the lap statistics from summary.json. About 3 minutes on 2 cores (the four
 10-minute holds dominate). Timing rows are a benchmark of this machine, not a test.
 """
 import argparse
-import importlib.util
 import json
 import math
 import os
@@ -24,10 +23,8 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-_spec = importlib.util.spec_from_file_location("gain_sweep", os.path.join(ROOT, "scripts",
-                                                                          "gain_sweep.py"))
-_gs = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(_gs)
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+from scenario_edit import edit  # noqa: E402
 
 TK = "controller.tension_gain_m_per_s_per_N"
 TF = "controller.tension_filter_s"
@@ -115,18 +112,14 @@ def measure(kind, d, s, circle=None):
 
 def run_case(name, bindir, out):
     scen, edits, opts, kind = CASES[name]
-    text = open(os.path.join(ROOT, "scenarios", scen)).read()
-    for e in edits:
-        k, v = (e[1:], None) if e.startswith("-") else e.split("=", 1)
-        text = _gs.set_key(text, k, v)
+    text = edit(open(os.path.join(ROOT, "scenarios", scen)).read(),
+                [(e[1:], None) if e.startswith("-") else tuple(e.split("=", 1)) for e in edits],
+                os.path.join(ROOT, "scenarios"))
     d = os.path.join(out, name)
     os.makedirs(d, exist_ok=True)
     path = os.path.join(d, "scenario.yaml")
     with open(path, "w") as fh:
         fh.write(text)
-    # A robot file (robot.file) would resolve against the copy's directory: not supported.
-    if "file:" in text:
-        raise SystemExit("tracking_targets: %s uses a robot file; copy it along" % scen)
     r = subprocess.run([os.path.join(bindir, "cdpr-sim"), path, "--out", d, "--no-plot",
                         "--quiet"] + opts, capture_output=True, text=True)
     if r.returncode not in (0,):

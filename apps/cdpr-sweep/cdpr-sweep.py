@@ -720,11 +720,12 @@ def results(sweep, out, ids):
             if isinstance(per_cable, list):
                 for j, v in enumerate(per_cable, 1):
                     row[col % j] = v
+        row["parameters"] = summ.get("parameters")  # results.json only: the resolved values
         rows.append(row)
     cols = []
     for r in rows:
         for k in r:
-            if k not in cols:
+            if k not in cols and k != "parameters":
                 cols.append(k)
     with open(os.path.join(out, "results.csv.tmp"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols, lineterminator="\n")

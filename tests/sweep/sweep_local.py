@@ -126,6 +126,16 @@ for r in rows:
         summary_wo_wall(os.path.join(s, "summary.json"))
     same += 1 if (q.returncode == 0 and ts_same and sm_same) else 0
 check(same == 4, "every case's timeseries.csv and summary.json == a serial cdpr-sim run (%d/4)" % same)
+with open(os.path.join(out, "results.json")) as f:
+    jrows = json.load(f)
+resolved = [(j["parameters"]["controller"]["kp"],
+             {c["rope"]["damping_Ns"] for c in j["parameters"]["robot"]["cables"]},
+             {c["segments"] for c in j["parameters"]["robot"]["cables"]},
+             j["parameters"]["run"]["duration_s"]) for j in jrows]
+check(resolved == [(0.5, {170.0}, {12}, 0.3), (0.5, {340.0}, {16}, 0.3), (1.0, {170.0}, {12}, 0.3),
+                   (1.0, {340.0}, {16}, 0.3)],
+      "results.json: each case's resolved parameters (summary.json) hold its axis values, on "
+      "every cable, and the set key")
 
 # 1b. a case whose values are the base's own: the same run as cdpr-sim on the base file itself
 # (the case file is the base re-written by the YAML library; its data lines must not differ).

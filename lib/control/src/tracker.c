@@ -126,7 +126,7 @@ cdpr_status_t cdpr_tracker_set_wind(cdpr_tracker_t *tr, cdpr_vec3_t wind_m_per_s
     cdpr_status_t st = CDPR_E_INVALID_ARG;
     if (tr != NULL) {
         st = CDPR_E_NOT_FINITE;
-        if (cdpr_v3_isfinite(wind_m_per_s)) {
+        if (cdpr_v3_isfinite(wind_m_per_s) != 0) {
             tr->g.wind_m_per_s = wind_m_per_s;
             st = CDPR_OK;
         }

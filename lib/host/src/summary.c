@@ -191,6 +191,172 @@ static void write_counts(FILE *f, const char *key, int n, const unsigned long *c
     fputc(']', f);
 }
 
+/* ---- the resolved parameters ("parameters": what the run used, every default applied) */
+
+typedef struct {
+    const char *k;
+    double v;
+} kv_t;
+
+/* "key": value (%.17g, null if not finite), with the separator before all but the first. */
+static void json_num(FILE *f, int *first, const char *key, double v)
+{
+    fprintf(f, "%s\"%s\": ", (*first != 0) ? "" : ", ", key);
+    *first = 0;
+    if (isfinite(v)) {
+        fprintf(f, "%.17g", v);
+    } else {
+        fputs("null", f);
+    }
+}
+
+static void json_nums(FILE *f, int *first, const kv_t *kv, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        json_num(f, first, kv[i].k, kv[i].v);
+    }
+}
+
+static void json_vec(FILE *f, int *first, const char *key, const double *v, int n)
+{
+    fprintf(f, "%s\"%s\": [", (*first != 0) ? "" : ", ", key);
+    *first = 0;
+    for (int i = 0; i < n; ++i) {
+        fprintf(f, "%s%.17g", (i == 0) ? "" : ", ", v[i]);
+    }
+    fputc(']', f);
+}
+
+/* The robot record (sc->rig) as the run built it. */
+static void write_robot_parameters(FILE *f, const cdpr_rig_t *rig)
+{
+    int first = 1;
+    fprintf(f, ",\n    \"robot\": {\"n_cables\": %d", rig->n_cables);
+    first = 0;
+    json_num(f, &first, "gravity_m_per_s2", rig->gravity_m_per_s2);
+    json_num(f, &first, "air_density_kg_per_m3", (double)rig->cable[0].rope.rho_air_kg_per_m3);
+    json_vec(f, &first, "wind_m_per_s", rig->wind_m_per_s, 3);
+    json_vec(f, &first, "nominal_pose", rig->nominal_pose, 6);
+    fprintf(f, ",\n      \"cabin\": {");
+    first = 1;
+    json_num(f, &first, "mass_kg", rig->cabin_mass_kg);
+    fprintf(f, ", \"inertia_kg_m2\": [");
+    for (int i = 0; i < 3; ++i) {
+        const double *row = rig->cabin_inertia_kg_m2[i];
+        fprintf(f, "%s[%.17g, %.17g, %.17g]", (i == 0) ? "" : ", ", row[0], row[1], row[2]);
+    }
+    fputc(']', f);
+    json_vec(f, &first, "com_m", rig->cabin_com_m, 3);
+    fprintf(f, "},\n      \"cables\": [");
+    for (int j = 0; j < rig->n_cables && j < CDPR_MAX_CABLES; ++j) {
+        const cdpr_rig_cable_t *c = &rig->cable[j];
+        const cdpr_cable_params_t *r = &c->rope;
+        const cdpr_winch_params_t *w = &c->winch;
+        fprintf(f, "%s\n        {", (j == 0) ? "" : ",");
+        first = 1;
+        json_vec(f, &first, "exit_m", c->exit_m, 3);
+        json_vec(f, &first, "attach_m", c->attach_m, 3);
+        fprintf(f, ", \"segments\": %d, \"rope\": {", c->segments);
+        first = 1;
+        const kv_t rope[] = {
+            {"d0_m", (double)r->d0_m},
+            {"rho_kg_per_m", (double)r->rho_kg_per_m},
+            {"ea_N", (double)r->ea_N},
+            {"damping_Ns", (double)r->damping_Ns},
+            {"damping_ratio", (double)r->damping_ratio},
+            {"damping_ref_hz", (double)r->damping_ref_hz},
+            {"cd", (double)r->cd},
+            {"cm", (double)r->cm},
+        };
+        json_nums(f, &first, rope, sizeof rope / sizeof rope[0]);
+        fprintf(f, "}, \"winch\": {");
+        first = 1;
+        const kv_t winch[] = {
+            {"u_max_m_per_s", (double)w->u_max_m_per_s},
+            {"a_max_m_per_s2", (double)w->a_max_m_per_s2},
+            {"kp_per_s", (double)w->kp_per_s},
+            {"min_length_m", (double)w->min_length_m},
+        };
+        json_nums(f, &first, winch, sizeof winch / sizeof winch[0]);
+        fprintf(f, "}}");
+    }
+    fprintf(f, "]}");
+}
+
+/* "parameters": the resolved values of the run (robot, wind section, controller, integrator,
+ * run settings), so that a results table can say what each case ran. */
+static void write_parameters(FILE *f, const cdpr_scenario_t *sc)
+{
+    fprintf(f, ",\n  \"parameters\": {\"segments_initial\": %d", cdpr_scenario_segments(sc));
+    write_robot_parameters(f, &sc->rig);
+    int first = 1;
+    const cdpr_scenario_wind_t *w = &sc->wind;
+    if (w->given == 0) {
+        fprintf(f, ",\n    \"wind\": null");
+    } else {
+        fprintf(f, ",\n    \"wind\": {\"profile\": ");
+        json_string(f, cdpr_wind_profile_name(w->profile));
+        first = 0;
+        const kv_t wind[] = {
+            {"speed_m_per_s", w->speed_m_per_s},
+            {"towards_deg", w->towards_deg},
+            {"start_s", w->start_s},
+            {"rise_s", w->rise_s},
+            {"gust_m_per_s", w->gust_m_per_s},
+        };
+        json_nums(f, &first, wind, sizeof wind / sizeof wind[0]);
+        fputc('}', f);
+    }
+    const cdpr_tracker_gains_t *g = &sc->gains;
+    fprintf(f, ",\n    \"controller\": {");
+    first = 1;
+    const kv_t gains[] = {
+        {"kp", (double)g->kp},
+        {"kd_s", (double)g->kd_s},
+        {"k_length_per_s", (double)g->k_length_per_s},
+        {"filter_s", (double)g->filter_s},
+        {"inertial_ff", (double)g->inertial_ff},
+        {"damping_N_s_per_m", (double)g->damping_N_s_per_m},
+        {"damping_rot_N_m_s", (double)g->damping_rot_N_m_s},
+        {"transfer_s", (double)g->transfer_s},
+        {"transfer_from_rest", (double)g->transfer_from_rest},
+        {"wind_ff", (double)g->wind_ff},
+        {"tension_gain_m_per_s_per_N", (double)g->tension_gain_m_per_s_per_N},
+        {"tension_filter_s", (double)g->tension_filter_s},
+        {"learning_gain", (double)g->learning_gain},
+        {"learning_lead_s", (double)g->learning_lead_s},
+        {"learning_cutoff_hz", (double)g->learning_cutoff_hz},
+        {"learning_limit_m", (double)g->learning_limit_m},
+        {"learning_settle_laps", (double)g->learning_settle_laps},
+    };
+    json_nums(f, &first, gains, sizeof gains / sizeof gains[0]);
+    const cdpr_scenario_integrator_t *in = &sc->integrator;
+    fprintf(f, "},\n    \"integrator\": {\"method\": ");
+    json_string(f, cdpr_plant_integrator_name(in->method));
+    first = 0;
+    const kv_t integ[] = {
+        {"rtol", in->rtol},
+        {"atol_position_m", in->atol_position_m},
+        {"atol_velocity_m_per_s", in->atol_velocity_m_per_s},
+        {"atol_quaternion", in->atol_quaternion},
+        {"atol_rate_rad_per_s", in->atol_rate_rad_per_s},
+        {"h_max_s", in->h_max_s},
+        {"max_trials", (double)in->max_trials},
+        {"max_attempts", (double)in->max_attempts},
+        {"substeps", (double)in->substeps},
+    };
+    json_nums(f, &first, integ, sizeof integ / sizeof integ[0]);
+    fprintf(f, "},\n    \"run\": {");
+    first = 1;
+    const kv_t run[] = {
+        {"duration_s", sc->duration_s},
+        {"period_s", sc->period_s},
+        {"output_rate_hz", sc->output_rate_hz},
+    };
+    json_nums(f, &first, run, sizeof run / sizeof run[0]);
+    fprintf(f, "}}");
+}
+
 /* The real-time plant's figures, "rt_*" keys (null when not known). */
 static void write_rt(FILE *f, const cdpr_summary_rt_t *rt)
 {
@@ -331,6 +497,7 @@ cdpr_status_t cdpr_summary_write(const char *path, const cdpr_scenario_t *sc,
     write_reals(f, "lap_rms_m", sum->n_laps, sum->lap_rms_m);
     write_reals(f, "lap_max_m", sum->n_laps, sum->lap_max_m);
     write_reals(f, "lap_rms_rad", sum->n_laps, sum->lap_rms_rad);
+    write_parameters(f, sc);
     fprintf(f, "\n}\n");
     return close_summary(f);
 }
