@@ -21,6 +21,7 @@ cdpr_packages=(
     python3-dev python3-setuptools python3-distutils patch
     python3-numpy python3-scipy python3-ruamel.yaml
     slurm-wlm munge
+    liblcm-java libjchart2d-java default-jdk-headless
     liblapack-dev
 )
 

@@ -510,6 +510,8 @@ def run_case_main(case_dir, sim):
         if stopped.is_set():
             return 143
         proc.append(start_sim(sim, d, log))
+        if stopped.is_set():  # a signal while it started: pass it on
+            on_signal(signal.SIGTERM, None)
         rc = proc[0].wait()
     status = finish_case(d, rc, time.monotonic() - start, stopped.is_set())
     if status is None:

@@ -3,7 +3,8 @@
 # An installation works wherever its prefix is moved: install BUILD_DIR to a temporary prefix,
 # move the prefix, then run the moved cdpr-sim on the moved installation's scenario. It must
 # use the moved share/cdpr/scripts/plot_sim.gp (found relative to the executable; its --help
-# names the default script) and write the figures.
+# names the default script) and write the figures; the moved cdpr-lcm-spy (where built) finds
+# the moved types jar and lcm-spy's lookup finds the types in it.
 # Usage: relocate.sh BUILD_DIR WORK_DIR     (exit 77: skipped, no gnuplot)
 set -eu
 build=$1
@@ -32,4 +33,11 @@ fi
 for f in figure5.png tensions.png timeseries.csv summary.json; do
     [ -s "$w/out/$f" ] || { echo "FAIL: $w/out/$f missing or empty"; exit 1; }
 done
+# lcm-spy's wrapper, where the build made the Java types: the moved share/cdpr/java jar.
+spy=$w/moved/bin/cdpr-lcm-spy
+if [ -x "$spy" ]; then
+    [ "$("$spy" --classpath | sed 's/.*://')" = "$w/moved/bin/../share/cdpr/java/cdpr_lcmtypes.jar" ] ||
+        { "$spy" --classpath; echo "FAIL: cdpr-lcm-spy does not use the moved jar"; exit 1; }
+    "$spy" --check >"$w/spy.txt" 2>&1 || { cat "$w/spy.txt"; echo "FAIL: cdpr-lcm-spy --check"; exit 1; }
+fi
 echo "PASS: the installation moved to $w/moved runs and plots with its own $script"
