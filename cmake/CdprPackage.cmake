@@ -97,9 +97,13 @@ _cdpr_pkgconfig(rt "cdpr real-time nodes (plant node, tracker node)"
 
 # Data of the host tools, and the licence (every build).
 if(NOT CMAKE_CROSSCOMPILING)
-    install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenarios/
-        DESTINATION ${CMAKE_INSTALL_DATADIR}/cdpr/scenarios COMPONENT data
-        FILES_MATCHING PATTERN "*.yaml")
+    # The robot files and sweeps beside the scenarios, so that the installed scenarios' and
+    # sweeps' relative paths (../robots/..., ../scenarios/...) hold in the prefix too.
+    foreach(_cdpr_data scenarios robots sweeps)
+        install(DIRECTORY ${PROJECT_SOURCE_DIR}/${_cdpr_data}/
+            DESTINATION ${CMAKE_INSTALL_DATADIR}/cdpr/${_cdpr_data} COMPONENT data
+            FILES_MATCHING PATTERN "*.yaml")
+    endforeach()
     file(GLOB _cdpr_gp CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/scripts/*.gp)
     install(FILES ${_cdpr_gp} DESTINATION ${CMAKE_INSTALL_DATADIR}/cdpr/scripts COMPONENT data)
     file(GLOB _cdpr_lcm CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/lcmtypes/*.lcm)

@@ -12,8 +12,8 @@
 #     in the fixed-cost mode (ROS34PW2 in n equal substeps per 1 ms period, n derived from the
 #     model: the same work in every period; docs/realtime.md "Real-time contract"). When multicast
 #     cannot be set up, both sides run in one process over memq:// instead, and it says so.
-#     Writes out/paper-circle-rt/ (timeseries.csv, summary.json, figure4.png, errors.png,
-#     tensions.png, laps.csv, laps.png, circle.lcmlog) and prints the tracking summary (with
+#     Writes out/paper-circle-rt/ (timeseries.csv, summary.json, figure4, errors, tensions,
+#     cables and laps as .png and .pdf, laps.csv, circle.lcmlog) and prints the tracking summary (with
 #     the RMS error of every lap) and the plant telemetry; about 65 s;
 #  3. the paper's line scenario as a batch run (cdpr-sim; out/paper-line/).
 set -euo pipefail
@@ -86,7 +86,7 @@ else
     "$bin/cdpr-rt" "$scenario" --rate 1000 --integrator ros34pw2-fixed --lcm-url memq:// --realtime --with-tracker \
         --tracker-out "$out"
 fi
-echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png, $out/laps.png (error per lap)"
+echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png (one panel per cable), $out/cables.png, $out/laps.png (error per lap); each also as .pdf"
 
 echo
 echo "==== scenarios/paper-line.yaml (batch run)"

@@ -44,9 +44,10 @@ static void usage(FILE *f)
             "       cdpr-sim --validate SCENARIO... [overrides]\n"
             "Run a scenario file (robot, initial pose, trajectory, controller, integrator,\n"
             "duration) in closed loop and write DIR/timeseries.csv, DIR/summary.json and\n"
-            "figures with gnuplot: figure4.png (circle: path and error, the paper's Figure 4),\n"
-            "figure5.png (line: error per coordinate, the paper's Figure 5) or errors.png\n"
-            "(error per coordinate otherwise), and tensions.png. See docs/scenarios.md.\n\n"
+            "figures with gnuplot, each as PNG and PDF: path (circle: path and error; figure4\n"
+            "on the paper's robot, after its Figure 4), errors (error per coordinate; figure5\n"
+            "for a line on the paper's robot), tensions (one panel per cable), cables\n"
+            "(lengths, payout, segments), laps (periodic). See docs/scenarios.md.\n\n"
             "  --out DIR           output directory (created if missing; required)\n"
             "  --duration S        simulate S seconds instead of run.duration_s (tests and\n"
             "                      quick looks; S must be a whole number of run.period_s)\n"
@@ -127,15 +128,19 @@ static int parse(int argc, char **argv, options_t *o)
     return 0;
 }
 
-/* Where the figures are, by trajectory type (scripts/plot_sim.gp). */
-static void print_figures(const char *dir, cdpr_traj_type_t type)
+/* Where the figures are (scripts/plot_sim.gp): each as PNG and PDF. */
+static void print_figures(const char *dir, const cdpr_scenario_t *sc, int n_laps)
 {
+    const int paper = cdpr_app_paper_robot(sc);
+    const cdpr_traj_type_t type = sc->traj.type;
+    const char *first = "errors";
     if (type == CDPR_TRAJ_CIRCLE) {
-        printf("  figures         %s/figure4.png, %s/errors.png, %s/tensions.png\n", dir, dir, dir);
-    } else {
-        printf("  figures         %s/%s, %s/tensions.png\n", dir,
-               (type == CDPR_TRAJ_LINE) ? "figure5.png" : "errors.png", dir);
+        first = (paper != 0) ? "figure4" : "path";
+    } else if (type == CDPR_TRAJ_LINE && paper != 0) {
+        first = "figure5";
     }
+    printf("  figures         %s/%s%s, tensions, cables%s (each .png and .pdf)\n", dir, first,
+           (type == CDPR_TRAJ_CIRCLE) ? ", errors" : "", (n_laps > 0) ? ", laps" : "");
 }
 
 /* --validate: every operand loaded and checked (cdpr_app_scenario prints why one is refused).
@@ -210,14 +215,13 @@ int main(int argc, char **argv)
     }
     cdpr_status_t plotted = CDPR_E_IO;
     if (o.plot != 0) {
-        plotted = cdpr_plot_run("cdpr-sim", o.plot_script, o.out_dir,
-                                cdpr_traj_type_name(sc.traj.type), cdpr_app_title(&sc));
+        plotted = cdpr_app_plot("cdpr-sim", o.plot_script, o.out_dir, &sc);
     }
     if (o.quiet == 0) {
         cdpr_summary_print(stdout, o.scenario, &sum);
         printf("  outputs         %s/timeseries.csv, %s/summary.json\n", o.out_dir, o.out_dir);
         if (plotted == CDPR_OK) {
-            print_figures(o.out_dir, sc.traj.type);
+            print_figures(o.out_dir, &sc, sum.n_laps);
         }
     }
     return cdpr_app_exit_code(st);

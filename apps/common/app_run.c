@@ -128,10 +128,30 @@ cdpr_status_t cdpr_app_write_outputs(const char *prog, const cdpr_scenario_t *sc
         return CDPR_E_IO;
     }
     if (plot_script != NULL) {
-        (void)cdpr_plot_run(prog, plot_script, out_dir, cdpr_traj_type_name(sc->traj.type),
-                            cdpr_app_title(sc));
+        (void)cdpr_app_plot(prog, plot_script, out_dir, sc);
     }
     return CDPR_OK;
+}
+
+cdpr_status_t cdpr_app_plot(const char *prog, const char *script, const char *dir,
+                            const cdpr_scenario_t *sc)
+{
+    const char *slash = strrchr(sc->path, '/');
+    const char *file = (slash != NULL) ? slash + 1 : sc->path;
+    char title[800];
+    if (sc->description[0] != '\0' && file[0] != '\0') {
+        snprintf(title, sizeof title, "%s: %s", file, sc->description);
+    } else {
+        snprintf(title, sizeof title, "%s", cdpr_app_title(sc));
+    }
+    return cdpr_plot_run(prog, script, dir, cdpr_traj_type_name(sc->traj.type), title,
+                         sc->rig.n_cables, cdpr_app_paper_robot(sc));
+}
+
+int cdpr_app_paper_robot(const cdpr_scenario_t *sc)
+{
+    return (sc->robot_source == CDPR_ROBOT_FROM_PRESET && sc->preset == CDPR_PRESET_PAPER_50M) ? 1
+                                                                                               : 0;
 }
 
 /* argv[k..] += "--NAME" "%.17g of v" when v was given (not NaN); the value round-trips. */

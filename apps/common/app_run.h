@@ -99,6 +99,15 @@ const volatile int *cdpr_app_stop_on_signals(void);
 /// Title of a run's figures: the scenario's description, else its file.
 const char *cdpr_app_title(const cdpr_scenario_t *sc);
 
+/// 1 when the scenario's robot is the paper's (the paper-50m preset): its figures name the
+/// paper's Figure 4/5 they follow; else 0.
+int cdpr_app_paper_robot(const cdpr_scenario_t *sc);
+
+/// The figures of a run of `sc` in `dir` (cdpr_plot_run with the scenario's trajectory type,
+/// title "FILE: description", cable count, and whether the robot is the paper's preset).
+cdpr_status_t cdpr_app_plot(const char *prog, const char *script, const char *dir,
+                            const cdpr_scenario_t *sc);
+
 /// Write out_dir/summary.json and, when `plot_script` is not NULL, the figures (gnuplot on
 /// that script; a failure there is only a warning). Returns CDPR_OK, or CDPR_E_IO after
 /// printing "PROG: FILE: cannot write: why".

@@ -3,7 +3,8 @@
 # An installation works wherever its prefix is moved: install BUILD_DIR to a temporary prefix,
 # move the prefix, then run the moved cdpr-sim on the moved installation's scenario. It must
 # use the moved share/cdpr/scripts/plot_sim.gp (found relative to the executable; its --help
-# names the default script) and write the figures; the moved cdpr-lcm-spy (where built) finds
+# names the default script) and write the figures; the installed scenario that names a robot file
+# by a relative path runs, the installed sweep expands and checks; the moved cdpr-lcm-spy (where built) finds
 # the moved types jar and lcm-spy's lookup finds the types in it.
 # Usage: relocate.sh BUILD_DIR WORK_DIR     (exit 77: skipped, no gnuplot)
 set -eu
@@ -33,6 +34,15 @@ fi
 for f in figure5.png tensions.png timeseries.csv summary.json; do
     [ -s "$w/out/$f" ] || { echo "FAIL: $w/out/$f missing or empty"; exit 1; }
 done
+# A shipped scenario that names a robot file by a relative path, and a shipped sweep (checked,
+# not run), from the moved prefix.
+"$sim" "$w/moved/share/cdpr/scenarios/example-rig-circle.yaml" --out "$w/rig" --duration 0.5 \
+    --quiet --no-plot 2>"$w/rig.txt" || { cat "$w/rig.txt"; echo "FAIL: the installed example-rig-circle.yaml"; exit 1; }
+if [ -x "$w/moved/bin/cdpr-sweep" ] && /usr/bin/python3 -c 'import ruamel.yaml' 2>/dev/null; then
+    "$w/moved/bin/cdpr-sweep" "$w/moved/share/cdpr/sweeps/paper-wind.yaml" --out "$w/sweep" \
+        --dry-run >"$w/sweep.txt" 2>&1 || { cat "$w/sweep.txt"; echo "FAIL: the installed sweep"; exit 1; }
+fi
+
 # lcm-spy's wrapper, where the build made the Java types: the moved share/cdpr/java jar.
 spy=$w/moved/bin/cdpr-lcm-spy
 if [ -x "$spy" ]; then

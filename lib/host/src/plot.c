@@ -11,8 +11,10 @@
 #include <unistd.h>
 
 cdpr_status_t cdpr_plot_run(const char *prog, const char *script, const char *dir, const char *kind,
-                            const char *title)
+                            const char *title, int n_cables, int paper)
 {
+    char n_arg[16];
+    snprintf(n_arg, sizeof n_arg, "%d", n_cables);
     struct stat sb;
     if (stat(script, &sb) != 0) {
         fprintf(stderr, "%s: warning: plot script %s: %s; no figures\n", prog, script,
@@ -26,8 +28,9 @@ cdpr_status_t cdpr_plot_run(const char *prog, const char *script, const char *di
         return CDPR_E_IO;
     }
     if (pid == 0) {
-        char *const args[] = {"gnuplot",     "-c", (char *)script, (char *)dir, (char *)kind,
-                              (char *)title, NULL};
+        char *const args[] = {"gnuplot",    "-c",          (char *)script, (char *)dir,
+                              (char *)kind, (char *)title, n_arg,          (paper != 0) ? "1" : "0",
+                              NULL};
         execvp("gnuplot", args);
         fprintf(stderr, "%s: warning: cannot run gnuplot: %s; no figures\n", prog, strerror(errno));
         _exit(127);

@@ -8,11 +8,13 @@
 
 #include "cdpr/status.h"
 
-/// Run `gnuplot -c script dir kind title` and wait for it: kind is the trajectory type name
-/// (cdpr_traj_type_name: circle, line or hold). Warnings go to stderr prefixed `prog`.
+/// Run `gnuplot -c script dir kind title n_cables paper` and wait for it: kind is the trajectory
+/// type name (cdpr_traj_type_name: circle, line, hold or cyclic), n_cables the robot's cable
+/// count (1..CDPR_MAX_CABLES: one tension panel each), paper 1 for the paper's robot (the
+/// figures then name the paper's Figure 4/5 they follow). Warnings go to stderr prefixed `prog`.
 /// Returns CDPR_OK when gnuplot succeeded, else CDPR_E_IO (no script, no gnuplot, gnuplot
 /// failed).
 cdpr_status_t cdpr_plot_run(const char *prog, const char *script, const char *dir, const char *kind,
-                            const char *title);
+                            const char *title, int n_cables, int paper);
 
 #endif /* CDPR_HOST_PLOT_H */
