@@ -15,6 +15,8 @@
 #   every kind -> tensions (one panel per cable: cabin-end and winch-end tension) and cables
 #                 (unstretched lengths with the feed-forward, payout rates, segments)
 #   a DIR/laps.csv (a periodic trajectory with a complete lap) -> laps (RMS and largest error)
+#   a DIR/shapes.csv (cdpr-sim --shapes) -> shapes (each cable's sag profile in its vertical
+#             plane: every snapshot, the first and the last highlighted)
 # Columns are addressed by their header names (timeseries.csv's first row).
 dir = (ARGC >= 1) ? ARG1 : 'out/paper-circle'
 kind = (ARGC >= 2) ? ARG2 : 'circle'
@@ -46,6 +48,14 @@ do for [j=1:nc] {
     n_hi = (STATS_max > n_hi) ? STATS_max : n_hi
 }
 n_step = ((n_hi - n_lo) <= 12) ? 1 : (((n_hi - n_lo) <= 60) ? 5 : 20)
+# Cable shapes (cdpr-sim --shapes): the first and last snapshot times.
+shapes = dir.'/shapes.csv'
+has_shapes = (system('test -s '.shapes.' && echo 1') eq "1")
+if (has_shapes) {
+    stats shapes using 't_s' nooutput
+    t_first = STATS_min
+    t_last = STATS_max
+}
 set grid
 mm = 1000.0
 
@@ -165,6 +175,32 @@ do for [ext in 'png pdf'] {
     set ytics autofreq
     unset multiplot
     set key below horizontal
+
+    # Sag profiles (cdpr-sim --shapes): each cable's sag below its straight chord against the
+    # horizontal distance from its exit point, every snapshot in grey, the first and the last
+    # in colour.
+    if (has_shapes) {
+        set output dir.'/shapes.'.ext
+        set multiplot layout tension_rows,tension_cols title name.\
+            sprintf("\nCable sag below the straight chord: every snapshot (grey), t = %g s (blue) and %g s (red)", \
+                    t_first, t_last) noenhanced
+        set xlabel 'horizontal distance from the exit point [m]'
+        set ylabel 'sag below the chord [m]'
+        set key off
+        do for [j=1:nc] {
+            set title 'cable '.j
+            plot shapes using (column('cable') == j ? column('h_m') : NaN):'sag_m' with lines \
+                     lw 0.5 lc rgb '#bbbbbb' notitle, \
+                 '' using ((column('cable') == j && column('t_s') == t_first) ? \
+                     column('h_m') : NaN):'sag_m' with linespoints pt 7 ps 0.3 lw 1.2 \
+                     lc rgb rgb(1) notitle, \
+                 '' using ((column('cable') == j && column('t_s') == t_last) ? \
+                     column('h_m') : NaN):'sag_m' with linespoints pt 7 ps 0.3 lw 1.2 \
+                     lc rgb rgb(4) notitle
+        }
+        unset multiplot
+        set key below horizontal
+    }
 
     # Per-lap errors of a periodic trajectory: one point per lap, laps as whole numbers.
     if (has_laps) {

@@ -17,6 +17,7 @@
 #include "app_cli.h"
 #include "app_run.h"
 #include "app_status.h"
+#include "cdpr/host/cli.h"
 #include "cdpr/host/plot.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sim.h"
@@ -32,6 +33,7 @@ typedef struct {
     int quiet;
     int check_design; /* --check-design (1), --unchecked-gains (-1), neither (0) */
     int validate;     /* --validate: check the operands, run nothing */
+    double shapes_hz; /* --shapes HZ: DIR/shapes.csv (0: none) */
 } options_t;
 
 /* The default gnuplot script: the installation's (cdpr_app_data_file). */
@@ -52,6 +54,9 @@ static void usage(FILE *f)
             "  --duration S        simulate S seconds instead of run.duration_s (tests and\n"
             "                      quick looks; S must be a whole number of run.period_s)\n"
             "  --integrator NAME   rkf45, ros34pw2 or ros34pw2-fixed instead of integrator.method\n"
+            "  --shapes HZ         also write DIR/shapes.csv: every node of every cable at HZ\n"
+            "                      (the control rate divided by a whole number), drawn as\n"
+            "                      DIR/shapes.png/.pdf (the sag profiles)\n"
             "  --no-plot           do not run gnuplot\n"
             "  --plot-script FILE  gnuplot script; default: share/cdpr/scripts/plot_sim.gp of\n"
             "                      the installation (the source tree's from a build tree):\n"
@@ -83,6 +88,11 @@ static int take(int c, const char *arg, void *ctx)
     if (ov != 1) {
         return ov;
     }
+    if (c == 'S') {
+        return (cdpr_cli_number("cdpr-sim", "shapes", arg, 1e-6, 1e6, &o->shapes_hz) == CDPR_OK)
+                   ? 0
+                   : -1;
+    }
     const cdpr_app_store_t stores[] = {
         {.code = 'o', .text = &o->out_dir},
         {.code = 'n', .flag = &o->plot, .value = 0},
@@ -101,6 +111,7 @@ static int parse(int argc, char **argv, options_t *o)
         {"duration", required_argument, NULL, CDPR_APP_OPT_DURATION},
         {"integrator", required_argument, NULL, CDPR_APP_OPT_INTEGRATOR},
         {"no-plot", no_argument, NULL, 'n'},
+        {"shapes", required_argument, NULL, 'S'},
         {"plot-script", required_argument, NULL, 's'},
         {"progress", no_argument, NULL, 'p'},
         CDPR_APP_QUIET_OPTION,
@@ -195,6 +206,7 @@ int main(int argc, char **argv)
     so.out_dir = o.out_dir;
     so.progress_stream = stderr;
     so.stop = cdpr_app_stop_on_signals();
+    so.shapes_rate_hz = o.shapes_hz;
     if (o.quiet == 0) {
         const int tty = isatty(STDERR_FILENO);
         /* A rewritten line on a terminal; plain lines when forced into a file or pipe. */

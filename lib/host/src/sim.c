@@ -20,12 +20,89 @@ typedef struct {
     cdpr_robot_t model; /* statics-only model for the feasibility checks */
     cdpr_tracker_t tracker;
     cdpr_record_t rec;
+    cdpr_csv_t shapes; /* DIR/shapes.csv (opts.shapes_rate_hz > 0) */
+    int shapes_open;
+    long shapes_every; /* periods between snapshots */
 } sim_t;
 
 void cdpr_sim_opts_default(cdpr_sim_opts_t *o)
 {
     memset(o, 0, sizeof *o);
     o->progress_after_s = 2.0;
+}
+
+/* Periods between cable-shape snapshots for `rate_hz` (0: not a whole number of periods). */
+static long shapes_every(double rate_hz, double period_s)
+{
+    const double every = 1.0 / (rate_hz * period_s);
+    const long n = cdpr_scenario_count(every);
+    return (rate_hz > 0.0 && n >= 1 && fabs(every - (double)n) <= 1e-6 * every) ? n : 0;
+}
+
+/* DIR/shapes.csv: its comment lines and header. */
+static cdpr_status_t open_shapes(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
+                                 cdpr_scenario_error_t *err)
+{
+    char path[1100];
+    if (cdpr_fs_path(path, sizeof path, o->out_dir, "shapes.csv") != CDPR_OK ||
+        cdpr_csv_open(&s->shapes, path) != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "%.1000s/shapes.csv: cannot write: %s", o->out_dir,
+                 strerror(s->shapes.error != 0 ? s->shapes.error : ENAMETOOLONG));
+        return CDPR_E_IO;
+    }
+    s->shapes_open = 1;
+    char rate[64];
+    snprintf(rate, sizeof rate, "%.17g", o->shapes_rate_hz);
+    cdpr_csv_comment(&s->shapes, "scenario", sc->path);
+    cdpr_csv_comment(&s->shapes, "shapes_rate_hz", rate);
+    cdpr_csv_comment(&s->shapes, "nodes", "0 = cabin attachment .. n = exit point (segments n)");
+    static const char *const cols[] = {"t_s", "cable", "node", "x_m", "y_m", "z_m", "h_m", "sag_m"};
+    for (size_t i = 0; i < sizeof cols / sizeof cols[0]; ++i) {
+        cdpr_csv_name(&s->shapes, cols[i]);
+    }
+    cdpr_csv_end_row(&s->shapes);
+    return CDPR_OK;
+}
+
+/* One snapshot of every cable's nodes at t (a blank line after each cable). */
+static void write_shapes(sim_t *s, double t)
+{
+    const cdpr_robot_t *r = &s->plant.robot;
+    const cdpr_real_t *y = s->plant.y;
+    cdpr_cabin_motion_t m;
+    cdpr_robot_cabin_motion(r, (cdpr_real_t)t, y, &m);
+    for (int j = 0; j < r->p.n_cables; ++j) {
+        const int n = r->cable[j].n;
+        const cdpr_vec3_t e = r->p.cables[j].exit_point_m;
+        cdpr_vec3_t a; /* the attachment: the chord's other end */
+        cdpr_vec3_t va;
+        cdpr_robot_attachment(r, j, &m, &a, &va);
+        const double h_a = hypot((double)(a.x - e.x), (double)(a.y - e.y));
+        for (int k = 0; k <= n; ++k) {
+            cdpr_vec3_t p = e;
+            if (k == 0) {
+                cdpr_vec3_t v;
+                cdpr_robot_attachment(r, j, &m, &p, &v);
+            } else if (k < n) { /* free node k: cable.h's layout after lu */
+                const int i = r->offset[j] + 1 + 3 * (k - 1);
+                p = cdpr_v3(y[i], y[i + 1], y[i + 2]);
+            } else {
+                /* the exit point */
+            }
+            const double h = hypot((double)(p.x - e.x), (double)(p.y - e.y));
+            /* Below the straight chord exit -> attachment, at the node's horizontal distance
+             * (0 for a vertical chord). */
+            const double chord_z =
+                (h_a > 0.0) ? (double)e.z + (double)(a.z - e.z) * h / h_a : (double)p.z;
+            const double row[] = {t,           (double)(j + 1), (double)k, (double)p.x,
+                                  (double)p.y, (double)p.z,     h,         chord_z - (double)p.z};
+            for (size_t c = 0; c < sizeof row / sizeof row[0]; ++c) {
+                cdpr_csv_num(&s->shapes, row[c]);
+            }
+            cdpr_csv_end_row(&s->shapes);
+        }
+        cdpr_csv_end_row(&s->shapes); /* blank line: the next cable */
+    }
 }
 
 static void progress(const cdpr_sim_opts_t *o, double t, double total, double wall, int final)
@@ -170,6 +247,16 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
                                        l_ff,
                                        r->in.payout_m_per_s,
                                        segments};
+        if (s->shapes_open != 0 && k % s->shapes_every == 0) {
+            write_shapes(s, t);
+            if (s->shapes.failed != 0) {
+                snprintf(sum->message, sizeof sum->message,
+                         "shapes.csv: write failed at t = %.6g s: %s", t,
+                         strerror(s->shapes.error));
+                rc = CDPR_E_IO;
+                break;
+            }
+        }
         if (cdpr_record_period(&s->rec, k, last, &row) != CDPR_OK) {
             snprintf(sum->message, sizeof sum->message,
                      "timeseries.csv: write failed at t = %.6g s: %s", t,
@@ -276,6 +363,19 @@ static cdpr_status_t write_outputs(sim_t *s, const cdpr_scenario_t *sc, const cd
                                    cdpr_summary_t *sum, cdpr_scenario_error_t *err)
 {
     cdpr_status_t rc = CDPR_OK;
+    if (s->shapes_open != 0) {
+        s->shapes_open = 0;
+        if (cdpr_csv_close(&s->shapes) != CDPR_OK) {
+            if (sum->status != CDPR_SUMMARY_IO_ERROR) { /* failed at the final flush */
+                sum->status = CDPR_SUMMARY_IO_ERROR;
+                snprintf(sum->message, sizeof sum->message, "shapes.csv: write failed: %s",
+                         strerror(s->shapes.error));
+            }
+            snprintf(err->msg, sizeof err->msg, "%.1000s/shapes.csv: write failed: %s", o->out_dir,
+                     strerror(s->shapes.error));
+            rc = CDPR_E_IO;
+        }
+    }
     if (cdpr_record_close(&s->rec) != CDPR_OK) {
         if (sum->status != CDPR_SUMMARY_IO_ERROR) { /* failed at the final flush */
             sum->status = CDPR_SUMMARY_IO_ERROR;
@@ -319,6 +419,14 @@ cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, 
     }
     const double duration = sc->duration_s;
     const double wall0 = cdpr_clock_now_s();
+    const long every = shapes_every(o->shapes_rate_hz, sc->period_s);
+    if ((o->shapes_rate_hz < 0.0 || o->shapes_rate_hz > 0.0 || isnan(o->shapes_rate_hz)) &&
+        every == 0) {
+        snprintf(err->msg, sizeof err->msg,
+                 "--shapes %g Hz: not the control rate (%g Hz) divided by a whole number",
+                 o->shapes_rate_hz, 1.0 / sc->period_s);
+        return CDPR_E_OUT_OF_RANGE;
+    }
     sim_t *s = calloc(1, sizeof *s);
     if (s == NULL) {
         snprintf(err->msg, sizeof err->msg, "out of memory");
@@ -329,6 +437,10 @@ cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, 
         rc = cdpr_record_open(&s->rec, sc, &s->plant.pp, o->out_dir, s->plant.robot.p.n_cables, sum,
                               err);
     }
+    if (rc == CDPR_OK && o->out_dir != NULL && every > 0) {
+        s->shapes_every = every;
+        rc = open_shapes(s, sc, o, err);
+    }
     if (rc == CDPR_OK) {
         rc = loop(s, sc, o, duration, sum, wall0);
         sum->wall_time_s = cdpr_clock_now_s() - wall0;
@@ -338,6 +450,9 @@ cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, 
     }
     if (s->rec.csv_open != 0) {
         (void)cdpr_csv_close(&s->rec.csv);
+    }
+    if (s->shapes_open != 0) {
+        (void)cdpr_csv_close(&s->shapes);
     }
     free(s);
     return rc;

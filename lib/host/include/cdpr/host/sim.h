@@ -40,6 +40,12 @@ typedef struct {
     FILE *progress_stream;    ///< progress goes here (e.g. stderr)
     double progress_after_s;  ///< wall time before the first progress output [s]
     const volatile int *stop; ///< optional: non-zero ends the run at the next period (a signal)
+    /// Cable shapes: DIR/shapes.csv with every node of every cable at this rate [Hz] (0: none;
+    /// else the control rate divided by a whole number). Rows t_s, cable (1-based), node (0 the
+    /// cabin attachment .. n the exit point), x_m, y_m, z_m, h_m (horizontal distance from the
+    /// cable's exit point), sag_m (height of the straight chord exit point -> attachment above
+    /// the node, at its horizontal distance); a blank line after each cable's nodes.
+    double shapes_rate_hz;
 } cdpr_sim_opts_t;
 
 /// Defaults: no output directory, no progress, 2 s before progress, no stop flag.
@@ -49,7 +55,10 @@ void cdpr_sim_opts_default(cdpr_sim_opts_t *o);
 ///  - CDPR_OK when the run reached its end (sum->status ok or warnings);
 ///  - CDPR_E_INTERRUPTED when *o->stop ended it early (sum->status interrupted; the CSV holds
 ///    whole rows up to the last period run, summary.json is written);
-///  - CDPR_E_IO when writing timeseries.csv failed during the run: the run stops there
+///  - CDPR_E_OUT_OF_RANGE with `err` naming --shapes when o->shapes_rate_hz is not the control
+///    rate divided by a whole number (nothing run);
+///  - CDPR_E_IO when writing timeseries.csv (or shapes.csv) failed during the run: the run stops
+///  there
 ///    (sum->status io_error; the CSV keeps the whole rows written before, summary.json is still
 ///    tried: it is another file and may fit), `err` says "DIR/timeseries.csv: write failed:
 ///    strerror"; also when summary.json cannot be written or memory runs out;
