@@ -6,6 +6,9 @@ source tree, this adds the places scripts/setup.sh and the build put them:
   $CDPR_LCM_PYTHON, else ~/.cache/cdpr/lcm-python     (the lcm module, built at set-up)
   $CDPR_LCMTYPES_PYTHON, else the first of build/release/lcmtypes/python (the README's
   build) and build/debug/lcmtypes/python that exists   (the cdpr package, lcm-gen -p)
+  the first of build/release/python and build/debug/python holding cdprlib (the library's
+  own package, docs/python.md)
+An installed package (cmake --install: on Debian python3's path) is found first.
 """
 import os
 import sys
@@ -25,3 +28,8 @@ if not _types:
         if os.path.isdir(os.path.join(_types, "cdpr")):
             break
 _add(_types)
+for _tree in ("release", "debug"):
+    _lib = os.path.join(_here, "..", "..", "build", _tree, "python")
+    if os.path.isdir(os.path.join(_lib, "cdprlib")):
+        _add(_lib)
+        break

@@ -4,7 +4,8 @@
 # move the prefix, then run the moved cdpr-sim on the moved installation's scenario. It must
 # use the moved share/cdpr/scripts/plot_sim.gp (found relative to the executable; its --help
 # names the default script) and write the figures; the installed scenario that names a robot file
-# by a relative path runs, the installed sweep expands and checks; the moved cdpr-lcm-spy (where built) finds
+# by a relative path runs, the installed sweep expands and checks, the installed Python package
+# builds and steps a plant; the moved cdpr-lcm-spy (where built) finds
 # the moved types jar and lcm-spy's lookup finds the types in it.
 # Usage: relocate.sh BUILD_DIR WORK_DIR     (exit 77: skipped, no gnuplot)
 set -eu
@@ -41,6 +42,19 @@ done
 if [ -x "$w/moved/bin/cdpr-sweep" ] && /usr/bin/python3 -c 'import ruamel.yaml' 2>/dev/null; then
     "$w/moved/bin/cdpr-sweep" "$w/moved/share/cdpr/sweeps/paper-wind.yaml" --out "$w/sweep" \
         --dry-run >"$w/sweep.txt" 2>&1 || { cat "$w/sweep.txt"; echo "FAIL: the installed sweep"; exit 1; }
+fi
+
+# The Python package (where built): from the moved prefix, with that prefix's Python folder on
+# PYTHONPATH (a prefix other than /usr and /usr/local is not on Debian python3's path).
+pkg=$(find "$w/moved" -path '*/cdprlib/__init__.py' | head -n 1)
+if [ -n "$pkg" ]; then
+    PYTHONPATH=$(dirname "$(dirname "$pkg")") /usr/bin/python3 -c '
+import sys, cdprlib
+p = cdprlib.Plant(sys.argv[1])
+p.step(p.control())
+assert cdprlib.__file__.startswith(sys.argv[2]), cdprlib.__file__
+' "$w/moved/share/cdpr/scenarios/paper-line.yaml" "$w/moved" >"$w/py.txt" 2>&1 ||
+        { cat "$w/py.txt"; echo "FAIL: the installed cdprlib"; exit 1; }
 fi
 
 # lcm-spy's wrapper, where the build made the Java types: the moved share/cdpr/java jar.

@@ -247,3 +247,30 @@ cdpr_status_t cdpr_host_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, d
 {
     return build(p, sc, 1, wall_s, err);
 }
+
+int cdpr_host_cable_nodes(const cdpr_plant_t *p, int j, double *xyz, int cap)
+{
+    const cdpr_robot_t *r = &p->robot;
+    if (j < 0 || j >= r->p.n_cables || cap < r->cable[j].n + 1) {
+        return -1;
+    }
+    const int n = r->cable[j].n;
+    cdpr_cabin_motion_t m;
+    cdpr_robot_cabin_motion(r, cdpr_plant_time(p), p->y, &m);
+    for (int k = 0; k <= n; ++k) {
+        cdpr_vec3_t q = r->p.cables[j].exit_point_m;
+        if (k == 0) {
+            cdpr_vec3_t v;
+            cdpr_robot_attachment(r, j, &m, &q, &v);
+        } else if (k < n) { /* free node k: the cable block's positions after its lu */
+            const int i = r->offset[j] + 1 + 3 * (k - 1);
+            q = cdpr_v3(p->y[i], p->y[i + 1], p->y[i + 2]);
+        } else {
+            /* the exit point */
+        }
+        xyz[3 * k] = (double)q.x;
+        xyz[3 * k + 1] = (double)q.y;
+        xyz[3 * k + 2] = (double)q.z;
+    }
+    return n + 1;
+}

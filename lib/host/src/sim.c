@@ -22,7 +22,8 @@ typedef struct {
     cdpr_record_t rec;
     cdpr_csv_t shapes; /* DIR/shapes.csv (opts.shapes_rate_hz > 0) */
     int shapes_open;
-    long shapes_every; /* periods between snapshots */
+    long shapes_every;                            /* periods between snapshots */
+    double node_xyz[3 * (CDPR_MAX_SEGMENTS + 1)]; /* one cable's nodes (write_shapes) */
 } sim_t;
 
 void cdpr_sim_opts_default(cdpr_sim_opts_t *o)
@@ -68,34 +69,20 @@ static cdpr_status_t open_shapes(sim_t *s, const cdpr_scenario_t *sc, const cdpr
 static void write_shapes(sim_t *s, double t)
 {
     const cdpr_robot_t *r = &s->plant.robot;
-    const cdpr_real_t *y = s->plant.y;
-    cdpr_cabin_motion_t m;
-    cdpr_robot_cabin_motion(r, (cdpr_real_t)t, y, &m);
+    double *xyz = s->node_xyz;
     for (int j = 0; j < r->p.n_cables; ++j) {
-        const int n = r->cable[j].n;
-        const cdpr_vec3_t e = r->p.cables[j].exit_point_m;
-        cdpr_vec3_t a; /* the attachment: the chord's other end */
-        cdpr_vec3_t va;
-        cdpr_robot_attachment(r, j, &m, &a, &va);
-        const double h_a = hypot((double)(a.x - e.x), (double)(a.y - e.y));
-        for (int k = 0; k <= n; ++k) {
-            cdpr_vec3_t p = e;
-            if (k == 0) {
-                cdpr_vec3_t v;
-                cdpr_robot_attachment(r, j, &m, &p, &v);
-            } else if (k < n) { /* free node k: cable.h's layout after lu */
-                const int i = r->offset[j] + 1 + 3 * (k - 1);
-                p = cdpr_v3(y[i], y[i + 1], y[i + 2]);
-            } else {
-                /* the exit point */
-            }
-            const double h = hypot((double)(p.x - e.x), (double)(p.y - e.y));
+        const int nodes = cdpr_host_cable_nodes(&s->plant, j, xyz, CDPR_MAX_SEGMENTS + 1);
+        const double *e = &xyz[3 * (nodes - 1)]; /* the exit point */
+        const double *a = &xyz[0];               /* the attachment: the chord's other end */
+        const double h_a = hypot(a[0] - e[0], a[1] - e[1]);
+        for (int k = 0; k < nodes; ++k) {
+            const double *p = &xyz[3 * k];
+            const double h = hypot(p[0] - e[0], p[1] - e[1]);
             /* Below the straight chord exit -> attachment, at the node's horizontal distance
              * (0 for a vertical chord). */
-            const double chord_z =
-                (h_a > 0.0) ? (double)e.z + (double)(a.z - e.z) * h / h_a : (double)p.z;
-            const double row[] = {t,           (double)(j + 1), (double)k, (double)p.x,
-                                  (double)p.y, (double)p.z,     h,         chord_z - (double)p.z};
+            const double chord_z = (h_a > 0.0) ? e[2] + (a[2] - e[2]) * h / h_a : p[2];
+            const double row[] = {t, (double)(j + 1), (double)k, p[0], p[1], p[2],
+                                  h, chord_z - p[2]};
             for (size_t c = 0; c < sizeof row / sizeof row[0]; ++c) {
                 cdpr_csv_num(&s->shapes, row[c]);
             }

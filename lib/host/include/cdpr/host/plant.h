@@ -39,4 +39,10 @@ cdpr_status_t cdpr_host_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, d
 cdpr_status_t cdpr_host_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc,
                                     cdpr_scenario_error_t *err);
 
+/// The world positions of cable j's nodes (0: the cabin attachment, 1..n-1 the free nodes, n:
+/// the exit point; n the cable's segments now) at the plant's current state, into xyz[3 k + i]
+/// for k = 0..n. Returns the node count n + 1, or -1 (nothing written) for a cable outside the
+/// robot or `cap` < n + 1 nodes. O(n); no allocation.
+int cdpr_host_cable_nodes(const cdpr_plant_t *p, int j, double *xyz, int cap);
+
 #endif /* CDPR_HOST_PLANT_H */
