@@ -18,6 +18,7 @@
    (CDPR_E_NOT_FINITE naming robot.rope.ea_N), a period over its trial budget
    (CDPR_E_SUBSTEP_LIMIT; the plant's time unchanged), wrong-length commands (ValueError).
 5. The scipy example (examples/python/fit_rope.py) recovers the EA its data were made with.
+6. The README's Python block runs as pasted.
 """
 import csv
 import os
@@ -122,5 +123,12 @@ r = subprocess.run([sys.executable, os.path.join(SRC, "examples", "python", "fit
 m = re.search(r"fitted EA = ([0-9.e+]+) N", r.stdout)
 check(r.returncode == 0 and m is not None and abs(float(m.group(1)) / 2.0e6 - 1.0) < 1e-6,
       "fit_rope.py (scipy) recovers EA = 2e6 N: %s" % (m.group(1) if m else r.stderr[-200:]))
+# 6. the README's Python block, as a user would paste it (from the source tree)
+readme = open(os.path.join(SRC, "README.md")).read()
+block = re.search(r"## From Python\n.*?```python\n(.*?)```", readme, re.S)
+r = subprocess.run([sys.executable, "-c", block.group(1) if block else "raise SystemExit(3)"],
+                   cwd=SRC, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+check(r.returncode == 0 and "t = 1.00 s" in r.stdout and "(21, 3)" in r.stdout,
+      "the README's Python block runs: %s" % (r.stdout.strip().splitlines() or [r.stderr[-200:]])[0])
 print("%d passed, %d failed" % (len(passes), len(failures)))
 sys.exit(1 if failures else 0)
