@@ -579,9 +579,10 @@ static void test_wrench_damping_command(void)
 
 static void test_loop_solutions_are_not_commanded(void)
 {
-    /* At (3, -2, 12) m, tilted (0.05, -0.05, 0.2) rad, the catenary IK balances the weight only
-     * with one cable hanging in a loop (checked here: over 1.5 chords long); the tracker must
-     * refuse to command that (init reports the desired pose as infeasible). */
+    /* At (3, -2, 12) m, tilted (0.05, -0.05, 0.2) rad, the catenaries balance the weight only
+     * with one cable hanging in a loop (over 1.5 chords long; test_gsl_statics finds it): the
+     * IK reports that as infeasible, naming the cable, and the tracker refuses to command it
+     * (init reports the desired pose as infeasible). */
     cdpr_robot_params_t p;
     model_params(&p);
     const double pose[6] = {3.0, -2.0, 12.0, 0.05, -0.05, 0.2};
@@ -589,14 +590,14 @@ static void test_loop_solutions_are_not_commanded(void)
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
     cdpr_statics_result_t res;
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m, &o, &res));
-    double worst = 0.0;
-    for (int j = 0; j < 6; ++j) {
-        const cdpr_vec3_t d =
-            cdpr_v3_sub(model.p.cables[j].exit_point_m, res.cable[j].attach_world_m);
-        worst = fmax(worst, res.cable[j].length_m / cdpr_v3_norm(d));
-    }
-    TEST_ASSERT_TRUE(worst > 1.5);
+    cdpr_statics_verdict_t why;
+    const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INFEASIBLE,
+                          cdpr_statics_ik_dist(&model, &m, zero, zero, NULL, &o, &res, &why));
+    TEST_ASSERT_EQUAL_INT(CDPR_STATICS_WHY_LOOP, why.why);
+    TEST_ASSERT_TRUE(why.cable >= 0 && why.cable < 6);
+    TEST_ASSERT_TRUE(why.value > 1.5);
+    TEST_ASSERT_EQUAL_DOUBLE(1.5, why.limit);
     const cdpr_traj_t tr = hold_at(pose);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};

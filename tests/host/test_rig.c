@@ -296,13 +296,17 @@ static void test_other_cable_counts(void)
                           cdpr_tracker_init(tr, &p, &sc.traj, &sc.gains, 0.01, 0.0, &d));
     TEST_ASSERT_EQUAL_INT(4, d.index);
     free(tr);
-    /* More than CDPR_MAX_CABLES. */
-    replace(EMBEDDED, "  cables:\n",
-            "  cables:\n    - {exit_m: [0.0, 25.0, 30.0], attach_m: [0.0, 2.0, -0.5]}\n", text,
-            sizeof text);
+    /* More than CDPR_MAX_CABLES: six plus as many more as the capacity, plus one. */
+    char extra[2048] = "  cables:\n";
+    for (int j = 6; j <= CDPR_MAX_CABLES; ++j) {
+        strcat(extra, "    - {exit_m: [0.0, 25.0, 30.0], attach_m: [0.0, 2.0, -0.5]}\n");
+    }
+    replace(EMBEDDED, "  cables:\n", extra, text, sizeof text);
     write_text(path, text);
     TEST_ASSERT_EQUAL_INT(CDPR_E_CAPACITY, cdpr_scenario_load(path, &sc, &err));
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "robot.cables: 7 cables"), err.msg);
+    char want[64];
+    snprintf(want, sizeof want, "robot.cables: %d cables", CDPR_MAX_CABLES + 1);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, want), err.msg);
 }
 
 typedef struct {

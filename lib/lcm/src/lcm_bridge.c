@@ -67,7 +67,7 @@ void cdpr_lcm_bridge_params_default(cdpr_lcm_bridge_params_t *p)
     memset(p, 0, sizeof *p);
     p->url = NULL;
     p->channel_prefix = "CDPR_";
-    p->n_cables = CDPR_MAX_CABLES; // 6 by default; the messages carry at most 6
+    p->n_cables = CDPR_LCM_MAX_CABLES; // the messages carry at most 6
     for (j = 0; j < CDPR_MAX_CABLES; j++) {
         cdpr_winch_params_default(&p->winch[j]);
     }
@@ -156,7 +156,7 @@ cdpr_status_t cdpr_lcm_bridge_init(cdpr_lcm_bridge_t *b, const cdpr_lcm_bridge_p
     if (strlen(url) >= CDPR_LCM_URL_MAX) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "url", -1);
     }
-    if (p->n_cables < 1 || p->n_cables > CDPR_MAX_CABLES) {
+    if (p->n_cables < 1 || p->n_cables > CDPR_LCM_MAX_CABLES) {
         return cdpr_diag_set(diag, CDPR_E_CAPACITY, "n_cables", -1);
     }
     for (j = 0; j < p->n_cables; j++) {

@@ -68,7 +68,7 @@ static cdpr_status_t check_limits(const cdpr_lcm_limits_t *lim, cdpr_diag_t *dia
 {
     int j;
 
-    if (lim->n_cables < 1 || lim->n_cables > CDPR_MAX_CABLES) {
+    if (lim->n_cables < 1 || lim->n_cables > CDPR_LCM_MAX_CABLES) {
         return cdpr_diag_set(diag, CDPR_E_CAPACITY, "n_cables", -1);
     }
     if (!isfinite(lim->max_length_m)) {
@@ -105,7 +105,7 @@ cdpr_status_t cdpr_lcm_limits_from_winch(cdpr_lcm_limits_t *lim, int n_cables,
     if (lim == NULL || winch == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, lim == NULL ? "lim" : "winch", -1);
     }
-    if (n_cables < 1 || n_cables > CDPR_MAX_CABLES) {
+    if (n_cables < 1 || n_cables > CDPR_LCM_MAX_CABLES) {
         return cdpr_diag_set(diag, CDPR_E_CAPACITY, "n_cables", -1);
     }
     memset(&l, 0, sizeof l);
@@ -348,7 +348,7 @@ cdpr_status_t cdpr_lcm_mailbox_init(cdpr_lcm_mailbox_t *mb, int n_cables, int64_
     if (mb == NULL) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "mailbox", -1);
     }
-    if (n_cables < 1 || n_cables > CDPR_MAX_CABLES) {
+    if (n_cables < 1 || n_cables > CDPR_LCM_MAX_CABLES) {
         return cdpr_diag_set(diag, CDPR_E_CAPACITY, "n_cables", -1);
     }
     if (timeout_ns <= 0) {

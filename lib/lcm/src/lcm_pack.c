@@ -7,16 +7,14 @@
 #include <math.h>
 #include <string.h>
 
+#include "cdpr/lcm/command.h"
 #include "cdpr/cable.h"
 #include "cdpr/vec3.h"
 #include "lcm_check.h"
 #include "lcmtypes/cdpr_winch_command_t.h"
 
-// The wire format's capacities. A core built with more cables cannot be described by these
-// messages: changing them changes the type fingerprints, so it is a deliberate protocol change.
-#if CDPR_MAX_CABLES > CDPR_WINCH_COMMAND_T_MAX_CABLES
-#error "cdpr_lcm: the LCM messages carry 6 cables; CDPR_MAX_CABLES is larger (edit lcmtypes/)"
-#endif
+// The wire format's capacities. A plant with more cables than the messages carry is refused
+// before anything is packed (CDPR_LCM_MAX_CABLES, command.h); the packers clamp to it anyway.
 #define ARRAY_LEN(a) (sizeof(a) / sizeof((a)[0]))
 CDPR_LCM_STATIC_ASSERT(ARRAY_LEN(((cdpr_winch_command_t *)0)->value) ==
                            CDPR_WINCH_COMMAND_T_MAX_CABLES,
@@ -80,7 +78,7 @@ void cdpr_lcm_pack_cabin_state(cdpr_cabin_state_t *msg, const cdpr_robot_t *r, c
 void cdpr_lcm_pack_tensions(cdpr_cable_tensions_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
                             const cdpr_robot_out_t *out, double t_s, int64_t seq)
 {
-    const int n = r->p.n_cables;
+    const int n = (r->p.n_cables < CDPR_LCM_MAX_CABLES) ? r->p.n_cables : CDPR_LCM_MAX_CABLES;
     int j;
 
     memset(msg, 0, sizeof *msg);
@@ -127,8 +125,9 @@ void cdpr_lcm_pack_shape(cdpr_cable_shape_t *msg, const cdpr_robot_t *r, const c
     memset(msg, 0, sizeof *msg);
     msg->utime_us = cdpr_lcm_utime_us(t_s);
     msg->seq = seq;
-    msg->n_cables = (int8_t)r->p.n_cables;
-    for (j = 0; j < r->p.n_cables; j++) {
+    const int nc = (r->p.n_cables < CDPR_LCM_MAX_CABLES) ? r->p.n_cables : CDPR_LCM_MAX_CABLES;
+    msg->n_cables = (int8_t)nc;
+    for (j = 0; j < nc; j++) {
         const int n = r->cable[j].n; // segments; nodes 0..n
         const int n_nodes = n + 1;
         const int n_sent =

@@ -15,19 +15,23 @@
 /// (a force f applied at another point, world offset d from the CoM, adds d x f to tau_ext).
 /// The d'Alembert load of a cabin moving with CoM acceleration a_c, body rates ω, ω̇ is
 /// f_ext = -M a_c, tau_ext = -R (I_c ω̇ + ω x I_c ω) (tracker.h).
-/// Inverse problem: pose given, unknowns H_j (6 cables: 6 wrench equations); for each H_j the
-/// catenary through P_j and A_j fixes (V_j, L_j). Safeguarded Newton, analytic Jacobian,
-/// bounded iterations. A pose whose equilibrium needs a pushing cable (H_j <= 0) is outside
-/// the wrench-feasible set: CDPR_E_INFEASIBLE. Note that a heavy cable long enough to hang in
-/// a loop below its ends pulls its cabin end down with any force: the catenary equations also
-/// have solutions, returned as such, for poses and loads a massless-cable robot cannot hold,
-/// with some cable several chords long (e.g. 85 m on a 30 m chord at (3, -2, 12) m tilted, in
-/// test_gsl_statics; 0.4 km for a sideways load of one cabin weight at the circle's start).
-/// Callers that command lengths should check L_j against the chord.
+/// Inverse problem: pose given, unknowns H_j (m cables, 6 wrench equations); for each H_j the
+/// catenary through P_j and A_j fixes (V_j, L_j). Six cables: safeguarded Newton, analytic
+/// Jacobian, bounded iterations. More than six (redundant): the tension distribution
+/// (cdpr_statics_dist_t) picks the equilibrium, by sequential quadratic programming (each
+/// step the least-distance problem of the linearised equilibrium and bounds). A pose whose
+/// equilibrium needs a pushing cable (H_j <= 0) is outside the wrench-feasible set:
+/// CDPR_E_INFEASIBLE. A heavy cable long enough to hang in a loop below its ends pulls its
+/// cabin end down with any force, so the catenary equations also have solutions for poses and
+/// loads a massless-cable robot cannot hold, with some cable several chords long (e.g. 85 m on
+/// a 30 m chord at (3, -2, 12) m tilted; 0.4 km for a sideways load of one cabin weight at the
+/// circle's start). The forward statics accepts them as equilibria; the inverse kinematics
+/// reports them as CDPR_E_INFEASIBLE (CDPR_STATICS_WHY_LOOP, beyond
+/// CDPR_STATICS_MAX_LENGTH_PER_CHORD): no robot works there, and its verdict "infeasible"
+/// then agrees with the forward statics within the lengths a robot uses.
 ///
 /// Memory: caller-owned results, no allocation. Work: bounded by the iteration limits, given
-/// per function. Every function requires 6 cables (the wrench has 6 components). Pointer
-/// arguments must be valid unless a function says it checks them.
+/// per function. Pointer arguments must be valid unless a function says it checks them.
 #ifndef CDPR_STATICS_H
 #define CDPR_STATICS_H
 
@@ -86,17 +90,63 @@ typedef struct {
 /// Defaults. O(1), cannot fail.
 void cdpr_statics_opts_default(cdpr_statics_opts_t *o);
 
+/// Longest unstretched length, in chords (straight distances from the attachment to the exit
+/// point), of a cable in an inverse-kinematics solution. Beyond it a heavy cable hangs in a
+/// loop below its ends: an equilibrium of the catenaries that no working pose is near (1-5 %
+/// above the chord in the scenarios), and that the forward statics also accepts. The inverse
+/// kinematics reports such a pose as CDPR_E_INFEASIBLE (CDPR_STATICS_WHY_LOOP) instead.
+#define CDPR_STATICS_MAX_LENGTH_PER_CHORD CDPR_R(1.5)
+
+/// Tension distribution of a redundant robot (m > 6 cables): the equilibrium whose winch-end
+/// tensions t_j are closest to t_ref_N in the 2-norm, min sum_j (t_j - t_ref_N)^2, subject to
+/// the lowest tension along every cable >= t_min_N (the cabin end for a cable that rises from
+/// the cabin, else the catenary's vertex) and the highest (the upper end) <= t_max_N. With
+/// t_ref_N at mid-range this is the criterion of the closed-form method of Pott, Bruckmann and
+/// Mikelsons (2009), here met exactly with the bounds enforced (docs/model.md). For six cables
+/// there is nothing to choose: the bounds are checked.
+typedef struct {
+    cdpr_real_t t_min_N; ///< lower bound (>= 0) [N]
+    cdpr_real_t t_max_N; ///< upper bound (> t_min_N) [N]
+    cdpr_real_t t_ref_N; ///< reference of the criterion, in [t_min_N, t_max_N] [N]
+} cdpr_statics_dist_t;
+
+/// Why a pose has no equilibrium the inverse kinematics accepts (CDPR_E_INFEASIBLE).
+typedef enum {
+    CDPR_STATICS_WHY_NONE = 0, ///< a solution was found (or the error was another)
+    CDPR_STATICS_WHY_PUSH,     ///< cable `cable` would have to push (H <= 0)
+    CDPR_STATICS_WHY_NO_LIFT,  ///< no exit point above its attachment, the load needs a lift
+    CDPR_STATICS_WHY_SPAN,     ///< the cables cannot span the wrench (singular directions)
+    CDPR_STATICS_WHY_LOOP,     ///< cable `cable` would be longer than the chord limit (loop)
+    CDPR_STATICS_WHY_T_MIN,    ///< cable `cable` cannot be kept at or above t_min_N
+    CDPR_STATICS_WHY_T_MAX     ///< cable `cable` cannot be kept at or below t_max_N
+} cdpr_statics_why_t;
+
+/// The verdict of an inverse-kinematics solve: for CDPR_E_INFEASIBLE the reason, the cable
+/// (0-based, -1 when no single cable is to blame), the value that breaks the bound (N, or
+/// length per chord for LOOP; NaN when there is none) and the bound.
+typedef struct {
+    cdpr_statics_why_t why;
+    int cable;
+    cdpr_real_t value;
+    cdpr_real_t limit;
+} cdpr_statics_verdict_t;
+
+/// Bounds t_min_N, t_max_N and the reference at mid-range. O(1), cannot fail (not checked
+/// here: cdpr_statics_ik_dist checks them).
+void cdpr_statics_dist_init(cdpr_statics_dist_t *d, cdpr_real_t t_min_N, cdpr_real_t t_max_N);
+
 /// Sag-aware inverse kinematics: the six cables' forces and unstretched lengths that hold the
 /// cabin at `pose` (velocities ignored) against its weight alone: cdpr_statics_ik_wrench with
 /// a zero wrench (same work, results and errors).
 cdpr_status_t cdpr_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                               const cdpr_statics_opts_t *o, cdpr_statics_result_t *res);
 
-/// Sag-aware inverse kinematics under the cabin's weight plus an external wrench: the cable
-/// forces balance -M g z + f_ext_N and tau_ext_Nm (world axes; the torque about the cabin's
-/// centre of mass, f_ext_N acting there; see the model above). With a zero wrench it is
-/// cdpr_statics_ik (bit for bit). Newton on the 6 H_j from the massless solution for the same
-/// load; converged when the wrench residual norm <= force_tol_N + 1e3 eps |load|, with
+/// Sag-aware inverse kinematics of a six-cable robot under the cabin's weight plus an external
+/// wrench: the cable forces balance -M g z + f_ext_N and tau_ext_Nm (world axes; the torque
+/// about the cabin's centre of mass, f_ext_N acting there; see the model above). With a zero
+/// wrench it is cdpr_statics_ik (bit for bit); it is cdpr_statics_ik_dist without bounds.
+/// Newton on the 6 H_j from the massless solution for the same load; converged when the
+/// wrench residual norm <= force_tol_N + 1e3 eps |load|, with
 /// |load| = M g + |f_ext_N| + |tau_ext_Nm|.
 /// Work: at most 1 + 40 max_iter wrench evaluations, each 6 inner catenary solves of at most
 /// 2 (max_iter + 1) Newton iterations with up to 41 closed-form evaluations each; no
@@ -111,13 +161,50 @@ cdpr_status_t cdpr_statics_ik(const cdpr_robot_t *r, const cdpr_cabin_motion_t *
 ///   singular; Newton stops (iteration bound, or no descent) while its last full step would
 ///   make some H_j <= 0, or finds no descent with some H_j < 1e-6 |load|; or Newton fails and
 ///   the massless model has no all-pulling solution either (e.g. a lateral load the cables
-///   cannot take at that pose).
+///   cannot take at that pose); or the equilibrium has a cable longer than
+///   CDPR_STATICS_MAX_LENGTH_PER_CHORD chords (a loop).
 /// - CDPR_E_NO_CONVERGENCE: any other failure of the outer Newton or of an inner catenary
 ///   solve (iteration bound, no descent within 40 step halvings).
 /// CDPR_OK otherwise.
 cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                                      cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
                                      const cdpr_statics_opts_t *o, cdpr_statics_result_t *res);
+
+/// Sag-aware inverse kinematics of a robot with m >= 6 cables, with a tension distribution:
+/// the equilibrium at `pose` under the weight and the external wrench (as
+/// cdpr_statics_ik_wrench) that meets `dist` (cdpr_statics_dist_t: every cable's lowest
+/// tension >= t_min_N, highest <= t_max_N, winch-end tensions closest to t_ref_N).
+/// - m == 6: cdpr_statics_ik_wrench's solution, bit for bit, then the bounds are checked
+///   (dist may be NULL: no bounds).
+/// - m > 6 (dist required): sequential quadratic programming on the m H_j from the massless
+///   distribution (the same criterion and bounds on straight chords). Each iteration solves the
+///   inner catenaries (with dV/dH, dL/dH), linearises the equilibrium (6 equations), the
+///   winch-end tensions and the tension ranges in H, and takes the step of the least-distance
+///   problem (QR of the equilibrium's Jacobian for its null space, then Lawson-Hanson NNLS on
+///   the bounds), with backtracking. Converged when the wrench residual <= force_tol_N +
+///   1e3 eps |load| and the step changes no winch-end tension by more than that.
+/// Work: at most max_iter + 1 iterations, each at most 41 wrench evaluations (m inner
+/// catenary solves each, as cdpr_statics_ik_wrench) and one least-distance problem (at most
+/// 6 m NNLS iterations of at most 2 m least-squares solves of m - 5 rows); no allocation.
+/// `res` is written only on success; `why` (may be NULL) always: the verdict. Returns:
+/// - CDPR_E_INVALID_ARG: r, pose, res or o NULL; m < 6 or m > CDPR_MAX_CABLES; dist NULL with
+///   m > 6; o->max_iter < 1.
+/// - CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE: as cdpr_statics_ik_wrench; CDPR_E_NOT_FINITE
+///   or CDPR_E_OUT_OF_RANGE: a bound or the reference NaN/Inf, t_min_N < 0,
+///   t_max_N <= t_min_N (T_min > T_max), t_ref_N outside [t_min_N, t_max_N].
+/// - CDPR_E_GEOMETRY: as cdpr_statics_ik_wrench.
+/// - CDPR_E_INFEASIBLE with why->why: PUSH (a cable would push; the cable named), NO_LIFT,
+///   SPAN (the cables cannot span the wrench), LOOP (the first cable longer than
+///   CDPR_STATICS_MAX_LENGTH_PER_CHORD chords, value = its length per chord), T_MIN / T_MAX
+///   (m == 6: the cable whose tension range leaves the bounds most; m > 6: at an equilibrium
+///   the bounds cannot be met along its tangent, the cable of the bound that weighs most in
+///   the least-distance problem's certificate; value = its tension there, limit = the bound).
+/// - CDPR_E_NO_CONVERGENCE: the iteration bound, no acceptable step, or an inner solve failed.
+/// CDPR_OK otherwise.
+cdpr_status_t cdpr_statics_ik_dist(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
+                                   cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
+                                   const cdpr_statics_dist_t *dist, const cdpr_statics_opts_t *o,
+                                   cdpr_statics_result_t *res, cdpr_statics_verdict_t *why);
 
 /// Massless straight-cable inverse kinematics for comparison: tensions along the straight
 /// chords balancing the cabin weight (same tension at both ends); lengths are the chords
@@ -149,14 +236,19 @@ cdpr_status_t cdpr_statics_straight_tensions(const cdpr_robot_t *r, const cdpr_c
                                              cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
                                              cdpr_real_t *tension_N);
 
-/// Forward statics: the pose at which cables of unstretched lengths `length_m[j]` hold the
-/// cabin in equilibrium, starting the search at `guess`. Newton on the 6 pose coordinates
-/// (position and a rotation vector), Jacobian by central differences; converged when the
-/// wrench residual norm <= force_tol_N + 1e3 eps M g. Work: at most 1 + 52 max_iter wrench
-/// evaluations (12 for the Jacobian, up to 40 in the line search), each 6 cdpr_catenary_solve
-/// calls of at most 3 + 40 max_iter span evaluations; no allocation. `res` is written only on
-/// success. Returns:
-/// - CDPR_E_INVALID_ARG: r, length_m, guess, res or o is NULL, r->p.n_cables != 6, or
+/// Forward statics: the pose at which the m >= 6 cables of unstretched lengths `length_m[j]`
+/// hold the cabin in equilibrium, starting the search at `guess`. Newton on the 6 pose
+/// coordinates (position and a rotation vector), Jacobian by central differences; converged
+/// when the wrench residual norm <= force_tol_N + 1e3 eps M g, or, once Newton can go no
+/// further (iteration bound, no descent), when it is within that plus the residual's rounding
+/// floor at the problem's scale, 8 eps sum_j (EA_j / L_j) (|p_guess| + |A_j|): the spans are
+/// known to the rounding of the coordinates and the cables' axial stiffness turns that into a
+/// force (2e-6 N for the 30 t FAST cabin on 300 m cables, where the fixed tolerance alone left
+/// 3-4 of 49 poses unconverged depending on the last bits of the input; 2e-8 N for the 50 m
+/// model). Work: at most 1 + 52 max_iter wrench evaluations (12 for the Jacobian, up to 40 in
+/// the line search), each m cdpr_catenary_solve calls of at most 3 + 40 max_iter span
+/// evaluations; no allocation. `res` is written only on success. Returns:
+/// - CDPR_E_INVALID_ARG: r, length_m, guess, res or o is NULL, r->p.n_cables < 6, or
 ///   o->max_iter < 1.
 /// - CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE: a tolerance or length_m[j] NaN/Inf / <= 0;
 ///   CDPR_E_NOT_FINITE: guess->p_m or guess->q NaN/Inf.
@@ -175,7 +267,7 @@ cdpr_status_t cdpr_statics_forward(const cdpr_robot_t *r, const cdpr_real_t *len
 /// checked). Follow with cdpr_settle_robot to reach the discrete chain's own equilibrium.
 /// O(total nodes), no allocation. Returns (y untouched on error):
 /// - CDPR_E_INVALID_ARG: r, res or y is NULL, res->n_cables != r->p.n_cables, or
-///   r->p.n_cables != 6.
+///   r->p.n_cables < 6.
 /// - CDPR_E_NOT_FINITE: res->pose.p_m or res->pose.q is NaN/Inf.
 /// - CDPR_E_GEOMETRY: as cdpr_statics_ik_wrench.
 /// CDPR_OK otherwise.

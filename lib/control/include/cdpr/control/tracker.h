@@ -111,10 +111,10 @@
 #include "cdpr/status.h"
 #include "cdpr/control/trajectory.h"
 
-/// Largest unstretched length, in chords, the tracker commands (the IK's loop solutions lie
-/// beyond; working cables stay within a few per cent of their chords). 1.5 chords is a sag of
-/// about 40 % of the chord.
-#define CDPR_TRACKER_MAX_LENGTH_PER_CHORD CDPR_R(1.5)
+/// Largest unstretched length, in chords, the tracker commands: the IK's own limit
+/// (CDPR_STATICS_MAX_LENGTH_PER_CHORD, beyond which it reports a loop; working cables stay
+/// within a few per cent of their chords). 1.5 chords is a sag of about 40 % of the chord.
+#define CDPR_TRACKER_MAX_LENGTH_PER_CHORD CDPR_STATICS_MAX_LENGTH_PER_CHORD
 
 /// Capacity of the learned correction (step 8): knots per lap and cable. A lap longer than
 /// this many control periods is stored decimated (6.28 s at 100 Hz: 512 knots 12.3 ms apart;

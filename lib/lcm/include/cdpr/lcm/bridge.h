@@ -108,7 +108,7 @@ int64_t cdpr_lcm_new_session(void);
 typedef struct {
     const char *url;            ///< LCM provider URL; NULL or "": liblcm's default
     const char *channel_prefix; ///< channel name prefix; default "CDPR_"
-    int n_cables;               ///< plant cable count, 1..CDPR_MAX_CABLES; default CDPR_MAX_CABLES
+    int n_cables;               ///< plant cable count, 1..CDPR_LCM_MAX_CABLES (its default)
     cdpr_winch_params_t winch[CDPR_MAX_CABLES]; ///< limits per winch; default winch defaults
     double max_length_m;         ///< longest length setpoint accepted [m]; default 1000
     double watchdog_timeout_s;   ///< no valid command for this long -> hold [s]; default 0.1
@@ -200,7 +200,7 @@ int64_t cdpr_lcm_bridge_session(const cdpr_lcm_bridge_t *b);
 /// bad field. Errors: CDPR_E_INVALID_ARG (NULL; a character of channel_prefix outside
 /// [A-Za-z0-9_/-]), CDPR_E_OUT_OF_RANGE (channel_prefix or url too long, watchdog_timeout_s
 /// or idle_poll_ms outside their ranges), CDPR_E_CAPACITY (n_cables outside
-/// 1..CDPR_MAX_CABLES), CDPR_E_NOT_FINITE (watchdog_timeout_s), and the errors of
+/// 1..CDPR_LCM_MAX_CABLES), CDPR_E_NOT_FINITE (watchdog_timeout_s), and the errors of
 /// cdpr_lcm_limits_from_winch / cdpr_lcm_validator_init for the winch limits
 /// ("u_max_m_per_s" ..., index = winch).
 cdpr_status_t cdpr_lcm_bridge_init(cdpr_lcm_bridge_t *b, const cdpr_lcm_bridge_params_t *p,

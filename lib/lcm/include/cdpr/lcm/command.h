@@ -68,6 +68,15 @@
 #include "cdpr/winch.h"
 #include "lcmtypes/cdpr_winch_command_t.h"
 
+/// Cables the LCM messages carry: their fixed arrays hold CDPR_WINCH_COMMAND_T_MAX_CABLES (6),
+/// or fewer when the core's capacity is smaller. A plant with more cables (a redundant robot in
+/// a core built with CDPR_MAX_CABLES = 8) is refused by cdpr_lcm_bridge_init, the limits and the
+/// mailbox with CDPR_E_CAPACITY naming n_cables: it runs in-process (cdpr-sim, cdprlib), not over
+/// LCM, until the messages size their arrays by n_cables.
+#define CDPR_LCM_MAX_CABLES                                                                        \
+    ((CDPR_MAX_CABLES < CDPR_WINCH_COMMAND_T_MAX_CABLES) ? CDPR_MAX_CABLES                         \
+                                                         : CDPR_WINCH_COMMAND_T_MAX_CABLES)
+
 /// Why a command was ignored (indices of the counters; equal to diagnostics_t.REJECT_*).
 typedef enum {
     CDPR_LCM_ACCEPTED = -1, ///< not a rejection: the command passed every rule
@@ -108,7 +117,7 @@ typedef struct {
 
 /// Limits every command is checked against (inputs).
 typedef struct {
-    int n_cables;                          ///< plant's cable count, 1..CDPR_MAX_CABLES
+    int n_cables;                          ///< plant's cable count, 1..CDPR_LCM_MAX_CABLES
     double u_max_m_per_s[CDPR_MAX_CABLES]; ///< |rate| limit per winch [m/s] (> 0)
     double min_length_m[CDPR_MAX_CABLES];  ///< shortest length setpoint per winch [m] (> 0)
     double max_length_m;                   ///< longest length setpoint [m] (> every min)
@@ -116,7 +125,7 @@ typedef struct {
 
 /// Fill limits from the winch parameters of `n_cables` winches (u_max_m_per_s, min_length_m)
 /// and a longest cable length [m]. Validates: CDPR_E_CAPACITY for n_cables outside
-/// 1..CDPR_MAX_CABLES, CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE / CDPR_E_OUT_OF_RANGE naming the
+/// 1..CDPR_LCM_MAX_CABLES, CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE / CDPR_E_OUT_OF_RANGE naming the
 /// field and winch in `diag`. On error `lim` is not written.
 cdpr_status_t cdpr_lcm_limits_from_winch(cdpr_lcm_limits_t *lim, int n_cables,
                                          const cdpr_winch_params_t *winch, double max_length_m,
@@ -197,7 +206,7 @@ typedef struct {
 } cdpr_lcm_mailbox_t;
 
 /// Initialise: empty (reads hold until the first command), watchdog `timeout_ns` [ns] (> 0),
-/// hold command for `n_cables` winches (1..CDPR_MAX_CABLES). Before the threads start. O(1);
+/// hold command for `n_cables` winches (1..CDPR_LCM_MAX_CABLES). Before the threads start. O(1);
 /// no allocation. Errors (diag names the field): CDPR_E_INVALID_ARG (NULL), CDPR_E_CAPACITY
 /// (n_cables), CDPR_E_NOT_POSITIVE (timeout_ns).
 cdpr_status_t cdpr_lcm_mailbox_init(cdpr_lcm_mailbox_t *mb, int n_cables, int64_t timeout_ns,
