@@ -11,7 +11,11 @@
 ///   (c) adaptive stepping as users call it: cdpr_rkf45_step vs gsl_odeiv2_evolve_apply, per
 ///       accepted step, with the RHS calls per step each one made;
 ///   (d) the implicit ROS34PW2 trial (robot_w.h): factorisation, solve and the whole trial
-///       (1 factorisation, 4 solves, 4 RHS), in us and in RHS evaluations.
+///       (1 factorisation, 4 solves, 4 RHS), in us and in RHS evaluations;
+///   (e) one period of the fixed-cost mode;
+///   (f) the sag-aware inverse kinematics per call: six cables (cdpr_statics_ik, and GSL's
+///       18-unknown solve for comparison) and eight cables with the tension distribution
+///       (cdpr_statics_ik_dist), over 20 poses, with the iterations each took.
 /// Times are the best of N runs, each repeating the operation for at least T seconds
 /// (CLOCK_MONOTONIC). Our timed loops make no heap allocation; GSL's objects are allocated
 /// before timing (cdpr_gsl_stepper_init).
@@ -39,6 +43,8 @@
 #include "cdpr/robot.h"
 #include "cdpr/robot_w.h"
 #include "cdpr/ros34pw2.h"
+#include "cdpr/gsl/statics.h"
+#include "cdpr/statics.h"
 
 #define DEG_TO_RAD (CDPR_PI / 180.0)
 
@@ -533,6 +539,131 @@ static int table_fixed(const options_t *o)
     return 0;
 }
 
+/* (f): the IK over a set of poses. */
+enum { IK_POSES = 20 };
+typedef struct {
+    cdpr_cabin_motion_t pose[IK_POSES];
+    cdpr_statics_dist_t dist;
+    int use_dist; /* 0: cdpr_statics_ik, 1: cdpr_statics_ik_dist, 2: GSL */
+    long iterations;
+    int worst;
+} ik_ctx_t;
+
+static double bench_ik(void *ctx, long reps)
+{
+    ik_ctx_t *c = (ik_ctx_t *)ctx;
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    const cdpr_vec3_t zero = cdpr_v3(0.0, 0.0, 0.0);
+    double acc = 0.0;
+    c->iterations = 0;
+    c->worst = 0;
+    for (long r = 0; r < reps; ++r) {
+        for (int k = 0; k < IK_POSES; ++k) {
+            cdpr_statics_result_t res;
+            cdpr_status_t st;
+            if (c->use_dist == 1) {
+                st =
+                    cdpr_statics_ik_dist(&robot, &c->pose[k], zero, zero, &c->dist, &o, &res, NULL);
+            } else if (c->use_dist == 2) {
+                st = cdpr_gsl_statics_ik(&robot, &c->pose[k], 500, &res);
+            } else {
+                st = cdpr_statics_ik(&robot, &c->pose[k], &o, &res);
+            }
+            if (st != CDPR_OK) {
+                return -1.0;
+            }
+            acc += res.cable[0].length_m;
+            c->iterations += res.iterations;
+            c->worst = (res.iterations > c->worst) ? res.iterations : c->worst;
+        }
+    }
+    sink = acc;
+    return (double)(reps * IK_POSES);
+}
+
+/* Robot for (f): the 50 m model (6 cables), or the eight-cable layout of
+ * tests/unit/test_gsl_statics_dist.c (four towers, two cables each). */
+static int ik_robot(int n_cables)
+{
+    static const double attach_az_deg[6] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
+    cdpr_robot_params_t p;
+    cdpr_robot_params_default(&p);
+    p.n_cables = n_cables;
+    for (int j = 0; j < n_cables; ++j) {
+        cdpr_robot_cable_params_t *c = &p.cables[j];
+        if (n_cables == 6) {
+            const double th = 60.0 * (double)j * DEG_TO_RAD;
+            const double az = attach_az_deg[j] * DEG_TO_RAD;
+            c->exit_point_m = cdpr_v3(25.0 * cos(th), 25.0 * sin(th), 30.0);
+            c->attach_body_m = cdpr_v3(2.0 * cos(az), 2.0 * sin(az), -0.5);
+        } else {
+            const double side = (j % 2 != 0) ? 1.0 : -1.0;
+            const double th = (double)(j / 2) * CDPR_PI / 2.0 + CDPR_PI / 4.0 + 0.2 * side;
+            const double az = (double)(j / 2) * CDPR_PI / 2.0 + CDPR_PI / 4.0 - 0.5 * side;
+            c->exit_point_m = cdpr_v3(25.0 * cos(th), 25.0 * sin(th), 30.0);
+            c->attach_body_m = cdpr_v3(1.5 * cos(az), 1.5 * sin(az), 0.5 * side);
+        }
+        c->length_m = 30.0;
+        c->n_segments = 8;
+    }
+    cdpr_diag_t diag;
+    const cdpr_status_t st = cdpr_robot_init(&robot, &p, &diag);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-bench: robot init failed: %s (%s, %d)\n", cdpr_status_str(st),
+                diag.field, diag.index);
+        return -1;
+    }
+    return 0;
+}
+
+static int table_ik(const options_t *o)
+{
+    printf("(f) sag-aware inverse kinematics per call, 20 poses of the central workspace (x, y\n"
+           "    within 2 m, z 10-16 m, tilts within 0.05 rad), 50 m model's rope and cabin\n");
+    printf("    %-48s %10s %8s %6s\n", "case", "us/call", "iter", "max");
+    static ik_ctx_t c;
+    for (int k = 0; k < IK_POSES; ++k) {
+        const double x = 2.0 * lcg_uniform();
+        const double yy = 2.0 * lcg_uniform();
+        const double z = 13.0 + 3.0 * lcg_uniform();
+        c.pose[k].p_m = cdpr_v3(x, yy, z);
+        c.pose[k].q =
+            cdpr_quat_from_euler(0.05 * lcg_uniform(), 0.05 * lcg_uniform(), 0.05 * lcg_uniform());
+        c.pose[k].v_m_per_s = cdpr_v3(0.0, 0.0, 0.0);
+        c.pose[k].w_rad_per_s = c.pose[k].v_m_per_s;
+    }
+    cdpr_statics_dist_init(&c.dist, 25.0, 500.0);
+    static const struct {
+        int cables;
+        int mode;
+        const char *name;
+    } cases[3] = {{6, 0, "6 cables, cdpr_statics_ik (Newton)"},
+                  {6, 2, "6 cables, GSL hybrid on 18 unknowns (allocates)"},
+                  {8, 1, "8 cables, cdpr_statics_ik_dist 25-500 N (SQP)"}};
+    for (int i = 0; i < 3; ++i) {
+        if (cases[i].cables > CDPR_MAX_CABLES) {
+            printf("    %-48s (a build with CDPR_MAX_CABLES >= %d)\n", cases[i].name,
+                   cases[i].cables);
+            continue;
+        }
+        if (ik_robot(cases[i].cables) != 0) {
+            return -1;
+        }
+        c.use_dist = cases[i].mode;
+        if (bench_ik(&c, 1) < 0.0) {
+            fprintf(stderr, "cdpr-bench: (f) %s: a pose did not solve\n", cases[i].name);
+            return -1;
+        }
+        const timing_t t = measure(bench_ik, &c, o);
+        (void)bench_ik(&c, 1);
+        printf("    %-48s %10.1f %8.2f %6d\n", cases[i].name, 1e-3 * t.ns_per_unit,
+               (double)c.iterations / IK_POSES, c.worst);
+    }
+    printf("\n");
+    return 0;
+}
+
 static void print_machine(const options_t *o)
 {
     char model[256] = "unknown";
@@ -657,7 +788,7 @@ int main(int argc, char **argv)
     printf("cdpr-bench: the cdpr core's RHS and RKF45 step vs GSL rkf45 on the same RHS\n");
     print_machine(&o);
     if (table_rhs(&o) != 0 || table_step(&o) != 0 || table_adaptive(&o) != 0 ||
-        table_ros(&o) != 0 || table_fixed(&o) != 0) {
+        table_ros(&o) != 0 || table_fixed(&o) != 0 || table_ik(&o) != 0) {
         /* A benchmark robot or integrator the core refused (the message says which). */
         return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
     }

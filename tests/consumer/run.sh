@@ -190,17 +190,17 @@ fi
 #     variables, and a consumer compiled with other values is refused naming both.
 pc_caps="$(pkg-config --variable=max_cables cdpr-core) $(pkg-config --variable=max_segments cdpr-core) $(pkg-config --variable=real cdpr-core)"
 cfg=$(find "$host" -name cdprConfig.cmake | head -n 1)
-if [[ $pc_caps == "6 64 double" ]] && grep -q '^set(cdpr_MAX_CABLES 6)$' "$cfg" &&
+if [[ $pc_caps == "8 64 double" ]] && grep -q '^set(cdpr_MAX_CABLES 8)$' "$cfg" &&
     grep -q '^set(cdpr_MAX_SEGMENTS 64)$' "$cfg"; then
-    ok "capacities recorded: cdpr-core.pc max_cables/max_segments/real = $pc_caps, cdprConfig.cmake 6 x 64"
+    ok "capacities recorded: cdpr-core.pc max_cables/max_segments/real = $pc_caps, cdprConfig.cmake 8 x 64"
 else
     bad "capacities not recorded as built (pkg-config: '$pc_caps'; $cfg)"
 fi
 read -r -a pc_cflags <<<"$(pkg-config --cflags cdpr-core)"
 refused "host consumer with -DCDPR_MAX_SEGMENTS=16" "char\[16\]" "char\[64\]" \
     cc -O2 "${pc_cflags[@]}" -DCDPR_MAX_SEGMENTS=16 -c tests/consumer/state_bits.c -o "$work/x.o"
-refused "host consumer with -DCDPR_MAX_CABLES=8" "char\[8\]" "char\[6\]" \
-    cc -O2 "${pc_cflags[@]}" -DCDPR_MAX_CABLES=8 -c tests/consumer/state_bits.c -o "$work/x.o"
+refused "host consumer with -DCDPR_MAX_CABLES=6" "char\[6\]" "char\[8\]" \
+    cc -O2 "${pc_cflags[@]}" -DCDPR_MAX_CABLES=6 -c tests/consumer/state_bits.c -o "$work/x.o"
 refused "host consumer with -DCDPR_REAL_IS_FLOAT" "CDPR_REAL_IS_FLOAT" "built in double" \
     cc -O2 "${pc_cflags[@]}" -DCDPR_REAL_IS_FLOAT -c tests/consumer/state_bits.c -o "$work/x.o"
 unset PKG_CONFIG_PATH

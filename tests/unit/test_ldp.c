@@ -112,7 +112,7 @@ static void test_ldp_matches_brute_force(void)
         double zb[2] = {0.0, 0.0};
         for (int a = -1; a < n; ++a) {
             for (int b = a; b < n; ++b) {
-                int rows[2];
+                int rows[2] = {0, 0};
                 int r = 0;
                 if (a >= 0) {
                     rows[r++] = a;

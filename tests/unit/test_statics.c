@@ -187,6 +187,7 @@ static void test_forward_statics_inverts_ik(void)
     TEST_ASSERT_DOUBLE_WITHIN(tol_pose, g0, g1);
 }
 
+#ifndef CDPR_REAL_IS_FLOAT
 /* FAST-like robot (docs/robots.md set B; robots/fast.yaml): 30 t cabin on six 300 m ropes. */
 static void params_fast(cdpr_robot_params_t *p)
 {
@@ -206,6 +207,7 @@ static void params_fast(cdpr_robot_params_t *p)
         c->length_m = 300.0;
     }
 }
+#endif
 
 static void test_forward_statics_converges_at_the_scale_of_fast(void)
 {

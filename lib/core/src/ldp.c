@@ -114,7 +114,7 @@ static cdpr_ldp_result_t nnls(int m, int n, cdpr_real_t E[LDP_N][LDP_M], const c
         int moved = 0;
         for (int inner = 0; inner <= n; ++inner) {
             int idx[LDP_N];
-            cdpr_real_t zc[LDP_M];
+            cdpr_real_t zc[LDP_M] = {CDPR_R(0.0)};
             int p = 0;
             for (int j = 0; j < n; ++j) {
                 if (passive[j] != 0) {

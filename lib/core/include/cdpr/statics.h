@@ -97,13 +97,14 @@ void cdpr_statics_opts_default(cdpr_statics_opts_t *o);
 /// kinematics reports such a pose as CDPR_E_INFEASIBLE (CDPR_STATICS_WHY_LOOP) instead.
 #define CDPR_STATICS_MAX_LENGTH_PER_CHORD CDPR_R(1.5)
 
-/// Tension distribution of a redundant robot (m > 6 cables): the equilibrium whose winch-end
-/// tensions t_j are closest to t_ref_N in the 2-norm, min sum_j (t_j - t_ref_N)^2, subject to
-/// the lowest tension along every cable >= t_min_N (the cabin end for a cable that rises from
-/// the cabin, else the catenary's vertex) and the highest (the upper end) <= t_max_N. With
+/// Tension distribution of a redundant robot (m > 6 cables): the equilibrium whose lowest
+/// tensions along each cable, t_j, are closest to t_ref_N in the 2-norm,
+/// min sum_j (t_j - t_ref_N)^2, subject to t_j >= t_min_N and the highest tension along every
+/// cable <= t_max_N. The lowest tension is at the cabin end of a cable that rises from the
+/// cabin, at the catenary's vertex if it dips below it; the highest at the upper end. With
 /// t_ref_N at mid-range this is the criterion of the closed-form method of Pott, Bruckmann and
-/// Mikelsons (2009), here met exactly with the bounds enforced (docs/model.md). For six cables
-/// there is nothing to choose: the bounds are checked.
+/// Mikelsons (2009), here met exactly with the bounds enforced, on sagging cables
+/// (docs/model.md). For six cables there is nothing to choose: the bounds are checked.
 typedef struct {
     cdpr_real_t t_min_N; ///< lower bound (>= 0) [N]
     cdpr_real_t t_max_N; ///< upper bound (> t_min_N) [N]
@@ -173,19 +174,23 @@ cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_mot
 /// Sag-aware inverse kinematics of a robot with m >= 6 cables, with a tension distribution:
 /// the equilibrium at `pose` under the weight and the external wrench (as
 /// cdpr_statics_ik_wrench) that meets `dist` (cdpr_statics_dist_t: every cable's lowest
-/// tension >= t_min_N, highest <= t_max_N, winch-end tensions closest to t_ref_N).
+/// tension >= t_min_N, highest <= t_max_N, lowest tensions closest to t_ref_N).
 /// - m == 6: cdpr_statics_ik_wrench's solution, bit for bit, then the bounds are checked
 ///   (dist may be NULL: no bounds).
 /// - m > 6 (dist required): sequential quadratic programming on the m H_j from the massless
 ///   distribution (the same criterion and bounds on straight chords). Each iteration solves the
-///   inner catenaries (with dV/dH, dL/dH), linearises the equilibrium (6 equations), the
-///   winch-end tensions and the tension ranges in H, and takes the step of the least-distance
-///   problem (QR of the equilibrium's Jacobian for its null space, then Lawson-Hanson NNLS on
-///   the bounds), with backtracking. Converged when the wrench residual <= force_tol_N +
-///   1e3 eps |load| and the step changes no winch-end tension by more than that.
-/// Work: at most max_iter + 1 iterations, each at most 41 wrench evaluations (m inner
-/// catenary solves each, as cdpr_statics_ik_wrench) and one least-distance problem (at most
-/// 6 m NNLS iterations of at most 2 m least-squares solves of m - 5 rows); no allocation.
+///   inner catenaries (with dV/dH, dL/dH), linearises the equilibrium (6 equations) and the
+///   tension ranges in H, with the Lagrangian's (diagonal) curvature, and takes the step of the
+///   least-distance problem (QR of the equilibrium's Jacobian for its null space, then
+///   Lawson-Hanson NNLS on the bounds), followed by Newton back onto the equilibria and
+///   backtracking on an exact-penalty merit (docs/model.md). Converged when the wrench residual
+///   <= force_tol_N + 1e3 eps |load| and the step changes no lowest tension by more than that
+///   plus 10 sqrt(eps) max_j |lowest tension_j - t_ref_N|.
+/// Work: at most max_iter + 1 iterations, each with one least-distance problem (at most 6 m
+/// NNLS iterations of at most 2 m least-squares solves of m - 5 rows), 2 m inner solves for
+/// the curvature, and at most 40 trial steps of at most 1 + 8 x 40 wrench evaluations (the
+/// step, then at most 8 restoring Newton steps of at most 40 halvings), each m inner catenary
+/// solves as in cdpr_statics_ik_wrench; no allocation.
 /// `res` is written only on success; `why` (may be NULL) always: the verdict. Returns:
 /// - CDPR_E_INVALID_ARG: r, pose, res or o NULL; m < 6 or m > CDPR_MAX_CABLES; dist NULL with
 ///   m > 6; o->max_iter < 1.
