@@ -49,7 +49,7 @@ sed -e 's/@CDPR_VERSION_MAJOR@/0/; s/@CDPR_VERSION_MINOR@/0/; s/@CDPR_VERSION_PA
     -e 's/@CDPR_VERSION@/0.0.0/; s/@CDPR_GIT_DESCRIBE@/misra/' cmake/version.h.in \
     >"$work/gen/cdpr/version.h"
 # cdpr/build_config.h likewise, with the default capacities of a double build.
-sed -e 's/@CDPR_MAX_CABLES@/6/; s/@CDPR_MAX_SEGMENTS@/64/; s/@CDPR_BUILD_REAL_IS_FLOAT@/0/' \
+sed -e 's/@CDPR_MAX_CABLES@/8/; s/@CDPR_MAX_SEGMENTS@/64/; s/@CDPR_BUILD_REAL_IS_FLOAT@/0/' \
     cmake/build_config.h.in >"$work/gen/cdpr/build_config.h"
 cppcheck --addon=misra --addon-python="$python" --std=c99 --language=c --platform=unix32 \
     -UCDPR_REAL_IS_FLOAT \

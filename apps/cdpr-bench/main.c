@@ -598,9 +598,10 @@ static int ik_robot(int n_cables)
             c->exit_point_m = cdpr_v3(25.0 * cos(th), 25.0 * sin(th), 30.0);
             c->attach_body_m = cdpr_v3(2.0 * cos(az), 2.0 * sin(az), -0.5);
         } else {
+            const int tower = j / 2; /* two cables per tower */
             const double side = (j % 2 != 0) ? 1.0 : -1.0;
-            const double th = (double)(j / 2) * CDPR_PI / 2.0 + CDPR_PI / 4.0 + 0.2 * side;
-            const double az = (double)(j / 2) * CDPR_PI / 2.0 + CDPR_PI / 4.0 - 0.5 * side;
+            const double th = (double)tower * CDPR_PI / 2.0 + CDPR_PI / 4.0 + 0.2 * side;
+            const double az = (double)tower * CDPR_PI / 2.0 + CDPR_PI / 4.0 - 0.5 * side;
             c->exit_point_m = cdpr_v3(25.0 * cos(th), 25.0 * sin(th), 30.0);
             c->attach_body_m = cdpr_v3(1.5 * cos(az), 1.5 * sin(az), 0.5 * side);
         }

@@ -13,6 +13,7 @@
 
 #define LDP_M (CDPR_LDP_MAX_VARS + 1) /* rows of E */
 #define LDP_N CDPR_LDP_MAX_ROWS       /* columns of E: the constraints */
+#define LDP_C CDPR_LDP_MAX_COLS       /* components of the distribution step */
 
 /* Least squares min ||sum_i c_i E_{idx[i]} - b|| over the p columns idx of E (stored by
  * column: E[j][0..m-1]) by Householder QR. 0 on success, -1 if a column is numerically
@@ -74,6 +75,33 @@ static int lsq(int m, int p, cdpr_real_t E[LDP_N][LDP_M], const int *idx, const 
     return 0;
 }
 
+/* NNLS inner step: move u toward the least-squares point zfull on the passive set until the
+ * first passive component reaches zero, and drop it (with any other at zero). */
+static void move_to_zero(int p, const int *idx, const cdpr_real_t *zfull, cdpr_real_t *u,
+                         int *passive)
+{
+    cdpr_real_t alpha = CDPR_R(2.0);
+    int jmin = -1;
+    for (int i = 0; i < p; ++i) {
+        const int j = idx[i];
+        if (!(zfull[j] > CDPR_R(0.0))) {
+            const cdpr_real_t a = u[j] / (u[j] - zfull[j]);
+            if (a < alpha) {
+                alpha = a;
+                jmin = j;
+            }
+        }
+    }
+    for (int i = 0; i < p; ++i) {
+        const int j = idx[i];
+        u[j] += alpha * (zfull[j] - u[j]);
+        if (j == jmin || !(u[j] > CDPR_R(0.0))) {
+            u[j] = CDPR_R(0.0);
+            passive[j] = 0;
+        }
+    }
+}
+
 /* Lawson-Hanson NNLS: u >= 0 minimising ||E u - b|| (E: n columns of m rows). At most 3 n
  * outer iterations. Returns CDPR_LDP_OK or CDPR_LDP_STALLED. */
 static cdpr_ldp_result_t nnls(int m, int n, cdpr_real_t E[LDP_N][LDP_M], const cdpr_real_t *b,
@@ -112,9 +140,13 @@ static cdpr_ldp_result_t nnls(int m, int n, cdpr_real_t E[LDP_N][LDP_M], const c
         }
         passive[t] = 1;
         int moved = 0;
-        for (int inner = 0; inner <= n; ++inner) {
+        int inner_done = 0;
+        for (int inner = 0; (inner <= n) && (inner_done == 0); ++inner) {
             int idx[LDP_N];
-            cdpr_real_t zc[LDP_M] = {CDPR_R(0.0)};
+            cdpr_real_t zc[LDP_M];
+            for (int r = 0; r < LDP_M; ++r) {
+                zc[r] = CDPR_R(0.0);
+            }
             int p = 0;
             for (int j = 0; j < n; ++j) {
                 if (passive[j] != 0) {
@@ -132,46 +164,26 @@ static cdpr_ldp_result_t nnls(int m, int n, cdpr_real_t E[LDP_N][LDP_M], const c
                 zfull[idx[i]] = zc[i];
             }
             tpos = (zfull[t] > CDPR_R(0.0)) ? 1 : 0;
+            int all_pos = 1;
+            for (int i = 0; i < p; ++i) {
+                all_pos &= (zc[i] > CDPR_R(0.0)) ? 1 : 0;
+            }
             if (ok_lsq != 0 || (inner == 0 && tpos == 0)) {
                 /* The new column is dependent, or enters at a non-positive value (rounding):
                  * leave it out until u moves. */
                 passive[t] = 0;
                 excluded[t] = 1;
-                break;
-            }
-            int all_pos = 1;
-            for (int i = 0; i < p; ++i) {
-                all_pos &= (zc[i] > CDPR_R(0.0)) ? 1 : 0;
-            }
-            if (all_pos != 0) {
+                inner_done = 1;
+            } else if (all_pos != 0) {
                 for (int j = 0; j < n; ++j) {
                     u[j] = zfull[j];
                 }
                 moved = 1;
-                break;
+                inner_done = 1;
+            } else {
+                move_to_zero(p, idx, zfull, u, passive);
+                moved = 1;
             }
-            /* Move toward z until the first passive component reaches zero; drop it. */
-            cdpr_real_t alpha = CDPR_R(2.0);
-            int jmin = -1;
-            for (int i = 0; i < p; ++i) {
-                const int j = idx[i];
-                if (!(zfull[j] > CDPR_R(0.0))) {
-                    const cdpr_real_t a = u[j] / (u[j] - zfull[j]);
-                    if (a < alpha) {
-                        alpha = a;
-                        jmin = j;
-                    }
-                }
-            }
-            for (int i = 0; i < p; ++i) {
-                const int j = idx[i];
-                u[j] += alpha * (zfull[j] - u[j]);
-                if (j == jmin || !(u[j] > CDPR_R(0.0))) {
-                    u[j] = CDPR_R(0.0);
-                    passive[j] = 0;
-                }
-            }
-            moved = 1;
         }
         if (moved != 0) {
             for (int j = 0; j < n; ++j) {
@@ -242,7 +254,10 @@ cdpr_ldp_result_t cdpr_ldp_solve(int k, int n_rows, cdpr_real_t G[][CDPR_LDP_MAX
     if (nnls(k + 1, n, E, f, u) != CDPR_LDP_OK) {
         return CDPR_LDP_STALLED;
     }
-    cdpr_real_t r[LDP_M] = {CDPR_R(0.0)};
+    cdpr_real_t r[LDP_M];
+    for (int c = 0; c < LDP_M; ++c) {
+        r[c] = CDPR_R(0.0);
+    }
     for (int c = 0; c <= k; ++c) {
         r[c] = -f[c];
         for (int j = 0; j < n; ++j) {
@@ -265,19 +280,19 @@ cdpr_ldp_result_t cdpr_ldp_solve(int k, int n_rows, cdpr_real_t G[][CDPR_LDP_MAX
     return CDPR_LDP_OK;
 }
 
-int cdpr_ldp_qp(int m, cdpr_real_t E[6][CDPR_LDP_MAX_COLS], const cdpr_real_t f[6],
-                const cdpr_real_t *lo_c, const cdpr_real_t *lo_h, const cdpr_real_t *hi_c,
-                const cdpr_real_t *hi_h, int bounded, cdpr_real_t *u, cdpr_real_t *mu, int *blame)
+cdpr_ldp_result_t cdpr_ldp_qp(int m, cdpr_real_t E[6][CDPR_LDP_MAX_COLS], const cdpr_real_t f[6],
+                              const cdpr_real_t *lo_c, const cdpr_real_t *lo_h,
+                              const cdpr_real_t *hi_c, const cdpr_real_t *hi_h, int bounded,
+                              cdpr_real_t *u, cdpr_real_t *mu, int *blame)
 {
-    enum { MC = CDPR_LDP_MAX_COLS };
     *blame = -1;
-    if (m < 6 || m > MC) {
-        return -1; /* not a distribution problem of this build */
+    if (m < 6 || m > LDP_C) {
+        return CDPR_LDP_SINGULAR; /* not a distribution problem of this build */
     }
     /* A = E^T (m x 6), reduced in place to R; the reflections are applied to Q = I (m x m),
      * so that Q^T A = [R; 0] and Q = [Q1 Q2]. */
-    cdpr_real_t A[MC][6];
-    cdpr_real_t Q[MC][MC];
+    cdpr_real_t A[LDP_C][6];
+    cdpr_real_t Q[LDP_C][LDP_C];
     for (int i = 0; i < m; ++i) {
         for (int c = 0; c < 6; ++c) {
             A[i][c] = E[c][i];
@@ -294,7 +309,7 @@ int cdpr_ldp_qp(int m, cdpr_real_t E[6][CDPR_LDP_MAX_COLS], const cdpr_real_t f[
         }
         nrm = CDPR_SQRT(nrm);
         const cdpr_real_t alpha = (A[k][k] > CDPR_R(0.0)) ? -nrm : nrm;
-        cdpr_real_t v[MC];
+        cdpr_real_t v[LDP_C];
         cdpr_real_t vtv = CDPR_R(0.0);
         for (int i = k; i < m; ++i) {
             v[i] = A[i][k];
@@ -330,11 +345,14 @@ int cdpr_ldp_qp(int m, cdpr_real_t E[6][CDPR_LDP_MAX_COLS], const cdpr_real_t f[
     }
     for (int k = 0; k < 6; ++k) {
         if (!(CDPR_FABS(A[k][k]) > CDPR_R(1e-12) * rmax) || !isfinite(A[k][k])) {
-            return -1;
+            return CDPR_LDP_SINGULAR;
         }
     }
     /* E u = f with u = Q1 y: R^T y = f (forward substitution). */
-    cdpr_real_t y[6] = {CDPR_R(0.0)};
+    cdpr_real_t y[6];
+    for (int k = 0; k < 6; ++k) {
+        y[k] = CDPR_R(0.0);
+    }
     for (int k = 0; k < 6; ++k) {
         cdpr_real_t s = f[k];
         for (int i = 0; i < k; ++i) {
@@ -363,7 +381,7 @@ int cdpr_ldp_qp(int m, cdpr_real_t E[6][CDPR_LDP_MAX_COLS], const cdpr_real_t f[
         cdpr_real_t z[CDPR_LDP_MAX_VARS];
         const cdpr_ldp_result_t lr = cdpr_ldp_solve(nz, 2 * m, G, h, z, blame);
         if (lr != CDPR_LDP_OK) {
-            return (int)lr;
+            return lr;
         }
         for (int j = 0; j < m; ++j) {
             for (int c = 0; c < nz; ++c) {

@@ -21,7 +21,8 @@
 typedef enum {
     CDPR_LDP_OK = 0,         ///< z holds the minimum-norm feasible point
     CDPR_LDP_INFEASIBLE = 1, ///< no z satisfies G z >= h; `blame` names the row weighing most
-    CDPR_LDP_STALLED = 2     ///< the NNLS iteration bound (3 rows) was hit, or a rank failure
+    CDPR_LDP_STALLED = 2,    ///< the NNLS iteration bound (3 rows) was hit, or a rank failure
+    CDPR_LDP_SINGULAR = 3    ///< cdpr_ldp_qp: the equations are rank deficient, or m out of range
 } cdpr_ldp_result_t;
 
 /// Minimum-norm z (k components, 0 <= k <= CDPR_LDP_MAX_VARS) with G z >= h (n_rows rows,
@@ -46,11 +47,12 @@ cdpr_ldp_result_t cdpr_ldp_solve(int k, int n_rows, cdpr_real_t G[][CDPR_LDP_MAX
 /// the least-squares multipliers of the equations, E^T mu ~ u (exact when no bound is active:
 /// the KKT condition u = E^T mu). Returns CDPR_LDP_OK (u written),
 /// CDPR_LDP_INFEASIBLE (*blame = 2 j for the lower bound of component j, 2 j + 1 for its upper
-/// bound), CDPR_LDP_STALLED, or -1 when E is rank deficient (a diagonal of R below 1e-12 of
-/// the largest) or m is outside [6, CDPR_LDP_MAX_COLS]. Work O(m^2 6) for the QR plus the LDP's; no
-/// allocation.
-int cdpr_ldp_qp(int m, cdpr_real_t E[6][CDPR_LDP_MAX_COLS], const cdpr_real_t f[6],
-                const cdpr_real_t *lo_c, const cdpr_real_t *lo_h, const cdpr_real_t *hi_c,
-                const cdpr_real_t *hi_h, int bounded, cdpr_real_t *u, cdpr_real_t *mu, int *blame);
+/// bound), CDPR_LDP_STALLED, or CDPR_LDP_SINGULAR when E is rank deficient (a diagonal of R
+/// below 1e-12 of the largest) or m is outside [6, CDPR_LDP_MAX_COLS]. Work O(m^2 6) for the QR
+/// plus the LDP's; no allocation.
+cdpr_ldp_result_t cdpr_ldp_qp(int m, cdpr_real_t E[6][CDPR_LDP_MAX_COLS], const cdpr_real_t f[6],
+                              const cdpr_real_t *lo_c, const cdpr_real_t *lo_h,
+                              const cdpr_real_t *hi_c, const cdpr_real_t *hi_h, int bounded,
+                              cdpr_real_t *u, cdpr_real_t *mu, int *blame);
 
 #endif /* CDPR_LDP_H */

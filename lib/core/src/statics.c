@@ -770,8 +770,8 @@ static int start_massless(const cdpr_robot_t *r, const geom_t *g, const load_t *
     }
     cdpr_real_t u[MC];
     int blame = -1;
-    int rc = cdpr_ldp_qp(m, E, f, lo_c, lo_h, hi_c, hi_h, 1, u, NULL, &blame);
-    if (rc != CDPR_LDP_OK && rc >= 0) {
+    cdpr_ldp_result_t rc = cdpr_ldp_qp(m, E, f, lo_c, lo_h, hi_c, hi_h, 1, u, NULL, &blame);
+    if (rc == CDPR_LDP_INFEASIBLE || rc == CDPR_LDP_STALLED) {
         rc = cdpr_ldp_qp(m, E, f, lo_c, lo_h, hi_c, hi_h, 0, u, NULL, &blame);
     }
     if (rc != CDPR_LDP_OK) {
@@ -838,17 +838,21 @@ static void cable_curvature(const cdpr_robot_t *r, const geom_t *g, const cdpr_s
     *t2 = (dtw[0] - dtw[1]) / (CDPR_R(2.0) * h);
 }
 
-/* How sqp_step treats the bounds. */
-enum { SQP_FREE = 0, SQP_BOUNDED = 1, SQP_RELAXED = 2, SQP_RESTORE = 3 };
+/* What sqp_step solves: the criterion's step with the bounds as given, or with the bounds
+ * relaxed to no worse than now where they are broken; or a restoring step (no criterion, no
+ * bounds: the minimum-norm step back onto the equilibria). */
+#define SQP_BOUNDED 1
+#define SQP_RELAXED 2
+#define SQP_RESTORE 3
 
 /* One step d of the redundant problem at s: the QP of the linearised equilibrium J d = -rv,
  * the criterion linearised in the lowest tensions, the bounds linearised in the tension
- * ranges: as given (SQP_BOUNDED), none (SQP_FREE), or relaxed to no worse than now where they
- * are broken (SQP_RELAXED). Returns a cdpr_ldp_qp code (blame: 2 j lower, 2 j + 1 upper
+ * ranges, as `mode` says. Returns a cdpr_ldp_qp code (blame: 2 j lower, 2 j + 1 upper
  * bound); *dt: the largest change of a lowest tension the step makes (linearised) [N]. */
-static int sqp_step(const cdpr_robot_t *r, const geom_t *g, const cdpr_statics_opts_t *o,
-                    const sqp_iter_t *s, const cdpr_statics_dist_t *d, int mode, cdpr_real_t *dH,
-                    cdpr_real_t *dt, cdpr_real_t *mu, int *blame)
+static cdpr_ldp_result_t sqp_step(const cdpr_robot_t *r, const geom_t *g,
+                                  const cdpr_statics_opts_t *o, const sqp_iter_t *s,
+                                  const cdpr_statics_dist_t *d, int mode, cdpr_real_t *dH,
+                                  cdpr_real_t *dt, cdpr_real_t *mu, int *blame)
 {
     const int m = r->p.n_cables;
     cdpr_real_t E[NC][MC];
@@ -896,8 +900,9 @@ static int sqp_step(const cdpr_robot_t *r, const geom_t *g, const cdpr_statics_o
         }
     }
     cdpr_real_t u[MC];
-    const int rc = cdpr_ldp_qp(m, E, f, lo_c, lo_h, hi_c, hi_h,
-                               (mode == SQP_BOUNDED || mode == SQP_RELAXED) ? 1 : 0, u, mu, blame);
+    const cdpr_ldp_result_t rc =
+        cdpr_ldp_qp(m, E, f, lo_c, lo_h, hi_c, hi_h,
+                    (mode == SQP_BOUNDED || mode == SQP_RELAXED) ? 1 : 0, u, mu, blame);
     if (rc == CDPR_LDP_OK) {
         *dt = CDPR_R(0.0);
         for (int j = 0; j < m; ++j) {
@@ -968,7 +973,8 @@ static int sqp_restore(const cdpr_robot_t *r, const geom_t *g, const cdpr_static
         cdpr_real_t a = CDPR_R(1.0);
         int moved = 0;
         for (int h = 0; (h < 40) && (moved == 0); ++h) {
-            sqp_iter_t n = *s;
+            sqp_iter_t n;
+            n = *s;
             int positive = 1;
             for (int j = 0; j < r->p.n_cables; ++j) {
                 n.k.H[j] = s->k.H[j] + a * dH[j];
@@ -1000,7 +1006,8 @@ static int sqp_line_search(const cdpr_robot_t *r, const geom_t *g, const cdpr_st
     const cdpr_real_t phi = sqp_merit(r, &s->k, d);
     cdpr_real_t a = CDPR_R(1.0);
     for (int k = 0; k < 40; ++k) {
-        sqp_iter_t n = *s;
+        sqp_iter_t n;
+        n = *s;
         int positive = 1;
         for (int j = 0; j < r->p.n_cables; ++j) {
             n.k.H[j] = s->k.H[j] + a * dH[j];
@@ -1041,22 +1048,22 @@ static cdpr_status_t ik_redundant(const cdpr_robot_t *r, const geom_t *g, const 
     if (sqp_eval(r, g, o, ld, s) != CDPR_OK || sqp_restore(r, g, o, ld, d, tol, s) != 0) {
         return CDPR_E_NO_CONVERGENCE;
     }
-    for (int it = 0;; ++it) {
+    for (int it = 0; it <= o->max_iter; ++it) {
         cdpr_real_t dH[MC];
         cdpr_real_t dt = CDPR_R(0.0);
         int blame = -1;
         cdpr_real_t mu[NC];
-        int rc = sqp_step(r, g, o, s, d, SQP_BOUNDED, dH, &dt, mu, &blame);
+        cdpr_ldp_result_t rc = sqp_step(r, g, o, s, d, SQP_BOUNDED, dH, &dt, mu, &blame);
         const int bounded_blame = blame;
-        const int bounded = (rc == (int)CDPR_LDP_INFEASIBLE) ? 0 : 1;
+        const int bounded = (rc == CDPR_LDP_INFEASIBLE) ? 0 : 1;
         if (bounded == 0) {
             rc = sqp_step(r, g, o, s, d, SQP_RELAXED, dH, &dt, mu, &blame);
-            if (rc == (int)CDPR_LDP_INFEASIBLE) {
+            if (rc == CDPR_LDP_INFEASIBLE) {
                 dt = CDPR_R(0.0); /* not even the bounds as they are: no move is left */
                 rc = CDPR_LDP_OK;
             }
         }
-        if (rc < 0) {
+        if (rc == CDPR_LDP_SINGULAR) {
             set_why(why, CDPR_STATICS_WHY_SPAN, -1, (cdpr_real_t)NAN, (cdpr_real_t)NAN);
             return CDPR_E_INFEASIBLE;
         }
@@ -1098,6 +1105,7 @@ static cdpr_status_t ik_redundant(const cdpr_robot_t *r, const geom_t *g, const 
             s->mu[i] = mu[i];
         }
     }
+    return CDPR_E_NO_CONVERGENCE; /* not reached: the last iteration returns */
 }
 
 static cdpr_status_t check_dist(const cdpr_statics_dist_t *d)
@@ -1290,10 +1298,8 @@ static cdpr_status_t fwd_newton(const cdpr_robot_t *r, const cdpr_real_t *length
                                 cdpr_real_t delta, fwd_iter_t *s, int *iterations)
 {
     int it = 0;
-    while (s->rn > tol) {
-        if (it >= o->max_iter) {
-            break;
-        }
+    int moving = 1;
+    while (s->rn > tol && it < o->max_iter && moving != 0) {
         ++it;
         cdpr_real_t J[NC][MC];
         CDPR_TRY(fwd_jacobian(r, length_m, o, &s->pose, delta, J));
@@ -1305,9 +1311,7 @@ static cdpr_status_t fwd_newton(const cdpr_robot_t *r, const cdpr_real_t *length
         if (solve_linear(NC, J, b, dx, CDPR_R(0.0)) != 0) {
             return CDPR_E_INFEASIBLE; /* no static stiffness in some direction */
         }
-        if (fwd_line_search(r, length_m, o, dx, s) == 0) {
-            break;
-        }
+        moving = fwd_line_search(r, length_m, o, dx, s);
     }
     if (!(s->rn <= tol + floor)) {
         return CDPR_E_NO_CONVERGENCE;
