@@ -934,6 +934,21 @@ static cdpr_real_t sqp_merit(const cdpr_robot_t *r, const ik_iter_t *s,
     return phi;
 }
 
+/* The iterate s moved by a dH into n and evaluated: 1 if every H stays positive and the inner
+ * solves succeed, else 0. */
+static int sqp_trial(const cdpr_robot_t *r, const geom_t *g, const cdpr_statics_opts_t *o,
+                     const load_t *ld, const sqp_iter_t *s, const cdpr_real_t *dH, cdpr_real_t a,
+                     sqp_iter_t *n)
+{
+    *n = *s;
+    int positive = 1;
+    for (int j = 0; j < r->p.n_cables; ++j) {
+        n->k.H[j] = s->k.H[j] + a * dH[j];
+        positive &= (n->k.H[j] > CDPR_R(0.0)) ? 1 : 0;
+    }
+    return (positive != 0 && sqp_eval(r, g, o, ld, n) == CDPR_OK) ? 1 : 0;
+}
+
 /* Optimality tolerance of the redundant problem [N]: tol plus 10 sqrt(eps) times the largest
  * |lowest tension - t_ref|. The step's optimality part is the criterion's gradient projected
  * on the equilibria's tangent, which the inner solves' span tolerance leaves known to ~1e-9 of
@@ -974,13 +989,7 @@ static int sqp_restore(const cdpr_robot_t *r, const geom_t *g, const cdpr_static
         int moved = 0;
         for (int h = 0; (h < 40) && (moved == 0); ++h) {
             sqp_iter_t n;
-            n = *s;
-            int positive = 1;
-            for (int j = 0; j < r->p.n_cables; ++j) {
-                n.k.H[j] = s->k.H[j] + a * dH[j];
-                positive &= (n.k.H[j] > CDPR_R(0.0)) ? 1 : 0;
-            }
-            if (positive != 0 && sqp_eval(r, g, o, ld, &n) == CDPR_OK && n.k.rn < s->k.rn) {
+            if (sqp_trial(r, g, o, ld, s, dH, a, &n) != 0 && n.k.rn < s->k.rn) {
                 *s = n;
                 moved = 1;
             }
@@ -1007,13 +1016,7 @@ static int sqp_line_search(const cdpr_robot_t *r, const geom_t *g, const cdpr_st
     cdpr_real_t a = CDPR_R(1.0);
     for (int k = 0; k < 40; ++k) {
         sqp_iter_t n;
-        n = *s;
-        int positive = 1;
-        for (int j = 0; j < r->p.n_cables; ++j) {
-            n.k.H[j] = s->k.H[j] + a * dH[j];
-            positive &= (n.k.H[j] > CDPR_R(0.0)) ? 1 : 0;
-        }
-        if (positive != 0 && sqp_eval(r, g, o, ld, &n) == CDPR_OK &&
+        if (sqp_trial(r, g, o, ld, s, dH, a, &n) != 0 &&
             sqp_restore(r, g, o, ld, d, tol, &n) == 0 &&
             sqp_merit(r, &n.k, d) <= phi * (CDPR_R(1.0) + CDPR_R(1e-9) + CDPR_R(1e3) * CDPR_EPS)) {
             *s = n;

@@ -226,7 +226,8 @@ class Plant:
         """Sag-aware inverse kinematics of this robot at pose (x, y, z [m], alpha, beta,
         gamma [rad]) under the cabin's weight: dict of per-cable NumPy arrays length_m,
         tension_cabin_N, tension_winch_N, H_N. CdprError for a pose it cannot hold
-        (CDPR_E_INFEASIBLE: a cable would have to push)."""
+        (CDPR_E_INFEASIBLE: a cable would have to push, or hang in a loop longer than 1.5
+        chords)."""
         p = _f64(pose, 6, "pose")
         out = {k: np.zeros(self.n_cables) for k in
                ("length_m", "tension_cabin_N", "tension_winch_N", "H_N")}
