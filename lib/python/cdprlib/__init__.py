@@ -22,8 +22,8 @@ import os
 
 import numpy as np
 
-__all__ = ["CdprError", "Plant", "Measurement", "catenary_solve", "catenary_point",
-           "RATE", "LENGTH"]
+__all__ = ["CdprError", "Plant", "Robot", "Measurement", "WHY_NAMES", "catenary_solve",
+           "catenary_point", "RATE", "LENGTH"]
 
 RATE = 0    # winch commands are payout rates [m/s]
 LENGTH = 1  # winch commands are unstretched lengths [m]
@@ -54,6 +54,12 @@ _control = _sig("cdpr_py_control", ctypes.c_int, ctypes.c_void_p, _D)
 _step = _sig("cdpr_py_step", ctypes.c_int, ctypes.c_void_p, ctypes.c_int, _D, _I)
 _work = _sig("cdpr_py_work", None, ctypes.c_void_p, _L)
 _ik = _sig("cdpr_py_ik", ctypes.c_int, ctypes.c_void_p, _D, _D, _D, _D, _D)
+_robot_open = _sig("cdpr_py_robot_open", ctypes.c_void_p, ctypes.c_char_p, _I, ctypes.c_char_p,
+                   ctypes.c_size_t)
+_robot_close = _sig("cdpr_py_robot_close", None, ctypes.c_void_p)
+_robot_info = _sig("cdpr_py_robot_info", ctypes.c_int, ctypes.c_void_p, _D)
+_robot_ik = _sig("cdpr_py_robot_ik", ctypes.c_int, ctypes.c_void_p, _D, _D, _D, _D, _D, _D, _D,
+                 _D, _D, _I, _D, _I)
 _cat_solve = _sig("cdpr_py_catenary_solve", ctypes.c_int, ctypes.c_double, ctypes.c_double,
                   ctypes.c_double, ctypes.c_double, ctypes.c_double, _D, _D)
 _cat_point = _sig("cdpr_py_catenary_point", None, ctypes.c_double, ctypes.c_double,
@@ -235,6 +241,83 @@ class Plant:
                  _ptr(out["tension_winch_N"]), _ptr(out["H_N"]))
         if st != 0:
             raise CdprError(st, "inverse kinematics at pose %s" % list(p))
+        return out
+
+
+# Reasons of an infeasible pose (cdpr_statics_why_t, cdpr/statics.h).
+WHY_NAMES = {1: "PUSH", 2: "NO_LIFT", 3: "SPAN", 4: "LOOP", 5: "T_MIN", 6: "T_MAX"}
+
+
+class Robot:
+    """A robot file's statics (docs/python.md): `Robot(path)` loads and checks the file
+    (CdprError naming file, line and key); `ik(pose, ...)` is the sag-aware inverse kinematics
+    of any cable count from 6 to the build's capacity, with the tension distribution of a
+    redundant robot (cdpr_statics_ik_dist)."""
+
+    def __init__(self, path):
+        status = ctypes.c_int(0)
+        msg = ctypes.create_string_buffer(2048)
+        self._h = _robot_open(os.fsencode(path), ctypes.byref(status), msg, len(msg))
+        if not self._h:
+            raise CdprError(status.value, msg.value.decode(errors="replace"))
+        nominal = np.zeros(6)
+        self.n_cables = int(_robot_info(self._h, _ptr(nominal)))
+        self.nominal_pose = nominal
+
+    def close(self):
+        """Free the robot (also done when it is collected)."""
+        if getattr(self, "_h", None):
+            _robot_close(self._h)
+            self._h = None
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def ik(self, pose, t_min_N=None, t_max_N=None, t_ref_N=None, f_ext_N=(0.0, 0.0, 0.0),
+           tau_ext_Nm=(0.0, 0.0, 0.0)):
+        """Equilibrium at pose (x, y, z [m], alpha, beta, gamma [rad]) under the weight and an
+        external wrench (world axes, at and about the centre of mass). With more than six
+        cables the bounds are required: every cable's lowest tension >= t_min_N and highest
+        <= t_max_N, the lowest tensions closest to t_ref_N (default mid-range). Returns a dict
+        of per-cable arrays length_m, tension_cabin_N, tension_winch_N, H_N, v_cabin_N (the
+        vertical component at the cabin end, upwards) and `iterations`.
+        An infeasible pose raises CdprError with `why` (PUSH, NO_LIFT, SPAN, LOOP, T_MIN,
+        T_MAX), `cable` (0-based, -1 if none), `value` and `limit`."""
+        p = _f64(pose, 6, "pose")
+        f = _f64(f_ext_N, 3, "f_ext_N")
+        tau = _f64(tau_ext_Nm, 3, "tau_ext_Nm")
+        bounds = None
+        if t_min_N is not None or t_max_N is not None:
+            if t_min_N is None or t_max_N is None:
+                raise ValueError("t_min_N and t_max_N go together")
+            ref = 0.5 * (t_min_N + t_max_N) if t_ref_N is None else t_ref_N
+            bounds = np.array([t_min_N, t_max_N, ref], dtype=np.float64)
+        out = {k: np.zeros(self.n_cables) for k in
+               ("length_m", "tension_cabin_N", "tension_winch_N", "H_N", "v_cabin_N")}
+        verdict = (ctypes.c_int * 2)()
+        values = np.zeros(2)
+        it = ctypes.c_int(0)
+        st = _robot_ik(self._h, _ptr(p), _ptr(f), _ptr(tau),
+                       _ptr(bounds) if bounds is not None else None,
+                       _ptr(out["length_m"]), _ptr(out["tension_cabin_N"]),
+                       _ptr(out["tension_winch_N"]), _ptr(out["H_N"]), _ptr(out["v_cabin_N"]),
+                       verdict, _ptr(values), ctypes.byref(it))
+        if st != 0:
+            why = WHY_NAMES.get(verdict[0], "")
+            text = "inverse kinematics at pose %s" % list(p)
+            if why:
+                text += ": %s, cable index %d, %.6g against %.6g" % (why, verdict[1], values[0],
+                                                                      values[1])
+            err = CdprError(st, text)
+            err.why, err.cable, err.value, err.limit = why, verdict[1], values[0], values[1]
+            raise err
+        out["iterations"] = it.value
         return out
 
 

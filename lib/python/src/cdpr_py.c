@@ -13,6 +13,7 @@
 
 #include "cdpr/catenary.h"
 #include "cdpr/host/plant.h"
+#include "cdpr/host/rig.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/plant.h"
 #include "cdpr/statics.h"
@@ -225,4 +226,102 @@ CDPR_PY_EXPORT void cdpr_py_catenary_point(double w_N_per_m, double ea_N, double
 {
     const cdpr_catenary_cable_t c = {w_N_per_m, ea_N};
     cdpr_catenary_point(&c, H_N, va_N, s_m, x_m, z_m);
+}
+
+/* ---- A robot file's statics (cdprlib.Robot) -------------------------------------------- */
+
+struct cdpr_py_robot {
+    cdpr_rig_t rig;
+    cdpr_robot_t robot;
+};
+
+/* Load a robot file and build its core model (unstretched lengths: placeholders, the statics
+ * does not use them). NULL on failure with *status and msg ("FILE:LINE: KEY: what"). */
+CDPR_PY_EXPORT cdpr_py_robot_t *cdpr_py_robot_open(const char *path, int *status, char *msg,
+                                                   size_t cap)
+{
+    cdpr_py_robot_t *h = calloc(1, sizeof *h);
+    if (h == NULL) {
+        *status = (int)CDPR_E_IO;
+        say(msg, cap, "out of memory");
+        return NULL;
+    }
+    cdpr_rig_error_t err;
+    err.msg[0] = '\0';
+    cdpr_status_t st = cdpr_rig_load(path, &h->rig, &err);
+    if (st == CDPR_OK) {
+        cdpr_robot_params_t p;
+        cdpr_diag_t d;
+        st = cdpr_rig_build(&h->rig, NULL, &p, NULL, &d);
+        if (st == CDPR_OK) {
+            st = cdpr_robot_init(&h->robot, &p, &d);
+        }
+        if (st != CDPR_OK) {
+            snprintf(err.msg, sizeof err.msg, "%s: rejected by the model: field '%s' (%d): %s",
+                     path, d.field, d.index, cdpr_status_str(st));
+        }
+    }
+    if (st != CDPR_OK) {
+        *status = (int)st;
+        say(msg, cap, err.msg);
+        free(h);
+        return NULL;
+    }
+    *status = (int)CDPR_OK;
+    return h;
+}
+
+CDPR_PY_EXPORT void cdpr_py_robot_close(cdpr_py_robot_t *h)
+{
+    free(h);
+}
+
+/* Cable count and the nominal pose of the robot file. */
+CDPR_PY_EXPORT int cdpr_py_robot_info(const cdpr_py_robot_t *h, double nominal_pose[6])
+{
+    for (int i = 0; i < 6; ++i) {
+        nominal_pose[i] = h->rig.nominal_pose[i];
+    }
+    return h->robot.p.n_cables;
+}
+
+/* cdpr_statics_ik_dist at pose under the weight and (f_ext, tau_ext) (world axes, at and about
+ * the centre of mass); bounds[3] = (t_min, t_max, t_ref), or NULL for none (six cables only).
+ * Per cable: length, cabin- and winch-end tensions, H, V at the cabin end. verdict[2] = (why,
+ * cable), verdict_v[2] = (value, limit), *iterations. Returns the status. */
+CDPR_PY_EXPORT int cdpr_py_robot_ik(const cdpr_py_robot_t *h, const double pose[6],
+                                    const double f_ext[3], const double tau_ext[3],
+                                    const double *bounds, double *length_m, double *tension_cabin_N,
+                                    double *tension_winch_N, double *H_N, double *v_cabin_N,
+                                    int verdict[2], double verdict_v[2], int *iterations)
+{
+    const cdpr_cabin_motion_t m = cdpr_cabin_motion_at_pose(pose);
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    cdpr_statics_dist_t d;
+    if (bounds != NULL) {
+        d.t_min_N = bounds[0];
+        d.t_max_N = bounds[1];
+        d.t_ref_N = bounds[2];
+    }
+    cdpr_statics_result_t r;
+    cdpr_statics_verdict_t why;
+    const cdpr_status_t st = cdpr_statics_ik_dist(
+        &h->robot, &m, cdpr_v3(f_ext[0], f_ext[1], f_ext[2]),
+        cdpr_v3(tau_ext[0], tau_ext[1], tau_ext[2]), (bounds != NULL) ? &d : NULL, &o, &r, &why);
+    verdict[0] = (int)why.why;
+    verdict[1] = why.cable;
+    verdict_v[0] = why.value;
+    verdict_v[1] = why.limit;
+    if (st == CDPR_OK) {
+        for (int j = 0; j < r.n_cables; ++j) {
+            length_m[j] = r.cable[j].length_m;
+            tension_cabin_N[j] = r.cable[j].tension_cabin_N;
+            tension_winch_N[j] = r.cable[j].tension_winch_N;
+            H_N[j] = r.cable[j].H_N;
+            v_cabin_N[j] = r.cable[j].v_cabin_N;
+        }
+        *iterations = r.iterations;
+    }
+    return (int)st;
 }

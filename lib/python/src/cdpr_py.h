@@ -30,4 +30,16 @@ CDPR_PY_EXPORT int cdpr_py_catenary_solve(double w_N_per_m, double ea_N, double 
 CDPR_PY_EXPORT void cdpr_py_catenary_point(double w_N_per_m, double ea_N, double H_N, double va_N,
                                            double s_m, double *x_m, double *z_m);
 
+typedef struct cdpr_py_robot cdpr_py_robot_t;
+
+CDPR_PY_EXPORT cdpr_py_robot_t *cdpr_py_robot_open(const char *path, int *status, char *msg,
+                                                   size_t cap);
+CDPR_PY_EXPORT void cdpr_py_robot_close(cdpr_py_robot_t *h);
+CDPR_PY_EXPORT int cdpr_py_robot_info(const cdpr_py_robot_t *h, double nominal_pose[6]);
+CDPR_PY_EXPORT int cdpr_py_robot_ik(const cdpr_py_robot_t *h, const double pose[6],
+                                    const double f_ext[3], const double tau_ext[3],
+                                    const double *bounds, double *length_m, double *tension_cabin_N,
+                                    double *tension_winch_N, double *H_N, double *v_cabin_N,
+                                    int verdict[2], double verdict_v[2], int *iterations);
+
 #endif /* CDPR_PY_H */
