@@ -1129,6 +1129,52 @@ void cdpr_statics_dist_init(cdpr_statics_dist_t *d, cdpr_real_t t_min_N, cdpr_re
     d->t_ref_N = CDPR_R(0.5) * (t_min_N + t_max_N);
 }
 
+/* The checks, geometry, load and tolerance every IK entry point starts with (r, pose, res
+ * and o checked by the caller for NULL; dist may be NULL). */
+static cdpr_status_t ik_prepare(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
+                                cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
+                                const cdpr_statics_dist_t *dist, const cdpr_statics_opts_t *o,
+                                geom_t *g, load_t *ld, cdpr_real_t *tol)
+{
+    CDPR_TRY(check_opts(o));
+    if (dist != NULL) {
+        CDPR_TRY(check_dist(dist));
+    }
+    CDPR_TRY(check_pose(pose));
+    if (cdpr_v3_isfinite(f_ext_N) == 0 || cdpr_v3_isfinite(tau_ext_Nm) == 0) {
+        return CDPR_E_NOT_FINITE;
+    }
+    CDPR_TRY(geometry(r, pose, g));
+    *ld = make_load(r, f_ext_N, tau_ext_Nm);
+    /* Tolerance: absolute, plus rounding of the wrench sum relative to the load. */
+    *tol = o->force_tol_N + CDPR_R(1e3) * CDPR_EPS * ld->scale;
+    return CDPR_OK;
+}
+
+/* Six cables: Newton, then the loop check and the bounds (dist may be NULL); res written on
+ * success. Kept apart from the redundant path so that a six-cable caller (the tracker's
+ * feed-forward) links neither its code nor its stack. */
+static cdpr_status_t ik_six(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose, const geom_t *g,
+                            const load_t *ld, const cdpr_statics_dist_t *dist,
+                            const cdpr_statics_opts_t *o, cdpr_real_t tol,
+                            cdpr_statics_result_t *res, cdpr_statics_verdict_t *why)
+{
+    ik_iter_t s;
+    int it = 0;
+    cdpr_status_t st = ik_square(r, pose, g, ld, o, tol, &s, &it, why);
+    if (st == CDPR_OK) {
+        set_why(why, CDPR_STATICS_WHY_NONE, -1, (cdpr_real_t)NAN, (cdpr_real_t)NAN);
+        st = check_loops(r, g, &s, why);
+    }
+    if (st == CDPR_OK && dist != NULL) {
+        st = check_bounds(r, &s, dist, tol, why);
+    }
+    if (st == CDPR_OK) {
+        ik_fill_result(r, pose, g, &s, it, res);
+    }
+    return st;
+}
+
 cdpr_status_t cdpr_statics_ik_dist(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,
                                    cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
                                    const cdpr_statics_dist_t *dist, const cdpr_statics_opts_t *o,
@@ -1139,32 +1185,21 @@ cdpr_status_t cdpr_statics_ik_dist(const cdpr_robot_t *r, const cdpr_cabin_motio
         r->p.n_cables > CDPR_MAX_CABLES || (dist == NULL && r->p.n_cables != NC)) {
         return CDPR_E_INVALID_ARG;
     }
-    CDPR_TRY(check_opts(o));
-    if (dist != NULL) {
-        CDPR_TRY(check_dist(dist));
-    }
-    CDPR_TRY(check_pose(pose));
-    if (cdpr_v3_isfinite(f_ext_N) == 0 || cdpr_v3_isfinite(tau_ext_Nm) == 0) {
-        return CDPR_E_NOT_FINITE;
-    }
     geom_t g[MC];
-    CDPR_TRY(geometry(r, pose, g));
-    const load_t ld = make_load(r, f_ext_N, tau_ext_Nm);
-    /* Tolerance: absolute, plus rounding of the wrench sum relative to the load. */
-    const cdpr_real_t tol = o->force_tol_N + CDPR_R(1e3) * CDPR_EPS * ld.scale;
-    int it = 0;
-    cdpr_status_t st;
-    sqp_iter_t s;
+    load_t ld;
+    cdpr_real_t tol = CDPR_R(0.0);
+    CDPR_TRY(ik_prepare(r, pose, f_ext_N, tau_ext_Nm, dist, o, g, &ld, &tol));
     if (r->p.n_cables == NC) {
-        st = ik_square(r, pose, g, &ld, o, tol, &s.k, &it, why);
-    } else {
-        st = ik_redundant(r, g, &ld, dist, o, tol, &s, &it, why);
+        return ik_six(r, pose, g, &ld, dist, o, tol, res, why);
     }
+    sqp_iter_t s;
+    int it = 0;
+    cdpr_status_t st = ik_redundant(r, g, &ld, dist, o, tol, &s, &it, why);
     if (st == CDPR_OK) {
         set_why(why, CDPR_STATICS_WHY_NONE, -1, (cdpr_real_t)NAN, (cdpr_real_t)NAN);
         st = check_loops(r, g, &s.k, why);
     }
-    if (st == CDPR_OK && dist != NULL) {
+    if (st == CDPR_OK) {
         st = check_bounds(r, &s.k, dist, tol, why);
     }
     if (st == CDPR_OK) {
@@ -1177,10 +1212,14 @@ cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_mot
                                      cdpr_vec3_t f_ext_N, cdpr_vec3_t tau_ext_Nm,
                                      const cdpr_statics_opts_t *o, cdpr_statics_result_t *res)
 {
-    if (r == NULL || r->p.n_cables != NC) {
+    if (r == NULL || pose == NULL || res == NULL || r->p.n_cables != NC) {
         return CDPR_E_INVALID_ARG;
     }
-    return cdpr_statics_ik_dist(r, pose, f_ext_N, tau_ext_Nm, NULL, o, res, NULL);
+    geom_t g[MC];
+    load_t ld;
+    cdpr_real_t tol = CDPR_R(0.0);
+    CDPR_TRY(ik_prepare(r, pose, f_ext_N, tau_ext_Nm, NULL, o, g, &ld, &tol));
+    return ik_six(r, pose, g, &ld, NULL, o, tol, res, NULL);
 }
 /* Pose displaced from `base` by dx (position) and a rotation vector dth (world frame). */
 static void displace(const cdpr_cabin_motion_t *base, const cdpr_real_t d[NC],

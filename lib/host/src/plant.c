@@ -48,14 +48,29 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
     if (cdpr_rig_build(rig, NULL, &pp->robot, pp->winch, &d) != CDPR_OK) {
         return fail(sc, "robot", "rejected by the model", &d, err);
     }
-    if (rig->n_cables != CDPR_RIG_IK_CABLES) {
+    if (rig->n_cables < CDPR_RIG_IK_CABLES) {
         char what[256];
         snprintf(what, sizeof what,
                  "%d cables: the plant starts from the sag-aware inverse kinematics of the "
-                 "initial pose (cdpr_statics_ik), which needs exactly %d",
+                 "initial pose (cdpr_statics_ik_dist), which needs at least %d",
                  rig->n_cables, CDPR_RIG_IK_CABLES);
         cdpr_scenario_error(sc, "robot", what, err);
         return CDPR_E_CAPACITY;
+    }
+    if (rig->n_cables > CDPR_RIG_IK_CABLES && rig->has_tension_distribution == 0) {
+        char what[256];
+        snprintf(what, sizeof what,
+                 "%d cables: a redundant robot's initial pose needs its tension distribution "
+                 "(tension_distribution: min_N, max_N; docs/robots.md)",
+                 rig->n_cables);
+        cdpr_scenario_error(sc, "robot", what, err);
+        return CDPR_E_PARSE;
+    }
+    if (rig->has_tension_distribution != 0) {
+        pp->has_tension_dist = 1;
+        pp->tension_dist.t_min_N = rig->tension_min_N;
+        pp->tension_dist.t_max_N = rig->tension_max_N;
+        pp->tension_dist.t_ref_N = rig->tension_ref_N;
     }
     double pose[6];
     cdpr_scenario_initial_pose(sc, pose);

@@ -53,6 +53,12 @@ const cyaml_schema_field_t cdpr_rig_winch_fields[] = {
     OPT_NUMP("min_length_m", cdpr_raw_winch_t, min_length_m),
     CYAML_FIELD_END,
 };
+const cyaml_schema_field_t cdpr_rig_tension_fields[] = {
+    OPT_NUMP("min_N", cdpr_raw_tensions_t, min_N),
+    OPT_NUMP("max_N", cdpr_raw_tensions_t, max_N),
+    OPT_NUMP("ref_N", cdpr_raw_tensions_t, ref_N),
+    CYAML_FIELD_END,
+};
 static const cyaml_schema_field_t cable_fields[] = {
     OPT_VEC("exit_m", cdpr_raw_rig_cable_t, exit_m, 3),
     OPT_VEC("attach_m", cdpr_raw_rig_cable_t, attach_m, 3),
@@ -437,6 +443,20 @@ cdpr_status_t cdpr_rig_resolve(const cdpr_raw_rig_t *raw, const cdpr_rig_t *base
         }
         take(rig->cabin_com_m, raw->cabin->com_m, 3);
     }
+    const cdpr_raw_tensions_t *td = raw->tension_distribution;
+    if (td != NULL) {
+        if (td->min_N == NULL || td->max_N == NULL) {
+            fail(&v,
+                 (td->min_N == NULL) ? "tension_distribution.min_N" : "tension_distribution.max_N",
+                 "missing required key", CDPR_E_PARSE);
+            return v.failed;
+        }
+        rig->has_tension_distribution = 1;
+        rig->tension_min_N = *td->min_N;
+        rig->tension_max_N = *td->max_N;
+        rig->tension_ref_N =
+            (td->ref_N != NULL) ? *td->ref_N : 0.5 * (rig->tension_min_N + rig->tension_max_N);
+    }
     return CDPR_OK;
 }
 
@@ -610,6 +630,18 @@ cdpr_status_t cdpr_rig_check(const cdpr_rig_t *rig, const char *path, const char
     check_pose(&v, "nominal_pose", rig->nominal_pose);
     range(&v, "cabin.mass_kg", &rig->cabin_mass_kg, 1, 0.0, 1e9, 1);
     range(&v, "cabin.com_m", rig->cabin_com_m, 3, -1e3, 1e3, 0);
+    if (rig->has_tension_distribution != 0) {
+        range(&v, "tension_distribution.min_N", &rig->tension_min_N, 1, 0.0, 1e9, 0);
+        range(&v, "tension_distribution.max_N", &rig->tension_max_N, 1, 0.0, 1e9, 1);
+        if (v.failed == CDPR_OK && !(rig->tension_max_N > rig->tension_min_N)) {
+            char what[160];
+            snprintf(what, sizeof what, "%g N is not above min_N = %g N", rig->tension_max_N,
+                     rig->tension_min_N);
+            fail(&v, "tension_distribution.max_N", what, CDPR_E_OUT_OF_RANGE);
+        }
+        range(&v, "tension_distribution.ref_N", &rig->tension_ref_N, 1, rig->tension_min_N,
+              rig->tension_max_N, 0);
+    }
     if (v.failed == CDPR_OK) {
         check_inertia(&v, rig->cabin_inertia_kg_m2);
     }

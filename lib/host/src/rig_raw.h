@@ -33,6 +33,13 @@ typedef struct {
     double *min_length_m;
 } cdpr_raw_winch_t;
 
+/// Tension distribution keys as read (the statics of a redundant robot, statics.h).
+typedef struct {
+    double *min_N;
+    double *max_N;
+    double *ref_N;
+} cdpr_raw_tensions_t;
+
 /// One entry of `cables:`.
 typedef struct {
     double *exit_m;
@@ -73,6 +80,7 @@ typedef struct {
     cdpr_raw_rope_t *rope;
     cdpr_raw_winch_t *winch;
     cdpr_raw_cabin_t *cabin;
+    cdpr_raw_tensions_t *tension_distribution;
     cdpr_raw_rig_cable_t *cables;
     unsigned cables_count;
 } cdpr_raw_rig_t;
@@ -87,6 +95,7 @@ extern const cyaml_schema_value_t cdpr_rig_num_schema;
 extern const cyaml_schema_field_t cdpr_rig_rope_fields[];
 extern const cyaml_schema_field_t cdpr_rig_winch_fields[];
 extern const cyaml_schema_field_t cdpr_rig_cabin_fields[];
+extern const cyaml_schema_field_t cdpr_rig_tension_fields[];
 extern const cyaml_schema_value_t cdpr_rig_cable_entry;
 
 /// Largest `cables:` list read (the count is then checked against CDPR_MAX_CABLES).
@@ -107,6 +116,8 @@ extern const cyaml_schema_value_t cdpr_rig_cable_entry;
                             cdpr_rig_winch_fields),                                                \
     CYAML_FIELD_MAPPING_PTR("cabin", CYAML_FLAG_OPTIONAL, cdpr_raw_rig_t, cabin,                   \
                             cdpr_rig_cabin_fields),                                                \
+    CYAML_FIELD_MAPPING_PTR("tension_distribution", CYAML_FLAG_OPTIONAL, cdpr_raw_rig_t,           \
+                            tension_distribution, cdpr_rig_tension_fields),                        \
     CYAML_FIELD_SEQUENCE("cables", CYAML_FLAG_OPTIONAL | CYAML_FLAG_POINTER, cdpr_raw_rig_t,       \
                          cables, &cdpr_rig_cable_entry, 0, CDPR_RIG_MAX_LISTED)
 #define CDPR_RIG_NUM(key, member)                                                                  \

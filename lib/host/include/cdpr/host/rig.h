@@ -11,9 +11,10 @@
 /// file (`file:`, relative to the scenario file) or embeds a description (`cables:`,
 /// `cabin:`, ...); scenario.h resolves all three to a cdpr_rig_t.
 ///
-/// The number of cables is 1..CDPR_MAX_CABLES; the features that need six cables (the
-/// plant's sag-aware IK of the initial pose, the tracker) refuse other counts with their own
-/// error (CDPR_RIG_IK_CABLES).
+/// The number of cables is 1..CDPR_MAX_CABLES. The plant's start (the sag-aware IK of the
+/// initial pose) needs at least CDPR_RIG_IK_CABLES (6), and a redundant robot (more than six)
+/// its tension distribution (`tension_distribution:`, cdpr_statics_dist_t); the tracker still
+/// needs exactly six (its own error).
 ///
 /// Host library; loading allocates (libcyaml) and frees everything before returning.
 #ifndef CDPR_HOST_RIG_H
@@ -27,7 +28,8 @@
 #include "cdpr/status.h"
 #include "cdpr/winch.h"
 
-/// Cable count the sag-aware IK (cdpr_statics_ik, the plant's initial pose, the tracker) needs.
+/// Cable count of a robot whose sag-aware IK has no choice to make (cdpr_statics_ik); the
+/// plant's start needs at least this many, the tracker exactly this many.
 #define CDPR_RIG_IK_CABLES 6
 
 /// One cable of a rig (inputs; all SI).
@@ -49,7 +51,11 @@ typedef struct {
     double cabin_com_m[3];                   ///< CoM in body axes, from the body origin [m]
     double gravity_m_per_s2;                 ///< g [m/s^2]
     double wind_m_per_s[3];                  ///< uniform wind J [m/s]
-    double nominal_pose[6]; ///< a pose inside the workspace (x,y,z [m], α,β,γ [rad])
+    double nominal_pose[6];       ///< a pose inside the workspace (x,y,z [m], α,β,γ [rad])
+    int has_tension_distribution; ///< 1: the keys below were given (tension_distribution:)
+    double tension_min_N;         ///< every cable's lowest tension at least this [N]
+    double tension_max_N;         ///< every cable's highest tension at most this [N]
+    double tension_ref_N;         ///< the tensions the distribution aims at (default mid-range) [N]
 } cdpr_rig_t;
 
 /// Error text of a failed load or check: "FILE:LINE: KEY: what" (as cdpr_scenario_error_t).
