@@ -43,7 +43,7 @@ static void canon(const cdpr_robot_params_t *in, cdpr_robot_params_t *out)
 {
     TEST_ASSERT_EQUAL_size_t_MESSAGE(10 * 8, sizeof in->cables[0].cable,
                                      "cdpr_cable_params_t changed: update canon_cable");
-    TEST_ASSERT_EQUAL_size_t_MESSAGE(4 + 4 + CDPR_MAX_CABLES * 144 + 8 + 24 + 72 + 8 + 8,
+    TEST_ASSERT_EQUAL_size_t_MESSAGE(4 + 4 + CDPR_MAX_CABLES * 144 + 8 + 24 + 72 + 8 + 4 + 4 + 24,
                                      sizeof *in, "cdpr_robot_params_t changed: update canon");
     memset(out, 0, sizeof *out);
     out->n_cables = in->n_cables;
@@ -59,6 +59,10 @@ static void canon(const cdpr_robot_params_t *in, cdpr_robot_params_t *out)
     out->cabin.inertia_com_kg_m2 = in->cabin.inertia_com_kg_m2;
     out->g_m_per_s2 = in->g_m_per_s2;
     out->mode = in->mode;
+    out->has_tension_dist = in->has_tension_dist;
+    out->tension_min_N = in->tension_min_N;
+    out->tension_max_N = in->tension_max_N;
+    out->tension_ref_N = in->tension_ref_N;
 }
 
 static void assert_same_params(const cdpr_robot_params_t *a, const cdpr_robot_params_t *b,

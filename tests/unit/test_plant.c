@@ -125,8 +125,10 @@ static void test_redundant_robot_starts_at_its_distribution(void)
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_plant_init(&plant, &pp, &d));
     TEST_ASSERT_EQUAL_STRING("initial", d.field);
     TEST_ASSERT_EQUAL_INT(0, plant.ready);
-    cdpr_statics_dist_init(&pp.tension_dist, CDPR_R(25.0), CDPR_R(500.0));
-    pp.has_tension_dist = 1;
+    pp.robot.has_tension_dist = 1; /* the robot's tension distribution (robot.h) */
+    pp.robot.tension_min_N = CDPR_R(25.0);
+    pp.robot.tension_max_N = CDPR_R(500.0);
+    pp.robot.tension_ref_N = CDPR_R(262.5);
     init_plant(&plant, &pp);
     cdpr_plant_meas_t m0;
     cdpr_plant_measure(&plant, &m0);

@@ -205,7 +205,7 @@ static cdpr_status_t ik_at(const cdpr_tracker_t *tr, cdpr_real_t t, cdpr_vec3_t 
     load_at(tr, t, f_add, tau_add, &d, &f, &tau);
     cdpr_statics_result_t res;
     const cdpr_status_t st =
-        cdpr_statics_ik_wrench(&tr->model, &d.motion, f, tau, &tr->ik_opts, &res);
+        cdpr_statics_ik_dist(&tr->model, &d.motion, f, tau, NULL, &tr->ik_opts, &res, NULL);
     if (st != CDPR_OK) {
         return st;
     }
@@ -426,9 +426,13 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
     if (tr == NULL || model_params == NULL || traj == NULL || g == NULL || !isfinite(t0_s)) {
         return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "tracker", -1);
     }
-    /* The feed-forward is the sag-aware IK (cdpr_statics_ik_wrench): six cables only. */
-    if (model_params->n_cables != 6) {
-        return cdpr_diag_set(diag, CDPR_E_CAPACITY, "n_cables (the tracker's IK needs 6)",
+    /* The feed-forward is the sag-aware IK (cdpr_statics_ik_dist): six cables, or more with
+     * the robot's tension distribution. */
+    if (model_params->n_cables < 6 ||
+        (model_params->n_cables > 6 && model_params->has_tension_dist == 0)) {
+        return cdpr_diag_set(diag, CDPR_E_CAPACITY,
+                             "n_cables (the tracker's IK needs 6, or more with the robot's "
+                             "tension distribution)",
                              model_params->n_cables);
     }
     const cdpr_status_t gs = check_gains(g, period_s, diag);

@@ -35,8 +35,6 @@ void cdpr_plant_params_default(cdpr_plant_params_t *pp)
     pp->initial = cdpr_cabin_motion_at_pose(origin);
     pp->wind_m_per_s = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
     cdpr_statics_opts_default(&pp->ik);
-    cdpr_statics_dist_init(&pp->tension_dist, CDPR_R(0.0), CDPR_R(1.0));
-    pp->has_tension_dist = 0;
 #ifdef CDPR_REAL_IS_FLOAT
     pp->start = CDPR_PLANT_START_CATENARY;
 #else
@@ -116,9 +114,8 @@ cdpr_status_t cdpr_plant_init_model(cdpr_plant_t *p, const cdpr_plant_params_t *
     p->params = pp->robot;
     CDPR_TRY(cdpr_robot_init(&p->robot, &p->params, diag));
     const cdpr_vec3_t zero = cdpr_v3(CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0));
-    const cdpr_status_t st = cdpr_statics_ik_dist(
-        &p->robot, &pp->initial, zero, zero, (pp->has_tension_dist != 0) ? &pp->tension_dist : NULL,
-        &pp->ik, &p->initial, NULL);
+    const cdpr_status_t st =
+        cdpr_statics_ik_dist(&p->robot, &pp->initial, zero, zero, NULL, &pp->ik, &p->initial, NULL);
     if (st != CDPR_OK) {
         return cdpr_diag_set(diag, st, "initial", -1);
     }

@@ -22,6 +22,25 @@ void cdpr_robot_params_default(cdpr_robot_params_t *p)
     cdpr_cabin_params_default(&p->cabin);
     p->g_m_per_s2 = CDPR_R(9.80665);
     p->mode = CDPR_CABIN_DYNAMIC;
+    p->has_tension_dist = 0;
+    p->tension_min_N = CDPR_R(0.0);
+    p->tension_max_N = CDPR_R(0.0);
+    p->tension_ref_N = CDPR_R(0.0);
+}
+
+/* The tension distribution's bounds and reference, when given. */
+static cdpr_status_t check_tension_dist(const cdpr_robot_params_t *p, cdpr_diag_t *diag)
+{
+    if (p->has_tension_dist == 0) {
+        return CDPR_OK;
+    }
+    CDPR_TRY(check_nonnegative(p->tension_min_N, "tension_min_N", -1, diag));
+    CDPR_TRY(check_value(p->tension_max_N, (p->tension_max_N > p->tension_min_N) ? 0 : 1,
+                         CDPR_E_OUT_OF_RANGE, "tension_max_N", -1, diag));
+    return check_value(
+        p->tension_ref_N,
+        (p->tension_ref_N < p->tension_min_N || p->tension_ref_N > p->tension_max_N) ? 1 : 0,
+        CDPR_E_OUT_OF_RANGE, "tension_ref_N", -1, diag);
 }
 
 /* Node-0 lumped masses rho lu_0 / 2 added to the cabin (docs/model.md "One cable"). */
@@ -62,6 +81,7 @@ cdpr_status_t cdpr_robot_init(cdpr_robot_t *r, const cdpr_robot_params_t *p, cdp
     if (p->mode != CDPR_CABIN_DYNAMIC && p->mode != CDPR_CABIN_PRESCRIBED) {
         return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "mode", (int)p->mode);
     }
+    CDPR_TRY(check_tension_dist(p, diag));
     /* Validate into locals first so a failure leaves *r untouched. */
     cdpr_cable_t cables[CDPR_MAX_CABLES];
     for (int j = 0; j < p->n_cables; ++j) {

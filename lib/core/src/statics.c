@@ -9,10 +9,20 @@
 
 #include "cdpr/catenary.h"
 #include "check.h"
-#include "ldp.h"
 
-#define NC 6                 /* the wrench has 6 components */
-#define MC CDPR_LDP_MAX_COLS /* cables of one robot, at least 6 (array sizes) */
+#define NC 6 /* the wrench has 6 components */
+/* Cables of one robot, at least 6 (array sizes). */
+#define MC ((CDPR_MAX_CABLES > NC) ? CDPR_MAX_CABLES : NC)
+
+/* The redundant path (more than six cables: the tension distribution's SQP and its
+ * least-distance problems) exists only in a build that can hold such a robot; a six-cable
+ * build (the Cortex-M presets) carries neither its code nor its stack. */
+#if CDPR_MAX_CABLES > NC
+#define CDPR_STATICS_REDUNDANT 1
+#include "ldp.h"
+#else
+#define CDPR_STATICS_REDUNDANT 0
+#endif
 
 void cdpr_statics_opts_default(cdpr_statics_opts_t *o)
 {
@@ -649,6 +659,7 @@ static tension_range_t tension_range(cdpr_real_t H, cdpr_real_t V, cdpr_real_t w
     return t;
 }
 
+#if CDPR_STATICS_REDUNDANT
 /* The tension range of cable j of the iterate s, its derivatives from dV, dL. */
 static tension_range_t cable_range(const cdpr_robot_t *r, int j, const ik_iter_t *s,
                                    const cdpr_real_t *dV, const cdpr_real_t *dL)
@@ -656,6 +667,7 @@ static tension_range_t cable_range(const cdpr_robot_t *r, int j, const ik_iter_t
     const cdpr_real_t w = r->p.cables[j].cable.rho_kg_per_m * r->p.g_m_per_s2;
     return tension_range(s->H[j], s->V[j], w, s->L[j], dV[j], dL[j]);
 }
+#endif
 
 /* CDPR_E_INFEASIBLE (T_MIN or T_MAX) if a cable's tension range leaves [t_min - tol,
  * t_max + tol]: the cable with the largest violation is named. */
@@ -729,6 +741,7 @@ static cdpr_status_t ik_square(const cdpr_robot_t *r, const cdpr_cabin_motion_t 
     return ik_newton(r, g, o, ld, tol, fail, s, iterations, why);
 }
 
+#if CDPR_STATICS_REDUNDANT
 /* Massless start of the redundant problem: the tensions t along the straight chords closest
  * to t_ref within the bounds (or, when the bounds cannot be met there, closest to t_ref
  * without them), for the load plus the lower half of every cable's weight hanging at its
@@ -1110,6 +1123,7 @@ static cdpr_status_t ik_redundant(const cdpr_robot_t *r, const geom_t *g, const 
     }
     return CDPR_E_NO_CONVERGENCE; /* not reached: the last iteration returns */
 }
+#endif
 
 static cdpr_status_t check_dist(const cdpr_statics_dist_t *d)
 {
@@ -1181,31 +1195,43 @@ cdpr_status_t cdpr_statics_ik_dist(const cdpr_robot_t *r, const cdpr_cabin_motio
                                    cdpr_statics_result_t *res, cdpr_statics_verdict_t *why)
 {
     set_why(why, CDPR_STATICS_WHY_NONE, -1, (cdpr_real_t)NAN, (cdpr_real_t)NAN);
+    cdpr_statics_dist_t own;
+    const cdpr_statics_dist_t *d = dist;
+    if (d == NULL && r != NULL && r->p.has_tension_dist != 0) {
+        own.t_min_N = r->p.tension_min_N; /* the robot's own (robot.h) */
+        own.t_max_N = r->p.tension_max_N;
+        own.t_ref_N = r->p.tension_ref_N;
+        d = &own;
+    }
     if (r == NULL || pose == NULL || res == NULL || r->p.n_cables < NC ||
-        r->p.n_cables > CDPR_MAX_CABLES || (dist == NULL && r->p.n_cables != NC)) {
+        r->p.n_cables > CDPR_MAX_CABLES || (d == NULL && r->p.n_cables != NC)) {
         return CDPR_E_INVALID_ARG;
     }
     geom_t g[MC];
     load_t ld;
     cdpr_real_t tol = CDPR_R(0.0);
-    CDPR_TRY(ik_prepare(r, pose, f_ext_N, tau_ext_Nm, dist, o, g, &ld, &tol));
+    CDPR_TRY(ik_prepare(r, pose, f_ext_N, tau_ext_Nm, d, o, g, &ld, &tol));
     if (r->p.n_cables == NC) {
-        return ik_six(r, pose, g, &ld, dist, o, tol, res, why);
+        return ik_six(r, pose, g, &ld, d, o, tol, res, why);
     }
+#if CDPR_STATICS_REDUNDANT
     sqp_iter_t s;
     int it = 0;
-    cdpr_status_t st = ik_redundant(r, g, &ld, dist, o, tol, &s, &it, why);
+    cdpr_status_t st = ik_redundant(r, g, &ld, d, o, tol, &s, &it, why);
     if (st == CDPR_OK) {
         set_why(why, CDPR_STATICS_WHY_NONE, -1, (cdpr_real_t)NAN, (cdpr_real_t)NAN);
         st = check_loops(r, g, &s.k, why);
     }
     if (st == CDPR_OK) {
-        st = check_bounds(r, &s.k, dist, tol, why);
+        st = check_bounds(r, &s.k, d, tol, why);
     }
     if (st == CDPR_OK) {
         ik_fill_result(r, pose, g, &s.k, it, res);
     }
     return st;
+#else
+    return CDPR_E_INVALID_ARG; /* not reached: n_cables <= CDPR_MAX_CABLES = 6 */
+#endif
 }
 
 cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_motion_t *pose,

@@ -66,12 +66,6 @@ cdpr_status_t cdpr_host_plant_params(const cdpr_scenario_t *sc, cdpr_plant_param
         cdpr_scenario_error(sc, "robot", what, err);
         return CDPR_E_PARSE;
     }
-    if (rig->has_tension_distribution != 0) {
-        pp->has_tension_dist = 1;
-        pp->tension_dist.t_min_N = rig->tension_min_N;
-        pp->tension_dist.t_max_N = rig->tension_max_N;
-        pp->tension_dist.t_ref_N = rig->tension_ref_N;
-    }
     double pose[6];
     cdpr_scenario_initial_pose(sc, pose);
     pp->initial = cdpr_cabin_motion_at_pose(pose);

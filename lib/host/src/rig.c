@@ -148,6 +148,10 @@ cdpr_status_t cdpr_rig_build(const cdpr_rig_t *rig, const double *length_m, cdpr
     rp.n_cables = rig->n_cables;
     rp.g_m_per_s2 = rig->gravity_m_per_s2;
     rp.mode = CDPR_CABIN_DYNAMIC;
+    rp.has_tension_dist = rig->has_tension_distribution;
+    rp.tension_min_N = rig->tension_min_N;
+    rp.tension_max_N = rig->tension_max_N;
+    rp.tension_ref_N = rig->tension_ref_N;
     rp.cabin.mass_kg = rig->cabin_mass_kg;
     rp.cabin.com_body_m = cdpr_v3(rig->cabin_com_m[0], rig->cabin_com_m[1], rig->cabin_com_m[2]);
     for (int i = 0; i < 3; ++i) {

@@ -282,9 +282,10 @@ class Robot:
     def ik(self, pose, t_min_N=None, t_max_N=None, t_ref_N=None, f_ext_N=(0.0, 0.0, 0.0),
            tau_ext_Nm=(0.0, 0.0, 0.0)):
         """Equilibrium at pose (x, y, z [m], alpha, beta, gamma [rad]) under the weight and an
-        external wrench (world axes, at and about the centre of mass). With more than six
-        cables the bounds are required: every cable's lowest tension >= t_min_N and highest
-        <= t_max_N, the lowest tensions closest to t_ref_N (default mid-range). Returns a dict
+        external wrench (world axes, at and about the centre of mass). The tension
+        distribution: every cable's lowest tension >= t_min_N and highest <= t_max_N, the
+        lowest tensions closest to t_ref_N (default mid-range); without bounds here, the robot
+        file's tension_distribution (if any). More than six cables need one of the two. Returns a dict
         of per-cable arrays length_m, tension_cabin_N, tension_winch_N, H_N, v_cabin_N (the
         vertical component at the cabin end, upwards) and `iterations`.
         An infeasible pose raises CdprError with `why` (PUSH, NO_LIFT, SPAN, LOOP, T_MIN,

@@ -7,8 +7,8 @@
 ///
 /// Initialisation (cdpr_plant_init; not real-time, bounded work):
 ///  1. the robot is built from `params.robot`; the sag-aware inverse kinematics of the initial
-///     pose (cdpr_statics_ik_dist: six cables, or more with the tension distribution
-///     `tension_dist`) gives the unstretched lengths that hold the cabin there at rest, and the
+///     pose (cdpr_statics_ik_dist: six cables, or more with the robot's tension distribution,
+///     robot.h) gives the unstretched lengths that hold the cabin there at rest, and the
 ///     robot is built again with them (cdpr_plant_init_model stops here);
 ///  2. the nodes are placed on the elastic catenaries (cdpr_statics_place_catenary) and, with
 ///     CDPR_PLANT_START_SETTLED, relaxed to the discrete model's own equilibrium
@@ -111,12 +111,8 @@ typedef struct {
     cdpr_robot_params_t robot;
     cdpr_winch_params_t winch[CDPR_MAX_CABLES]; ///< limits of winch j (j < robot.n_cables)
     cdpr_cabin_motion_t initial;                ///< initial pose (p_m, q; velocities must be zero)
-    cdpr_vec3_t wind_m_per_s; ///< uniform wind during the run [m/s] (finite); default 0
-    cdpr_statics_opts_t ik;   ///< settings of the initial IK
-    /// Tension distribution of the initial IK (cdpr_statics_ik_dist): required with more than
-    /// six cables; with six, its bounds are checked (has_tension_dist 0: none).
-    cdpr_statics_dist_t tension_dist;
-    int has_tension_dist;               ///< 1: tension_dist applies; default 0
+    cdpr_vec3_t wind_m_per_s;           ///< uniform wind during the run [m/s] (finite); default 0
+    cdpr_statics_opts_t ik;             ///< settings of the initial IK
     cdpr_plant_start_t start;           ///< settled or on the catenaries
     cdpr_settle_t settle;               ///< settling bounds (start = SETTLED; outputs unused)
     cdpr_rkf45_params_t settle_rkf45;   ///< settling integrator (default rtol 1e-9, atol 1e-10)
@@ -247,8 +243,9 @@ cdpr_status_t cdpr_plant_params_validate(const cdpr_plant_params_t *pp, cdpr_dia
 /// build the same model. Work: the IK (bounded iterations, O(cables^3) each). No allocation.
 /// Errors: those of cdpr_plant_params_validate; cdpr_robot_init's (diag names the robot's
 /// field, index = cable); the IK's (CDPR_E_INFEASIBLE, CDPR_E_NO_CONVERGENCE, ... with
-/// diag.field "initial"; CDPR_E_INVALID_ARG there for more than six cables without
-/// has_tension_dist, or fewer than six). On error the plant is not ready (steps are refused).
+/// diag.field "initial"; CDPR_E_INVALID_ARG there for more than six cables without the
+/// robot's has_tension_dist, or fewer than six). On error the plant is not ready (steps are
+/// refused).
 cdpr_status_t cdpr_plant_init_model(cdpr_plant_t *p, const cdpr_plant_params_t *pp,
                                     cdpr_diag_t *diag);
 

@@ -48,6 +48,14 @@ typedef struct {
     cdpr_cabin_params_t cabin;                         ///< cabin rigid body
     cdpr_real_t g_m_per_s2;                            ///< gravity [m/s^2] (> 0); 9.80665
     cdpr_cabin_mode_t mode;                            ///< dynamic or prescribed
+    /// Tension distribution of the statics (statics.h, cdpr_statics_dist_t): every cable's
+    /// lowest tension >= tension_min_N, highest <= tension_max_N, the lowest tensions closest
+    /// to tension_ref_N. Needed by a robot with more than six cables (its IK has a choice to
+    /// make); with six, the bounds are checked. has_tension_dist 0 (default): none.
+    int has_tension_dist;
+    cdpr_real_t tension_min_N; ///< [N] (>= 0)
+    cdpr_real_t tension_max_N; ///< [N] (> tension_min_N)
+    cdpr_real_t tension_ref_N; ///< [N] (in [tension_min_N, tension_max_N])
 } cdpr_robot_params_t;
 
 /// Inputs that may change between steps.
@@ -90,6 +98,8 @@ void cdpr_robot_params_default(cdpr_robot_params_t *p);
 /// - CDPR_E_CAPACITY: n_cables outside [1, CDPR_MAX_CABLES] ("n_cables", index n_cables).
 /// - CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE: g_m_per_s2 NaN/Inf / <= 0 ("g_m_per_s2").
 /// - CDPR_E_OUT_OF_RANGE: mode is not a cdpr_cabin_mode_t value ("mode", index mode).
+/// - with has_tension_dist: CDPR_E_NOT_FINITE ("tension_min_N", ...), CDPR_E_OUT_OF_RANGE
+///   (tension_min_N < 0, tension_max_N <= tension_min_N, tension_ref_N outside them).
 /// - CDPR_E_NOT_FINITE: exit_point_m or attach_body_m of cable j ("exit_point_m",
 ///   "attach_body_m", index j).
 /// - every error of cdpr_cable_init for cable j's cable, n_segments and length_m (its field,

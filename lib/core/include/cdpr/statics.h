@@ -175,9 +175,12 @@ cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_mot
 /// the equilibrium at `pose` under the weight and the external wrench (as
 /// cdpr_statics_ik_wrench) that meets `dist` (cdpr_statics_dist_t: every cable's lowest
 /// tension >= t_min_N, highest <= t_max_N, lowest tensions closest to t_ref_N).
-/// - m == 6: cdpr_statics_ik_wrench's solution, bit for bit, then the bounds are checked
-///   (dist may be NULL: no bounds).
-/// - m > 6 (dist required): sequential quadratic programming on the m H_j from the massless
+/// - dist NULL: the robot's own distribution (robot.h: has_tension_dist, tension_min_N, ...)
+///   if it has one, else none.
+/// - m == 6: cdpr_statics_ik_wrench's solution, bit for bit, then the bounds (if any) are
+///   checked.
+/// - m > 6 (a distribution required): sequential quadratic programming on the m H_j from the
+/// massless
 ///   distribution (the same criterion and bounds on straight chords). Each iteration solves the
 ///   inner catenaries (with dV/dH, dL/dH), linearises the equilibrium (6 equations) and the
 ///   tension ranges in H, with the Lagrangian's (diagonal) curvature, and takes the step of the
@@ -192,8 +195,8 @@ cdpr_status_t cdpr_statics_ik_wrench(const cdpr_robot_t *r, const cdpr_cabin_mot
 /// step, then at most 8 restoring Newton steps of at most 40 halvings), each m inner catenary
 /// solves as in cdpr_statics_ik_wrench; no allocation.
 /// `res` is written only on success; `why` (may be NULL) always: the verdict. Returns:
-/// - CDPR_E_INVALID_ARG: r, pose, res or o NULL; m < 6 or m > CDPR_MAX_CABLES; dist NULL with
-///   m > 6; o->max_iter < 1.
+/// - CDPR_E_INVALID_ARG: r, pose, res or o NULL; m < 6 or m > CDPR_MAX_CABLES; m > 6 with no
+///   distribution (dist NULL and none in the robot); o->max_iter < 1.
 /// - CDPR_E_NOT_FINITE / CDPR_E_NOT_POSITIVE: as cdpr_statics_ik_wrench; CDPR_E_NOT_FINITE
 ///   or CDPR_E_OUT_OF_RANGE: a bound or the reference NaN/Inf, t_min_N < 0,
 ///   t_max_N <= t_min_N (T_min > T_max), t_ref_N outside [t_min_N, t_max_N].

@@ -6,7 +6,8 @@
 ///  1. feed-forward: sag-aware inverse kinematics of the desired pose at t + Δt_c gives
 ///     L_ff(t + Δt_c); the feed-forward rate is u_ff = (L_ff(t + Δt_c) - L_ff(t)) / Δt_c,
 ///     with L_ff(t) kept from the previous period (one IK per period). The IK
-///     (cdpr_statics_ik_wrench) balances the weight plus `inertial_ff` times the d'Alembert
+///     (cdpr_statics_ik_dist: six cables, or more with the robot's tension distribution,
+///     which resolves the redundancy) balances the weight plus `inertial_ff` times the d'Alembert
 ///     load of the desired motion (cdpr_tracker_inertial_wrench): the cable forces that make
 ///     a rigid cabin on quasi-static catenary cables follow the desired acceleration;
 ///     inertial_ff = 0 gives the static IK. If the IK fails (pose and load outside the
@@ -58,8 +59,9 @@
 ///     at rest and takes over the measured velocity (cdpr_transfer_t "From rest").
 ///  6. wind (wind_ff > 0): the feed-forward load also holds wind_ff times the steady wind
 ///     load of the cables at the reference pose (cdpr_tracker_wind_wrench).
-///  7. tension awareness: six cables and six wrench components make the feed-forward's
-///     tension distribution unique. When the feed-forward IK fails (the load needs a pushing
+///  7. tension awareness: with six cables the six wrench components make the feed-forward's
+///     tension distribution unique (with more, the robot's distribution chooses it). When the
+///     feed-forward IK of a six-cable robot fails (the load needs a pushing
 ///     cable, or finds only a cable hanging in a loop) the load is distributed on the straight
 ///     chords (a 6x6 solve); each cable whose tension there is <= 0 is a "slack demand" of the
 ///     period: counted per cable (slack_demand_periods), the first one kept (cable, time,
@@ -100,7 +102,7 @@
 /// The controller keeps its own robot model (for the IK), built from the same parameters as
 /// the plant, so it needs nothing from the plant but measurements: the real-time loop moves it
 /// into a separate process unchanged. Memory: caller-owned object, no allocation. Work per
-/// step: one cdpr_statics_ik_wrench (bounded iterations), a second one when wrench-space
+/// step: one cdpr_statics_ik_dist (bounded iterations), a second one when wrench-space
 /// damping is on, plus O(cables).
 #ifndef CDPR_CONTROL_TRACKER_H
 #define CDPR_CONTROL_TRACKER_H
@@ -213,7 +215,8 @@ typedef struct {
 } cdpr_tracker_t;
 
 /// Validate and initialise for control period `period_s` (> 0): builds the model from
-/// `model_params` (6 cables: other counts are CDPR_E_CAPACITY, diag "n_cables ...") and
+/// `model_params` (6 cables, or more with the robot's tension distribution, robot.h: other
+/// counts are CDPR_E_CAPACITY, diag "n_cables ...") and
 /// computes L_ff(t0). Errors: CDPR_E_INVALID_ARG /
 /// CDPR_E_NOT_FINITE / CDPR_E_OUT_OF_RANGE for gains and period (`diag` names the field), the
 /// model's init errors, or the IK status of the desired pose at t0 (e.g. CDPR_E_INFEASIBLE: the
