@@ -284,7 +284,7 @@ static void test_distribution_step_matches_brute_force(void)
         cdpr_real_t u[CDPR_LDP_MAX_COLS];
         cdpr_real_t mu[6];
         int blame = -2;
-        const int rc = cdpr_ldp_qp(m, E, f, lo_c, lo_h, hi_c, hi_h, 1, u, mu, &blame);
+        const cdpr_ldp_result_t rc = cdpr_ldp_qp(m, E, f, lo_c, lo_h, hi_c, hi_h, 1, u, mu, &blame);
         if (best < 1e300) {
             ++feasible;
             TEST_ASSERT_EQUAL_INT(CDPR_LDP_OK, rc);
