@@ -19,6 +19,7 @@
 #include "cdpr/plant.h"
 #include "cdpr/statics.h"
 #include "paper_circle.h"
+#include "eight_plant.h"
 #include "paper_plant.h"
 #include "ref_mat3.h"
 #include "test_real.h"
@@ -419,22 +420,9 @@ static void test_redundant_robot_closed_loop_holds_at_rest(void)
 #if CDPR_MAX_CABLES >= 8
     SKIP_IN_FLOAT("the 1e-5 m rest bound is below what float resolves of a 13 m pose");
     cdpr_plant_params_t pp;
-    test_paper_plant_params(&pp, 6);
+    test_eight_plant_params(&pp, 6, 0);
     pp.max_trials = 1000;
-    pp.robot.n_cables = 8;
-    const double pi = 3.14159265358979323846;
-    for (int j = 0; j < 8; ++j) {
-        const int tower = j / 2;
-        const double side = (j % 2 != 0) ? 1.0 : -1.0;
-        const double th = (double)tower * pi / 2.0 + pi / 4.0 + 0.2 * side;
-        const double az = (double)tower * pi / 2.0 + pi / 4.0 - 0.5 * side;
-        pp.robot.cables[j] = pp.robot.cables[0];
-        pp.robot.cables[j].exit_point_m = cdpr_v3(25.0 * cos(th), 25.0 * sin(th), 30.0);
-        pp.robot.cables[j].attach_body_m = cdpr_v3(1.5 * cos(az), 1.5 * sin(az), 0.5 * side);
-        pp.winch[j] = pp.winch[0];
-    }
     const double pose[6] = {0.0, 0.0, 13.0, 0.0, 0.0, 0.0};
-    pp.initial = cdpr_cabin_motion_at_pose(pose);
     const cdpr_traj_t tr = hold_at(pose);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0};
@@ -443,9 +431,6 @@ static void test_redundant_robot_closed_loop_holds_at_rest(void)
                           cdpr_tracker_init(&tracker, &pp.robot, &tr, &g, PERIOD_S, 0.0, &d));
     TEST_ASSERT_EQUAL_INT(8, d.index);
     pp.robot.has_tension_dist = 1;
-    pp.robot.tension_min_N = 25.0;
-    pp.robot.tension_max_N = 500.0;
-    pp.robot.tension_ref_N = 262.5;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_plant_init(&plant, &pp, &d), d.field);
     TEST_ASSERT_EQUAL_INT_MESSAGE(
         CDPR_OK, cdpr_tracker_init(&tracker, &pp.robot, &tr, &g, PERIOD_S, 0.0, &d), d.field);

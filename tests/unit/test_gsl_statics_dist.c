@@ -29,6 +29,7 @@
 #include "cdpr/catenary.h"
 #include "cdpr/robot.h"
 #include "cdpr/statics.h"
+#include "eight_plant.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -37,13 +38,10 @@ void tearDown(void) {}
 #if CDPR_MAX_CABLES >= 8
 
 enum { M = 8 };
-static const double PI = 3.14159265358979323846;
 static cdpr_robot_t robot;
 
-/* Eight cables from four towers on a 25 m circle, 30 m high, two per tower 0.4 rad apart; the
- * attachments of each pair 1 rad apart on a 1.5 m circle, alternately 0.5 m above and below
- * the centre of mass (the crossing pairs give the cabin its rotational stiffness). 40 kg cabin
- * and the 50 m model's rope (docs/robots.md set A). */
+/* The eight-cable robot of docs/robots.md set C (eight_plant.h's geometry): 40 kg cabin, the
+ * rope's EA and rho given. */
 static void build8(double ea, double rho)
 {
     cdpr_robot_params_t p;
@@ -51,11 +49,7 @@ static void build8(double ea, double rho)
     p.n_cables = M;
     p.cabin.mass_kg = 40.0;
     for (int j = 0; j < M; ++j) {
-        const double side = (j % 2 != 0) ? 1.0 : -1.0;
-        const double th = (double)(j / 2) * PI / 2.0 + PI / 4.0 + 0.2 * side;
-        const double az = (double)(j / 2) * PI / 2.0 + PI / 4.0 - 0.5 * side;
-        p.cables[j].exit_point_m = cdpr_v3(25.0 * cos(th), 25.0 * sin(th), 30.0);
-        p.cables[j].attach_body_m = cdpr_v3(1.5 * cos(az), 1.5 * sin(az), 0.5 * side);
+        test_eight_geometry(j, &p.cables[j].exit_point_m, &p.cables[j].attach_body_m);
         p.cables[j].cable.ea_N = ea;
         p.cables[j].cable.rho_kg_per_m = rho;
         p.cables[j].n_segments = 8;
@@ -567,20 +561,9 @@ static void test_six_cables_through_the_distribution_are_bit_identical(void)
     /* The 50 m model (six cables): cdpr_statics_ik_dist without bounds is
      * cdpr_statics_ik_wrench bit for bit; with bounds that hold, the same; with t_max below the
      * highest tension, refused naming that cable. */
-    static const double az_deg[6] = {25.0, 35.0, 145.0, 155.0, 265.0, 275.0};
-    cdpr_robot_params_t p;
-    cdpr_robot_params_default(&p);
-    p.n_cables = 6;
-    p.cabin.mass_kg = 40.0;
-    for (int j = 0; j < 6; ++j) {
-        const double th = (double)j * PI / 3.0;
-        const double az = az_deg[j] * PI / 180.0;
-        p.cables[j].exit_point_m = cdpr_v3(25.0 * cos(th), 25.0 * sin(th), 30.0);
-        p.cables[j].attach_body_m = cdpr_v3(2.0 * cos(az), 2.0 * sin(az), -0.5);
-        p.cables[j].n_segments = 8;
-        p.cables[j].length_m = 30.0;
-    }
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&robot, &p, NULL));
+    static cdpr_plant_params_t pp;
+    test_paper_plant_params(&pp, 8); /* paper_plant.h: set A written out */
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_robot_init(&robot, &pp.robot, NULL));
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
     const double x[6] = {2.0, 1.0, 16.0, 0.0889, -0.1756, -0.03359};

@@ -11,6 +11,7 @@
 
 #include "alloc_count.h"
 #include "cdpr/plant.h"
+#include "eight_plant.h"
 #include "paper_plant.h"
 #include "test_real.h"
 #include "unity.h"
@@ -30,6 +31,14 @@ static cdpr_plant_t snapshot;
 static void robot_params(cdpr_plant_params_t *pp)
 {
     test_paper_plant_params(pp, SEGMENTS);
+}
+
+/* How far the cabin moved between two measurements [m]. */
+static double cabin_moved(const cdpr_plant_meas_t *m0, const cdpr_plant_meas_t *m1)
+{
+    return sqrt(pow((double)(m1->cabin.p_m.x - m0->cabin.p_m.x), 2.0) +
+                pow((double)(m1->cabin.p_m.y - m0->cabin.p_m.y), 2.0) +
+                pow((double)(m1->cabin.p_m.z - m0->cabin.p_m.z), 2.0));
 }
 
 static void init_plant(cdpr_plant_t *p, const cdpr_plant_params_t *pp)
@@ -86,9 +95,7 @@ static void test_settled_start_is_the_static_equilibrium_and_stays_at_rest(void)
     cdpr_plant_measure(&plant, &m1);
     /* Settled (double): rest to the settling tolerance 1e-6 m/s^2; catenary start (float):
      * the cabin moves by the small discretisation offset, under a millimetre here. */
-    const double moved = sqrt(pow((double)(m1.cabin.p_m.x - m0.cabin.p_m.x), 2.0) +
-                              pow((double)(m1.cabin.p_m.y - m0.cabin.p_m.y), 2.0) +
-                              pow((double)(m1.cabin.p_m.z - m0.cabin.p_m.z), 2.0));
+    const double moved = cabin_moved(&m0, &m1);
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-7, 5e-3), 0.0, moved);
     TEST_ASSERT_EQUAL_UINT32(50u, (unsigned)plant.stats.steps);
     TEST_ASSERT_EQUAL_UINT32(0u, (unsigned)plant.stats.step_failures);
@@ -103,32 +110,12 @@ static void test_redundant_robot_starts_at_its_distribution(void)
 {
 #if CDPR_MAX_CABLES >= 8
     cdpr_plant_params_t pp;
-    robot_params(&pp);
-    pp.robot.n_cables = 8;
-    const double pi = 3.14159265358979323846;
-    for (int j = 0; j < 8; ++j) {
-        const int tower = j / 2;
-        const double side = (j % 2 != 0) ? 1.0 : -1.0;
-        const double th = (double)tower * pi / 2.0 + pi / 4.0 + 0.2 * side;
-        const double az = (double)tower * pi / 2.0 + pi / 4.0 - 0.5 * side;
-        pp.robot.cables[j] = pp.robot.cables[0];
-        pp.robot.cables[j].exit_point_m =
-            cdpr_v3((cdpr_real_t)(25.0 * cos(th)), (cdpr_real_t)(25.0 * sin(th)), CDPR_R(30.0));
-        pp.robot.cables[j].attach_body_m = cdpr_v3(
-            (cdpr_real_t)(1.5 * cos(az)), (cdpr_real_t)(1.5 * sin(az)), (cdpr_real_t)(0.5 * side));
-        pp.winch[j] = pp.winch[0];
-    }
-    static const cdpr_real_t pose[6] = {CDPR_R(0.0), CDPR_R(0.0), CDPR_R(13.0),
-                                        CDPR_R(0.0), CDPR_R(0.0), CDPR_R(0.0)};
-    pp.initial = cdpr_cabin_motion_at_pose(pose);
+    test_eight_plant_params(&pp, SEGMENTS, 0);
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_plant_init(&plant, &pp, &d));
     TEST_ASSERT_EQUAL_STRING("initial", d.field);
     TEST_ASSERT_EQUAL_INT(0, plant.ready);
     pp.robot.has_tension_dist = 1; /* the robot's tension distribution (robot.h) */
-    pp.robot.tension_min_N = CDPR_R(25.0);
-    pp.robot.tension_max_N = CDPR_R(500.0);
-    pp.robot.tension_ref_N = CDPR_R(262.5);
     init_plant(&plant, &pp);
     cdpr_plant_meas_t m0;
     cdpr_plant_measure(&plant, &m0);
@@ -157,9 +144,7 @@ static void test_redundant_robot_starts_at_its_distribution(void)
     }
     cdpr_plant_meas_t m1;
     cdpr_plant_measure(&plant, &m1);
-    const double moved = sqrt(pow((double)(m1.cabin.p_m.x - m0.cabin.p_m.x), 2.0) +
-                              pow((double)(m1.cabin.p_m.y - m0.cabin.p_m.y), 2.0) +
-                              pow((double)(m1.cabin.p_m.z - m0.cabin.p_m.z), 2.0));
+    const double moved = cabin_moved(&m0, &m1);
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-7, 5e-3), 0.0, moved);
 #else
     TEST_IGNORE_MESSAGE("built with CDPR_MAX_CABLES < 8");

@@ -113,18 +113,47 @@ class Measurement:
         self.tension_cabin_N = buf[14 + 2 * n:14 + 3 * n].copy()
 
 
-class Plant:
+def _open_handle(opener, path):
+    """Call a shim's open function on `path`: the handle, or CdprError with its message."""
+    status = ctypes.c_int(0)
+    msg = ctypes.create_string_buffer(2048)
+    h = opener(os.fsencode(path), ctypes.byref(status), msg, len(msg))
+    if not h:
+        raise CdprError(status.value, msg.value.decode(errors="replace"))
+    return ctypes.c_void_p(h)
+
+
+class _Handle:
+    """A C object the package owns (`_free` releases it): freed by close(), at the end of a
+    `with` block, or when the object is collected."""
+
+    _free = None
+
+    def close(self):
+        """Free the C object (also done when the object is collected)."""
+        if getattr(self, "_h", None):
+            type(self)._free(self._h)
+            self._h = None
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class Plant(_Handle):
     """The plant of a scenario file (robot, initial pose, integrator, period), built and settled
     as cdpr-sim builds it, with the scenario's controller beside it (control()). Step it one
     control period at a time with your own commands or the controller's."""
 
+    _free = staticmethod(_close)
+
     def __init__(self, scenario):
-        st = ctypes.c_int(0)
-        msg = ctypes.create_string_buffer(2048)
-        h = _open(os.fsencode(scenario), ctypes.byref(st), msg, len(msg))
-        if not h:
-            raise CdprError(st.value, msg.value.decode(errors="replace"))
-        self._h = ctypes.c_void_p(h)
+        self._h = _open_handle(_open, scenario)
         ints = (ctypes.c_long * 5)()
         reals = (ctypes.c_double * 3)()
         _info(self._h, ints, reals)
@@ -136,21 +165,6 @@ class Plant:
         self._meas = np.zeros(14 + 3 * self.n_cables)
         self._nodes = np.zeros(3 * (self.max_segments + 1))
         self._cmd = np.zeros(self.n_cables)
-
-    def close(self):
-        """Free the C plant (also done when the object is collected)."""
-        if getattr(self, "_h", None):
-            _close(self._h)
-            self._h = None
-
-    def __del__(self):
-        self.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     @property
     def t_s(self):
@@ -248,36 +262,19 @@ class Plant:
 WHY_NAMES = {1: "PUSH", 2: "NO_LIFT", 3: "SPAN", 4: "LOOP", 5: "T_MIN", 6: "T_MAX"}
 
 
-class Robot:
+class Robot(_Handle):
     """A robot file's statics (docs/python.md): `Robot(path)` loads and checks the file
     (CdprError naming file, line and key); `ik(pose, ...)` is the sag-aware inverse kinematics
     of any cable count from 6 to the build's capacity, with the tension distribution of a
     redundant robot (cdpr_statics_ik_dist)."""
 
+    _free = staticmethod(_robot_close)
+
     def __init__(self, path):
-        status = ctypes.c_int(0)
-        msg = ctypes.create_string_buffer(2048)
-        self._h = _robot_open(os.fsencode(path), ctypes.byref(status), msg, len(msg))
-        if not self._h:
-            raise CdprError(status.value, msg.value.decode(errors="replace"))
+        self._h = _open_handle(_robot_open, path)
         nominal = np.zeros(6)
         self.n_cables = int(_robot_info(self._h, _ptr(nominal)))
         self.nominal_pose = nominal
-
-    def close(self):
-        """Free the robot (also done when it is collected)."""
-        if getattr(self, "_h", None):
-            _robot_close(self._h)
-            self._h = None
-
-    def __del__(self):
-        self.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def ik(self, pose, t_min_N=None, t_max_N=None, t_ref_N=None, f_ext_N=(0.0, 0.0, 0.0),
            tau_ext_Nm=(0.0, 0.0, 0.0)):

@@ -37,6 +37,16 @@ static void say(char *msg, size_t cap, const char *text)
     }
 }
 
+/* A failed open: *status = st, msg = text, the handle freed; NULL. */
+static void *open_failed(void *h, cdpr_status_t st, const char *text, int *status, char *msg,
+                         size_t cap)
+{
+    *status = (int)st;
+    say(msg, cap, text);
+    free(h);
+    return NULL;
+}
+
 CDPR_PY_EXPORT const char *cdpr_py_status_name(int status)
 {
     return cdpr_status_str((cdpr_status_t)status);
@@ -48,9 +58,7 @@ CDPR_PY_EXPORT cdpr_py_t *cdpr_py_open(const char *scenario, int *status, char *
 {
     cdpr_py_t *h = calloc(1, sizeof *h);
     if (h == NULL) {
-        *status = (int)CDPR_E_IO;
-        say(msg, cap, "out of memory");
-        return NULL;
+        return open_failed(NULL, CDPR_E_IO, "out of memory", status, msg, cap);
     }
     cdpr_scenario_error_t err;
     err.msg[0] = '\0';
@@ -69,12 +77,10 @@ CDPR_PY_EXPORT cdpr_py_t *cdpr_py_open(const char *scenario, int *status, char *
                      cdpr_status_str(st));
         }
     }
-    *status = (int)st;
     if (st != CDPR_OK) {
-        say(msg, cap, err.msg);
-        free(h);
-        return NULL;
+        return open_failed(h, st, err.msg, status, msg, cap);
     }
+    *status = (int)CDPR_OK;
     return h;
 }
 
@@ -242,9 +248,7 @@ CDPR_PY_EXPORT cdpr_py_robot_t *cdpr_py_robot_open(const char *path, int *status
 {
     cdpr_py_robot_t *h = calloc(1, sizeof *h);
     if (h == NULL) {
-        *status = (int)CDPR_E_IO;
-        say(msg, cap, "out of memory");
-        return NULL;
+        return open_failed(NULL, CDPR_E_IO, "out of memory", status, msg, cap);
     }
     cdpr_rig_error_t err;
     err.msg[0] = '\0';
@@ -262,10 +266,7 @@ CDPR_PY_EXPORT cdpr_py_robot_t *cdpr_py_robot_open(const char *path, int *status
         }
     }
     if (st != CDPR_OK) {
-        *status = (int)st;
-        say(msg, cap, err.msg);
-        free(h);
-        return NULL;
+        return open_failed(h, st, err.msg, status, msg, cap);
     }
     *status = (int)CDPR_OK;
     return h;
