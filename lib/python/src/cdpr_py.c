@@ -287,7 +287,8 @@ CDPR_PY_EXPORT int cdpr_py_robot_info(const cdpr_py_robot_t *h, double nominal_p
 }
 
 /* cdpr_statics_ik_dist at pose under the weight and (f_ext, tau_ext) (world axes, at and about
- * the centre of mass); bounds[3] = (t_min, t_max, t_ref), or NULL for none (six cables only).
+ * the centre of mass); bounds[3] = (t_min, t_max, t_ref), or NULL for the robot file's own
+ * tension_distribution (none: six cables only).
  * Per cable: length, cabin- and winch-end tensions, H, V at the cabin end. verdict[2] = (why,
  * cable), verdict_v[2] = (value, limit), *iterations. Returns the status. */
 CDPR_PY_EXPORT int cdpr_py_robot_ik(const cdpr_py_robot_t *h, const double pose[6],

@@ -12,9 +12,9 @@
 /// `cabin:`, ...); scenario.h resolves all three to a cdpr_rig_t.
 ///
 /// The number of cables is 1..CDPR_MAX_CABLES. The plant's start (the sag-aware IK of the
-/// initial pose) needs at least CDPR_RIG_IK_CABLES (6), and a redundant robot (more than six)
-/// its tension distribution (`tension_distribution:`, cdpr_statics_dist_t); the tracker still
-/// needs exactly six (its own error).
+/// initial pose) and the tracker need at least CDPR_RIG_IK_CABLES (6), and a redundant robot
+/// (more than six) its tension distribution (`tension_distribution:`, copied into the core's
+/// cdpr_robot_params_t by cdpr_rig_build).
 ///
 /// Host library; loading allocates (libcyaml) and frees everything before returning.
 #ifndef CDPR_HOST_RIG_H
@@ -29,7 +29,7 @@
 #include "cdpr/winch.h"
 
 /// Cable count of a robot whose sag-aware IK has no choice to make (cdpr_statics_ik); the
-/// plant's start needs at least this many, the tracker exactly this many.
+/// plant's start and the tracker need at least this many.
 #define CDPR_RIG_IK_CABLES 6
 
 /// One cable of a rig (inputs; all SI).
