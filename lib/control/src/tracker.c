@@ -209,15 +209,8 @@ static cdpr_status_t ik_at(const cdpr_tracker_t *tr, cdpr_real_t t, cdpr_vec3_t 
     if (st != CDPR_OK) {
         return st;
     }
-    /* A cable hanging in a loop (statics.h) is an equilibrium of the catenaries, not a
-     * length to command: no working pose is near it (1-5 % above the chord in the scenarios). */
-    for (int j = 0; j < tr->model.p.n_cables; ++j) {
-        const cdpr_real_t chord = cdpr_v3_norm(
-            cdpr_v3_sub(tr->model.p.cables[j].exit_point_m, res.cable[j].attach_world_m));
-        if (!(res.cable[j].length_m <= CDPR_TRACKER_MAX_LENGTH_PER_CHORD * chord)) {
-            return CDPR_E_INFEASIBLE;
-        }
-    }
+    /* A cable hanging in a loop is not a length to command: the IK itself reports it as
+     * CDPR_E_INFEASIBLE (over CDPR_STATICS_MAX_LENGTH_PER_CHORD chords, statics.h). */
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
         L[j] = res.cable[j].length_m;
         if (T != NULL) {
