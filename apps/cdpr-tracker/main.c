@@ -133,7 +133,7 @@ static int parse(int argc, char **argv, options_t *o)
 /* ------------------------------------------------------------------------ replay */
 
 typedef struct {
-    cdpr_winch_command_t *cmd; /* by state_seq */
+    cdpr_lcm_wire_command_t *cmd; /* by state_seq */
     unsigned char *have_cmd;
     cdpr_cabin_state_t *state; /* by seq */
     unsigned char *have_state;
@@ -186,15 +186,16 @@ static cdpr_status_t replay_load(replay_t *r, const char *path, const char *pref
             }
             const char *bad = NULL;
             if (strcmp(log.channel, r->ch_command) == 0) {
-                cdpr_winch_command_t c;
-                if (cdpr_winch_command_t_decode(log.data, 0, log.data_len, &c) != log.data_len) {
-                    bad = "does not decode as a winch_command_t";
-                } else if (c.state_seq < 0 || c.state_seq >= (int64_t)LONG_MAX) {
+                cdpr_lcm_wire_command_t c;
+                cdpr_lcm_wire_command_init(&c);
+                if (cdpr_lcm_wire_command_decode(&c, log.data, log.data_len) != CDPR_LCM_WIRE_OK) {
+                    bad = "does not decode as a winch_command_t of this build's cable capacity";
+                } else if (c.msg.state_seq < 0 || c.msg.state_seq >= (int64_t)LONG_MAX) {
                     bad = "state_seq out of range";
                 } else {
-                    const long seq = (long)c.state_seq;
+                    const long seq = (long)c.msg.state_seq;
                     if (pass == 1 && seq < r->n && r->have_cmd[seq] == 0) {
-                        r->cmd[seq] = c;
+                        cdpr_lcm_wire_command_copy(&r->cmd[seq], &c);
                         r->have_cmd[seq] = 1;
                         r->last_cmd = (seq > r->last_cmd) ? seq : r->last_cmd;
                     }
@@ -310,11 +311,13 @@ static void replay_on_state(const lcm_recv_buf_t *rbuf, const char *channel, voi
         }
     }
     if (r->have_cmd[st.seq] != 0) {
-        unsigned char buf[256];
+        unsigned char buf[64 + 8 * CDPR_MAX_CABLES];
         /* The fresh plant is a new plant session: answer it, with the recorded values. */
-        cdpr_winch_command_t c = r->cmd[st.seq];
-        c.plant_session = st.plant_session;
-        const int len = cdpr_winch_command_t_encode(buf, 0, (int)sizeof buf, &c);
+        cdpr_lcm_wire_command_t c;
+        cdpr_lcm_wire_command_init(&c);
+        cdpr_lcm_wire_command_copy(&c, &r->cmd[st.seq]);
+        c.msg.plant_session = st.plant_session;
+        const int len = cdpr_lcm_wire_command_encode(&c, buf, (int)sizeof buf);
         if (len > 0 && lcm_publish(r->lcm, r->ch_command, buf, (unsigned int)len) == 0) {
             r->answered++;
         }

@@ -116,7 +116,7 @@ def main():
                 list(m.tension_winch_N[:n]) + list(m.tension_cabin_N[:n]))
         if not all(math.isfinite(v) for v in vals):
             return "a value is not finite"
-        if not 1 <= n <= winch_command_t.MAX_CABLES:
+        if n < 1 or (ctl["l0"] is not None and n != len(ctl["l0"])):
             return "cable count %d" % n
         qn = sum(q * q for q in s.orientation)
         if abs(qn - 1.0) > 1e-6:
@@ -213,7 +213,7 @@ def main():
         cmd.plant_session = s.plant_session
         cmd.mode = winch_command_t.MODE_RATE
         cmd.n_cables = n
-        values = [0.0] * winch_command_t.MAX_CABLES
+        values = [0.0] * n  # one per cable: the message sizes its array by n_cables
         for j in range(n):
             u = a.gain * (ref[j] - m.length_m[j]) + ref_rate
             values[j] = max(-a.u_max, min(a.u_max, u))
@@ -276,7 +276,8 @@ def main():
                 return 1
     except KeyboardInterrupt:
         pass
-    print("controller: answered %d states (last state seq %d)" % (ctl["answered"], ctl["last"]))
+    print("controller: answered %d states (last state seq %d) of a %s-cable plant" %
+          (ctl["answered"], ctl["last"], len(ctl["l0"]) if ctl["l0"] is not None else "?"))
     if ctl["ignored"]:
         print("controller: warning: %d messages of another plant session ignored" %
               ctl["ignored"], file=sys.stderr)

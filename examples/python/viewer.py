@@ -55,11 +55,14 @@ class View:
         n = shape.n_cables
         ends = []
         xs_all, ys_all, zs_all = [], [], []
+        first = 0  # the cables' nodes come one cable after the other
         for j in range(n):
-            nodes = shape.node_m[j][:shape.n_nodes[j]]
-            xs = [p[0] for p in nodes]
-            ys = [p[1] for p in nodes]
-            zs = [p[2] for p in nodes]
+            k = shape.n_nodes[j]
+            xs = list(shape.node_x_m[first:first + k])
+            ys = list(shape.node_y_m[first:first + k])
+            zs = list(shape.node_z_m[first:first + k])
+            nodes = list(zip(xs, ys, zs))
+            first += k
             ax.plot(xs, ys, zs, "-", color="C%d" % j, lw=1.2, label="cable %d" % (j + 1))
             ax.plot([xs[-1], xs[-1]], [ys[-1], ys[-1]], [0.0, zs[-1]], "-", color="0.6", lw=3)
             ends.append(nodes[0])

@@ -37,6 +37,7 @@ def command(k):
     c.seq = k + 1
     c.state_seq = k
     c.n_cables = 6
+    c.value = [0.0] * 6
     return c.encode()
 
 def log(events):

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /// @file fuzz_lcm_command.c
-/// libFuzzer target: arbitrary bytes on the winch command channel -> the generated decoder and
+/// libFuzzer target: arbitrary bytes on the winch command channel -> the decoder (wire.h) and
 /// our validator (cdpr_lcm_validator_accept), then the mailbox and the watchdog read, exactly
 /// the receiver's path. Built only with clang (-fsanitize=fuzzer,address,undefined); see
 /// docs/realtime.md, "Fuzzing".

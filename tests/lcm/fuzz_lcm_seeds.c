@@ -33,6 +33,7 @@ static int write_seed(const char *dir, const char *name, const cdpr_winch_comman
 int main(int argc, char **argv)
 {
     cdpr_winch_command_t m;
+    double values[6];
     int j;
     int rc = 0;
 
@@ -41,6 +42,7 @@ int main(int argc, char **argv)
         return 2;
     }
     memset(&m, 0, sizeof m);
+    m.value = values;
     m.seq = 1;
     m.state_seq = 1;
     m.controller_session = 2; // any > 0

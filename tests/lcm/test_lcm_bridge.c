@@ -75,11 +75,16 @@ static void publish_command(controller_t *c, const cdpr_winch_command_t *m, int 
     (void)lcm_publish(c->lcm, c->command_channel, buf, (unsigned int)(n - truncate_by));
 }
 
+// The values of the command being built (LCM sizes the array by n_cables: the message holds a
+// pointer). Only the bridge thread builds commands, one at a time; answer() resets them.
+static double g_value[CDPR_MAX_CABLES];
+
 static cdpr_winch_command_t answer(controller_t *c, int64_t state_seq)
 {
     cdpr_winch_command_t m;
     int j;
     memset(&m, 0, sizeof m);
+    m.value = g_value;
     m.utime_us = state_seq * 1000;
     m.seq = c->next_seq;
     m.state_seq = state_seq;
@@ -245,12 +250,12 @@ static cdpr_status_t push_state(int64_t k, int32_t flags)
 
 static cdpr_status_t push_tensions(int64_t k)
 {
-    cdpr_cable_tensions_t t;
-    memset(&t, 0, sizeof t);
-    t.utime_us = k * 1000;
-    t.seq = k;
-    t.plant_session = cdpr_lcm_bridge_session(&bridge);
-    t.n_cables = 6;
+    cdpr_lcm_wire_tensions_t t;
+    cdpr_lcm_wire_tensions_init(&t);
+    t.msg.utime_us = k * 1000;
+    t.msg.seq = k;
+    t.msg.plant_session = cdpr_lcm_bridge_session(&bridge);
+    t.msg.n_cables = 6;
     return cdpr_lcm_bridge_push_tensions(&bridge, &t);
 }
 
@@ -726,7 +731,7 @@ static void test_another_plant_on_the_channel_is_counted(void)
 // through its own ring.
 static void test_open_poll_close_without_a_thread(void)
 {
-    static cdpr_cable_shape_t sh;
+    static cdpr_lcm_wire_shape_t sh;
     cdpr_lcm_bridge_params_t p;
     cdpr_lcm_command_t cmd;
     cdpr_lcm_stats_t s;
@@ -744,9 +749,9 @@ static void test_open_poll_close_without_a_thread(void)
     TEST_ASSERT_EQUAL_INT(-1, cdpr_lcm_bridge_poll(&bridge, 0)); // not open
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_bridge_open(&bridge, &d));
     TEST_ASSERT_NOT_NULL(cdpr_lcm_bridge_lcm(&bridge));
-    memset(&sh, 0, sizeof sh);
+    cdpr_lcm_wire_shape_init(&sh);
     for (i = 0; i < CDPR_LCM_SHAPE_SLOTS + 3; i++) {
-        sh.seq = i;
+        sh.msg.seq = i;
         (void)cdpr_lcm_bridge_push_shape(&bridge, &sh);
     }
     TEST_ASSERT_EQUAL_INT(CDPR_OK, push_state(0, 0));

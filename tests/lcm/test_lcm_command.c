@@ -50,11 +50,18 @@ void setUp(void)
 
 void tearDown(void) {}
 
+// The values of every message the tests build (the message holds a pointer: LCM sizes its array
+// by n_cables): good_rate resets them, so a test changes one value after calling it. Room for
+// the largest count the wire can carry (int8_t).
+static double g_value[127];
+
 static cdpr_winch_command_t good_rate(int64_t seq, int64_t state_seq)
 {
     cdpr_winch_command_t m;
     int j;
     memset(&m, 0, sizeof m);
+    memset(g_value, 0, sizeof g_value);
+    m.value = g_value;
     m.utime_us = 123456;
     m.seq = seq;
     m.state_seq = state_seq;
@@ -78,7 +85,7 @@ static int encode(const cdpr_winch_command_t *m, unsigned char *buf, int cap)
 static cdpr_lcm_reject_t feed_at(const cdpr_winch_command_t *m, int64_t rx_ns,
                                  cdpr_lcm_command_t *out)
 {
-    unsigned char buf[256];
+    unsigned char buf[2048];
     const int n = encode(m, buf, (int)sizeof buf);
     return cdpr_lcm_validator_accept(&v, buf, (size_t)n, rx_ns, out);
 }
@@ -210,9 +217,9 @@ static void test_every_bad_field_is_rejected_with_its_reason(void)
     m = good_rate(5, 50);
     TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED, feed(&m, &out)); // last good: seq 5, state 50
 
-    // NaN / +-Inf in every entry, used or not.
+    // NaN / +-Inf in every entry.
     for (k = 0; k < 3; k++) {
-        for (j = 0; j < CDPR_WINCH_COMMAND_T_MAX_CABLES; j++) {
+        for (j = 0; j < N_CABLES; j++) {
             m = good_rate(6, 50);
             m.value[j] = nonfinite[k];
             expect_reject(m, CDPR_LCM_REJECT_NOT_FINITE);
@@ -233,7 +240,8 @@ static void test_every_bad_field_is_rejected_with_its_reason(void)
     m.mode = 127;
     expect_reject(m, CDPR_LCM_REJECT_BAD_MODE);
 
-    // Cable count: one less, one more, zero, negative.
+    // Cable count: one less, one more, zero, more than the build holds, the most the wire
+    // carries (each a well-formed message of that many values).
     m = good_rate(6, 50);
     m.n_cables = N_CABLES - 1;
     expect_reject(m, CDPR_LCM_REJECT_CABLE_COUNT);
@@ -241,7 +249,9 @@ static void test_every_bad_field_is_rejected_with_its_reason(void)
     expect_reject(m, CDPR_LCM_REJECT_CABLE_COUNT);
     m.n_cables = 0;
     expect_reject(m, CDPR_LCM_REJECT_CABLE_COUNT);
-    m.n_cables = -6;
+    m.n_cables = CDPR_MAX_CABLES + 1;
+    expect_reject(m, CDPR_LCM_REJECT_CABLE_COUNT);
+    m.n_cables = 127;
     expect_reject(m, CDPR_LCM_REJECT_CABLE_COUNT);
 
     // Out of the winch limits, on every cable: rate just above +-u_max, length below the
@@ -294,6 +304,75 @@ static void test_every_bad_field_is_rejected_with_its_reason(void)
     m.mode = 9;
     m.value[0] = (double)NAN;
     expect_reject(m, CDPR_LCM_REJECT_BAD_MODE);
+}
+
+// Bytes the generated encoder would never write: a negative cable count (the count byte of a
+// good message patched), a count larger than the values that follow, values beyond the count.
+static void test_counts_that_do_not_match_the_bytes_are_malformed(void)
+{
+    static unsigned char buf[2048];
+    cdpr_lcm_command_t out;
+    cdpr_winch_command_t m = good_rate(6, 50);
+    const int at = 8 + 5 * 8 + 1; // fingerprint, five int64, mode: then n_cables
+    int n;
+
+    m.n_cables = 0;
+    n = encode(&m, buf, (int)sizeof buf);
+    TEST_ASSERT_EQUAL_INT(at + 1, n);
+    buf[at] = 0xFA; // -6
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_MALFORMED,
+                          cdpr_lcm_validator_accept(&v, buf, (size_t)n, 42, &out));
+    m = good_rate(6, 50);
+    n = encode(&m, buf, (int)sizeof buf);
+    TEST_ASSERT_EQUAL_INT(at + 1 + 8 * N_CABLES, n);
+    buf[at] = (unsigned char)(N_CABLES + 1); // one value short
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_MALFORMED,
+                          cdpr_lcm_validator_accept(&v, buf, (size_t)n, 42, &out));
+    buf[at] = (unsigned char)(N_CABLES - 1); // one value too many
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_MALFORMED,
+                          cdpr_lcm_validator_accept(&v, buf, (size_t)n, 42, &out));
+    buf[at] = 100; // over the capacity, and the values are not there
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_REJECT_MALFORMED,
+                          cdpr_lcm_validator_accept(&v, buf, (size_t)n, 42, &out));
+    buf[at] = (unsigned char)N_CABLES;
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED,
+                          cdpr_lcm_validator_accept(&v, buf, (size_t)n, 42, &out));
+}
+
+// A plant of the build's capacity (eight cables by default): its command carries every value,
+// a six-cable command is refused, and the values arrive bit for bit.
+static void test_a_plant_of_the_build_capacity_takes_its_commands(void)
+{
+    cdpr_winch_params_t w[CDPR_MAX_CABLES];
+    cdpr_lcm_limits_t lim;
+    cdpr_lcm_validator_t big;
+    cdpr_lcm_command_t out;
+    unsigned char buf[1024];
+    cdpr_winch_command_t m = good_rate(1, 0);
+    int n;
+    int j;
+
+    for (j = 0; j < CDPR_MAX_CABLES; j++) {
+        cdpr_winch_params_default(&w[j]);
+    }
+    TEST_ASSERT_EQUAL_INT(CDPR_OK,
+                          cdpr_lcm_limits_from_winch(&lim, CDPR_MAX_CABLES, w, L_MAX, NULL));
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_validator_init(&big, &lim, PLANT, TAKEOVER, NULL));
+    cdpr_lcm_validator_note_published(&big, 0);
+    n = encode(&m, buf, (int)sizeof buf); // N_CABLES values
+    TEST_ASSERT_EQUAL_INT(N_CABLES == CDPR_MAX_CABLES ? CDPR_LCM_ACCEPTED
+                                                      : CDPR_LCM_REJECT_CABLE_COUNT,
+                          cdpr_lcm_validator_accept(&big, buf, (size_t)n, 0, &out));
+    m.n_cables = CDPR_MAX_CABLES;
+    for (j = 0; j < CDPR_MAX_CABLES; j++) {
+        g_value[j] = -1.0 + 0.25 * (double)j;
+    }
+    m.seq = 2;
+    n = encode(&m, buf, (int)sizeof buf);
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_ACCEPTED,
+                          cdpr_lcm_validator_accept(&big, buf, (size_t)n, 0, &out));
+    TEST_ASSERT_EQUAL_INT(CDPR_MAX_CABLES, out.n_cables);
+    TEST_ASSERT_EQUAL_MEMORY(g_value, out.value, sizeof(double) * CDPR_MAX_CABLES);
 }
 
 static void test_a_fresh_validator_rejects_commands_before_any_state(void)
@@ -663,6 +742,8 @@ int main(void)
     RUN_TEST(test_mailbox_init_checks);
     RUN_TEST(test_watchdog_holds_and_resumes);
     RUN_TEST(test_read_and_accept_paths_make_no_allocation);
+    RUN_TEST(test_counts_that_do_not_match_the_bytes_are_malformed);
+    RUN_TEST(test_a_plant_of_the_build_capacity_takes_its_commands);
     RUN_TEST(test_mailbox_two_threads_never_tears);
     return UNITY_END() ? 1 : 0;
 }

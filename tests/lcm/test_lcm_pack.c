@@ -10,9 +10,9 @@
 /// component converted to the wire type, bit for bit).
 ///
 /// Why these can fail: a field taken from the wrong place (layout offset, node index, cable),
-/// a lost sign or unit, an entry past the cable count left non-zero, rounding of utime_us,
-/// a shape subsampling that skips an end node or repeats one, a message that does not survive
-/// encode/decode unchanged, or an allocation in packing, encoding or decoding.
+/// a lost sign or unit, a message carrying more or fewer cables than the robot, rounding of
+/// utime_us, a shape subsampling that skips an end node or repeats one, a message that does not
+/// survive encode/decode unchanged, or an allocation in packing, encoding or decoding.
 #include "unity.h"
 
 #include "alloc_count.h"
@@ -30,7 +30,8 @@
 static cdpr_robot_t robot;
 static cdpr_real_t y[CDPR_ROBOT_STATE_MAX];
 
-// Hexagon: exit points on radius 5 m at 6 m height, attachments radius 0.4 m (test_robot.c).
+// Regular polygon of n_cables (six: the hexagon of test_robot.c): exit points on radius 5 m at
+// 6 m height, attachments radius 0.4 m.
 static void make_robot(int n_cables)
 {
     cdpr_robot_params_t p;
@@ -42,7 +43,7 @@ static void make_robot(int n_cables)
     cdpr_robot_params_default(&p);
     p.n_cables = n_cables;
     for (j = 0; j < n_cables; j++) {
-        const double th = (double)j * PI_D / 3.0;
+        const double th = (double)j * 2.0 * PI_D / (double)n_cables;
         p.cables[j].exit_point_m =
             cdpr_v3((cdpr_real_t)(5.0 * cos(th)), (cdpr_real_t)(5.0 * sin(th)), CDPR_R(6.0));
         p.cables[j].attach_body_m =
@@ -124,19 +125,24 @@ static void test_cabin_state_fields_come_from_the_state(void)
     TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 1e-6), 0.2, s.euler_rad[2]);
 }
 
-static void test_tensions_fields_and_unused_cables_zero(void)
+// The wire carries exactly the robot's cables: the header (fingerprint, three int64, the count)
+// and 4 doubles and one int32 per cable.
+static void test_tensions_fields_and_size_follow_the_cable_count(void)
 {
-    cdpr_cable_tensions_t t;
+    static cdpr_lcm_wire_tensions_t t;
+    static unsigned char buf[1024];
     cdpr_robot_out_t out;
     int j;
 
     make_robot(4);
     cdpr_robot_outputs(&robot, CDPR_R(0.5), y, &out);
-    memset(&t, 0x5A, sizeof t);
+    memset(&t, 0x5A, sizeof t); // unbound pointers: the packer binds them
     cdpr_lcm_pack_tensions(&t, &robot, y, &out, 0.5, 500);
-    TEST_ASSERT_EQUAL_INT64(500000, t.utime_us);
-    TEST_ASSERT_EQUAL_INT64(500, t.seq);
-    TEST_ASSERT_EQUAL_INT8(4, t.n_cables);
+    TEST_ASSERT_EQUAL_INT(1, cdpr_lcm_wire_tensions_ok(&t));
+    TEST_ASSERT_EQUAL_INT64(500000, t.msg.utime_us);
+    TEST_ASSERT_EQUAL_INT64(500, t.msg.seq);
+    TEST_ASSERT_EQUAL_INT64(0, t.msg.plant_session); // the plant node sets it
+    TEST_ASSERT_EQUAL_INT8(4, t.msg.n_cables);
     for (j = 0; j < 4; j++) {
         const cdpr_real_t *blk = y + robot.offset[j];
         double sum = 0.0;
@@ -145,56 +151,65 @@ static void test_tensions_fields_and_unused_cables_zero(void)
             sum += (double)robot.cable[j].lu_m[k];
         }
         sum += (double)blk[0]; // lu[n-1] lives in the state (cable.h)
-        ASSERT_SAME_DOUBLE(out.tension_cabin_N[j], t.tension_cabin_N[j]);
-        ASSERT_SAME_DOUBLE(out.tension_winch_N[j], t.tension_winch_N[j]);
-        ASSERT_SAME_DOUBLE(robot.in.payout_m_per_s[j], t.payout_m_per_s[j]);
-        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 1e-5), sum, t.length_m[j]);
-        TEST_ASSERT_EQUAL_INT32(SEGMENTS, t.n_segments[j]);
-        TEST_ASSERT_TRUE(t.tension_cabin_N[j] >
+        ASSERT_SAME_DOUBLE(out.tension_cabin_N[j], t.msg.tension_cabin_N[j]);
+        ASSERT_SAME_DOUBLE(out.tension_winch_N[j], t.msg.tension_winch_N[j]);
+        ASSERT_SAME_DOUBLE(robot.in.payout_m_per_s[j], t.msg.payout_m_per_s[j]);
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-14, 1e-5), sum, t.msg.length_m[j]);
+        TEST_ASSERT_EQUAL_INT32(SEGMENTS, t.msg.n_segments[j]);
+        TEST_ASSERT_TRUE(t.msg.tension_cabin_N[j] >
                          0.0); // taut: 5.5 m unstretched, chords 5.9 .. 6.3 m
     }
-    for (j = 4; j < CDPR_CABLE_TENSIONS_T_MAX_CABLES; j++) {
-        TEST_ASSERT_EQUAL_DOUBLE(0.0, t.tension_cabin_N[j]);
-        TEST_ASSERT_EQUAL_DOUBLE(0.0, t.length_m[j]);
-        TEST_ASSERT_EQUAL_INT32(0, t.n_segments[j]);
-    }
+    TEST_ASSERT_EQUAL_INT(8 + 3 * 8 + 1 + 4 * (4 * 8 + 4),
+                          cdpr_lcm_wire_tensions_encode(&t, buf, (int)sizeof buf));
+    make_robot(CDPR_MAX_CABLES);
+    cdpr_robot_outputs(&robot, CDPR_R(0.5), y, &out);
+    cdpr_lcm_pack_tensions(&t, &robot, y, &out, 0.5, 500);
+    TEST_ASSERT_EQUAL_INT(8 + 3 * 8 + 1 + CDPR_MAX_CABLES * (4 * 8 + 4),
+                          cdpr_lcm_wire_tensions_encode(&t, buf, (int)sizeof buf));
+    ASSERT_SAME_DOUBLE(out.tension_winch_N[CDPR_MAX_CABLES - 1],
+                       t.msg.tension_winch_N[CDPR_MAX_CABLES - 1]);
 }
 
+static void check_node(const cdpr_lcm_wire_shape_t *s, int k, double x, double y_m, double z)
+{
+    TEST_ASSERT_EQUAL_FLOAT((float)x, s->msg.node_x_m[k]);
+    TEST_ASSERT_EQUAL_FLOAT((float)y_m, s->msg.node_y_m[k]);
+    TEST_ASSERT_EQUAL_FLOAT((float)z, s->msg.node_z_m[k]);
+}
+
+// Every cable of the build's capacity, its nodes one cable after the other.
 static void test_shape_nodes_run_from_attachment_to_exit_point(void)
 {
-    static cdpr_cable_shape_t s;
+    static cdpr_lcm_wire_shape_t s;
     cdpr_cabin_motion_t m;
+    int first = 0;
     int j;
 
-    make_robot(6);
+    make_robot(CDPR_MAX_CABLES);
     memset(&s, 0x5A, sizeof s);
     cdpr_lcm_pack_shape(&s, &robot, y, 2.0, 2000);
     cdpr_robot_cabin_motion(&robot, CDPR_R(2.0), y, &m);
-    TEST_ASSERT_EQUAL_INT64(2000000, s.utime_us);
-    TEST_ASSERT_EQUAL_INT64(2000, s.seq);
-    TEST_ASSERT_EQUAL_INT8(6, s.n_cables);
-    for (j = 0; j < 6; j++) {
+    TEST_ASSERT_EQUAL_INT(1, cdpr_lcm_wire_shape_ok(&s));
+    TEST_ASSERT_EQUAL_INT64(2000000, s.msg.utime_us);
+    TEST_ASSERT_EQUAL_INT64(2000, s.msg.seq);
+    TEST_ASSERT_EQUAL_INT8(CDPR_MAX_CABLES, s.msg.n_cables);
+    TEST_ASSERT_EQUAL_INT32(CDPR_MAX_CABLES * (SEGMENTS + 1), s.msg.n_points);
+    for (j = 0; j < CDPR_MAX_CABLES; j++) {
         cdpr_vec3_t a;
         cdpr_vec3_t av;
         const cdpr_vec3_t e = robot.p.cables[j].exit_point_m;
         const cdpr_real_t *pos = y + robot.offset[j] + 1;
         int i;
-        TEST_ASSERT_EQUAL_INT32(SEGMENTS, s.n_segments[j]);
-        TEST_ASSERT_EQUAL_INT16(SEGMENTS + 1, s.n_nodes[j]);
+        TEST_ASSERT_EQUAL_INT32(SEGMENTS, s.msg.n_segments[j]);
+        TEST_ASSERT_EQUAL_INT16(SEGMENTS + 1, s.msg.n_nodes[j]);
         cdpr_robot_attachment(&robot, j, &m, &a, &av);
-        TEST_ASSERT_EQUAL_FLOAT((float)a.x, s.node_m[j][0][0]);
-        TEST_ASSERT_EQUAL_FLOAT((float)a.z, s.node_m[j][0][2]);
+        check_node(&s, first, (double)a.x, (double)a.y, (double)a.z);
         for (i = 1; i < SEGMENTS; i++) {
-            TEST_ASSERT_EQUAL_FLOAT((float)pos[3 * (i - 1) + 0], s.node_m[j][i][0]);
-            TEST_ASSERT_EQUAL_FLOAT((float)pos[3 * (i - 1) + 1], s.node_m[j][i][1]);
-            TEST_ASSERT_EQUAL_FLOAT((float)pos[3 * (i - 1) + 2], s.node_m[j][i][2]);
+            check_node(&s, first + i, (double)pos[3 * (i - 1) + 0], (double)pos[3 * (i - 1) + 1],
+                       (double)pos[3 * (i - 1) + 2]);
         }
-        TEST_ASSERT_EQUAL_FLOAT((float)e.x, s.node_m[j][SEGMENTS][0]);
-        TEST_ASSERT_EQUAL_FLOAT((float)e.y, s.node_m[j][SEGMENTS][1]);
-        TEST_ASSERT_EQUAL_FLOAT((float)e.z, s.node_m[j][SEGMENTS][2]);
-        for (i = SEGMENTS + 1; i < CDPR_CABLE_SHAPE_T_MAX_NODES; i++) {
-            TEST_ASSERT_EQUAL_FLOAT(0.0f, s.node_m[j][i][0]);
-        }
+        check_node(&s, first + SEGMENTS, (double)e.x, (double)e.y, (double)e.z);
+        first += SEGMENTS + 1;
     }
 }
 
@@ -228,28 +243,34 @@ static void test_shape_subsampling_indices(void)
     TEST_ASSERT_EQUAL_INT(2 * 17, cdpr_lcm_shape_node_index(17, 65, 129)); // exact halving
 }
 
-// Every message survives the generated encoder/decoder bit for bit, and packing, encoding and
-// decoding allocate nothing (the real-time thread packs and encodes every period).
+// Every message survives the encoders and decoders bit for bit, and packing, encoding and
+// decoding the per-cable messages into their holders allocate nothing (the real-time thread
+// packs and encodes every period; the controller decodes the tensions every period). The
+// generated decoders (which allocate the arrays) read the same values.
 static void test_messages_round_trip_without_allocation(void)
 {
     static cdpr_cabin_state_t s;
-    static cdpr_cable_tensions_t t;
-    static cdpr_cable_shape_t sh;
+    static cdpr_lcm_wire_tensions_t t;
+    static cdpr_lcm_wire_shape_t sh;
     static cdpr_diagnostics_t dg;
     static cdpr_cabin_state_t s2;
-    static cdpr_cable_tensions_t t2;
-    static cdpr_cable_shape_t sh2;
+    static cdpr_lcm_wire_tensions_t t2;
+    static cdpr_cable_tensions_t t3;
+    static cdpr_cable_shape_t sh3;
     static cdpr_diagnostics_t dg2;
     static unsigned char buf[16384];
+    static unsigned char buf_t[1024];
     cdpr_robot_out_t out;
     int n;
+    int nt;
 
-    make_robot(6);
+    make_robot(CDPR_MAX_CABLES);
     memset(&dg, 0, sizeof dg);
     dg.seq = 7;
     dg.rejected[CDPR_DIAGNOSTICS_T_REJECT_FUTURE] = 3;
     dg.compute_ns_p99 = 12345;
     dg.holding = 1;
+    cdpr_lcm_wire_tensions_init(&t2);
     cdpr_alloc_reset();
     cdpr_robot_outputs(&robot, CDPR_R(0.0), y, &out);
     cdpr_lcm_pack_cabin_state(&s, &robot, y, 0.0, 0, -1, 0);
@@ -258,29 +279,44 @@ static void test_messages_round_trip_without_allocation(void)
 
     n = cdpr_cabin_state_t_encode(buf, 0, (int)sizeof buf, &s);
     TEST_ASSERT_EQUAL_INT(n, cdpr_cabin_state_t_decode(buf, 0, n, &s2));
-    n = cdpr_cable_tensions_t_encode(buf, 0, (int)sizeof buf, &t);
-    TEST_ASSERT_EQUAL_INT(n, cdpr_cable_tensions_t_decode(buf, 0, n, &t2));
-    n = cdpr_cable_shape_t_encode(buf, 0, (int)sizeof buf, &sh);
-    TEST_ASSERT_EQUAL_INT(n, cdpr_cable_shape_t_decode(buf, 0, n, &sh2));
+    nt = cdpr_lcm_wire_tensions_encode(&t, buf_t, (int)sizeof buf_t);
+    TEST_ASSERT_TRUE(nt > 0);
+    TEST_ASSERT_EQUAL_INT(CDPR_LCM_WIRE_OK, cdpr_lcm_wire_tensions_decode(&t2, buf_t, nt));
     n = cdpr_diagnostics_t_encode(buf, 0, (int)sizeof buf, &dg);
     TEST_ASSERT_EQUAL_INT(n, cdpr_diagnostics_t_decode(buf, 0, n, &dg2));
+    n = cdpr_lcm_wire_shape_encode(&sh, buf, (int)sizeof buf);
+    TEST_ASSERT_TRUE(n > 0);
     if (cdpr_alloc_counting_available()) {
         TEST_ASSERT_EQUAL_UINT(0u, cdpr_alloc_count());
     }
-    // Compare field by field through memcmp of the members (no padding in these structs is
-    // assumed, hence per-member comparisons of the arrays).
+    // The generated decoders on the same bytes (they allocate: cleaned up below).
+    TEST_ASSERT_EQUAL_INT(n, cdpr_cable_shape_t_decode(buf, 0, n, &sh3));
+    TEST_ASSERT_EQUAL_INT(nt, cdpr_cable_tensions_t_decode(buf_t, 0, nt, &t3));
+
+    // Compare field by field through memcmp of the members.
     TEST_ASSERT_EQUAL_MEMORY(s.position_m, s2.position_m, sizeof s.position_m);
     TEST_ASSERT_EQUAL_MEMORY(s.orientation, s2.orientation, sizeof s.orientation);
     TEST_ASSERT_EQUAL_MEMORY(s.euler_rad, s2.euler_rad, sizeof s.euler_rad);
     TEST_ASSERT_EQUAL_INT64(s.command_seq, s2.command_seq);
+    TEST_ASSERT_EQUAL_INT8(CDPR_MAX_CABLES, t2.msg.n_cables);
+    TEST_ASSERT_EQUAL_MEMORY(t.tension_cabin_N, t2.tension_cabin_N, sizeof t.tension_cabin_N);
     TEST_ASSERT_EQUAL_MEMORY(t.tension_winch_N, t2.tension_winch_N, sizeof t.tension_winch_N);
     TEST_ASSERT_EQUAL_MEMORY(t.length_m, t2.length_m, sizeof t.length_m);
+    TEST_ASSERT_EQUAL_MEMORY(t.payout_m_per_s, t2.payout_m_per_s, sizeof t.payout_m_per_s);
     TEST_ASSERT_EQUAL_MEMORY(t.n_segments, t2.n_segments, sizeof t.n_segments);
-    TEST_ASSERT_EQUAL_MEMORY(sh.node_m, sh2.node_m, sizeof sh.node_m);
-    TEST_ASSERT_EQUAL_MEMORY(sh.n_nodes, sh2.n_nodes, sizeof sh.n_nodes);
+    TEST_ASSERT_EQUAL_INT8(CDPR_MAX_CABLES, t3.n_cables);
+    TEST_ASSERT_EQUAL_MEMORY(t.tension_winch_N, t3.tension_winch_N, sizeof t.tension_winch_N);
+    TEST_ASSERT_EQUAL_MEMORY(t.n_segments, t3.n_segments, sizeof t.n_segments);
+    TEST_ASSERT_EQUAL_INT32(sh.msg.n_points, sh3.n_points);
+    TEST_ASSERT_EQUAL_MEMORY(sh.node_x_m, sh3.node_x_m, sizeof(float) * (size_t)sh3.n_points);
+    TEST_ASSERT_EQUAL_MEMORY(sh.node_y_m, sh3.node_y_m, sizeof(float) * (size_t)sh3.n_points);
+    TEST_ASSERT_EQUAL_MEMORY(sh.node_z_m, sh3.node_z_m, sizeof(float) * (size_t)sh3.n_points);
+    TEST_ASSERT_EQUAL_MEMORY(sh.n_nodes, sh3.n_nodes, sizeof(int16_t) * CDPR_MAX_CABLES);
     TEST_ASSERT_EQUAL_MEMORY(dg.rejected, dg2.rejected, sizeof dg.rejected);
     TEST_ASSERT_EQUAL_INT64(12345, dg2.compute_ns_p99);
     TEST_ASSERT_EQUAL_INT8(1, dg2.holding);
+    cdpr_cable_shape_t_decode_cleanup(&sh3);
+    cdpr_cable_tensions_t_decode_cleanup(&t3);
     if (!cdpr_alloc_counting_available()) {
         TEST_IGNORE_MESSAGE(cdpr_alloc_unavailable_reason());
     }
@@ -291,7 +327,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_utime_rounds_to_nearest_microsecond);
     RUN_TEST(test_cabin_state_fields_come_from_the_state);
-    RUN_TEST(test_tensions_fields_and_unused_cables_zero);
+    RUN_TEST(test_tensions_fields_and_size_follow_the_cable_count);
     RUN_TEST(test_shape_nodes_run_from_attachment_to_exit_point);
     RUN_TEST(test_shape_subsampling_indices);
     RUN_TEST(test_messages_round_trip_without_allocation);

@@ -44,6 +44,7 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     controller_t *c = (controller_t *)user;
     cdpr_cabin_state_t st;
     cdpr_winch_command_t m;
+    double values[6];
     unsigned char buf[256];
     int n;
     (void)channel;
@@ -52,6 +53,7 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     }
     __atomic_fetch_add(&c->states_seen, 1u, __ATOMIC_RELAXED);
     memset(&m, 0, sizeof m);
+    m.value = values;
     m.seq = c->next_seq++;
     m.state_seq = st.seq;
     m.controller_session = 1;

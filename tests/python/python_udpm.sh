@@ -10,14 +10,18 @@
 #     wire for that seq;
 #  2. free-running: the plant does not wait; it must still accept the controller's commands
 #     (some accepted, none ignored: how many periods a free-running controller answers in time
-#     depends on the machine's load, so no share is asserted; lockstep above counts them all).
+#     depends on the machine's load, so no share is asserted; lockstep above counts them all);
+#  3. with EIGHT (a scenario of an eight-cable robot, given for builds that hold eight cables):
+#     lockstep again, the same controller sizing its commands by the plant's cable count: all
+#     100 periods stepped on its commands, every one accepted.
 # PYTHONPATH (tests/python/CMakeLists.txt) holds LCM's Python module and the generated types.
-# Usage: python_udpm.sh BUILD_DIR SOURCE_DIR WORK_DIR PYTHON
+# Usage: python_udpm.sh BUILD_DIR SOURCE_DIR WORK_DIR PYTHON [EIGHT]
 set -eu
 bin=$1/apps
 src=$2
 w=$3
 py=$4
+eight=${5:-}
 scenario=$src/scenarios/paper-line.yaml
 url='udpm://239.255.76.67:7667?ttl=0'
 rm -rf "$w"
@@ -107,3 +111,24 @@ ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p'
 [ -n "$accepted" ] && [ "$accepted" -ge 1 ] || fail "free-running: ${accepted:-?} commands accepted"
 [ "$ignored" -eq 0 ] || fail "free-running: $ignored commands ignored"
 echo "PASS: free-running, $accepted Python commands accepted, none ignored"
+
+# 3. Eight cables, lockstep.
+[ -n "$eight" ] || exit 0
+"$py" "$src/examples/python/controller.py" --lcm-url "$url" --count 101 --timeout 20 \
+    > "$w/ctl3.txt" 2>&1 &
+ctl=$!
+sleep 1
+"$bin/cdpr-rt" "$eight" --rate 100 --duration 1 --lockstep --max-trials 2000 \
+    --lcm-url "$url" > "$w/rt3.txt"
+wait "$ctl" || fail "controller.py exited with an error (eight cables)"
+cat "$w/rt3.txt" "$w/ctl3.txt"
+grep -q "0 timeouts" "$w/rt3.txt" || fail "eight cables: lockstep timeouts"
+grep -q "100 periods with a new command, 0 on hold" "$w/rt3.txt" ||
+    fail "eight cables: the plant did not step every period on a Python command"
+accepted=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\1/p' "$w/rt3.txt")
+ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p' "$w/rt3.txt")
+[ -n "$accepted" ] && [ "$accepted" -ge 100 ] && [ "$ignored" -eq 0 ] ||
+    fail "eight cables: ${accepted:-?} commands accepted, ${ignored:-?} ignored"
+grep -q "answered 101 states (last state seq 100) of a 8-cable plant" "$w/ctl3.txt" ||
+    fail "eight cables: controller count"
+echo "PASS: eight cables in lockstep, $accepted Python commands of eight values accepted"

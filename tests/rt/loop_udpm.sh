@@ -9,12 +9,14 @@
 #  2. the recorded log replayed into a fresh plant in lockstep (cdpr-tracker --replay) must
 #     reproduce the recorded cabin states bit for bit.
 # Runs inside a private network namespace (run_in_netns.sh), so it needs no host network.
-# Usage: loop_udpm.sh BUILD_DIR SOURCE_DIR WORK_DIR
+# SCENARIO: the paper's line by default; rt_loop_udpm_eight runs the eight-cable robot's
+# (scenarios/eight-line.yaml: eight values in every command and tension message).
+# Usage: loop_udpm.sh BUILD_DIR SOURCE_DIR WORK_DIR [SCENARIO]
 set -eu
 bin=$1/apps
 src=$2
 w=$3
-scenario=$src/scenarios/paper-line.yaml
+scenario=${4:-$src/scenarios/paper-line.yaml}
 url='udpm://239.255.76.67:7667?ttl=0'
 rm -rf "$w"
 mkdir -p "$w"

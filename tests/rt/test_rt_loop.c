@@ -380,7 +380,9 @@ static void send_garbage(script_t *s, const cdpr_cabin_state_t *st)
     static const unsigned char junk[] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
     (void)lcm_publish(s->lcm, "CDPR_WINCH_COMMAND", junk, sizeof junk);
     cdpr_winch_command_t c;
+    double values[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     memset(&c, 0, sizeof c);
+    c.value = values;
     c.seq = s->seq + 1;
     c.state_seq = st->seq;
     c.controller_session = 1;
@@ -461,7 +463,9 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         }
     }
     cdpr_winch_command_t c;
+    double values[6];
     memset(&c, 0, sizeof c);
+    c.value = values;
     c.seq = ++s->seq;
     c.state_seq = st.seq;
     c.controller_session = 1;

@@ -43,14 +43,14 @@ static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 {
     (void)channel;
     (void)user;
-    cdpr_winch_command_t c;
-    if (cdpr_winch_command_t_decode(rbuf->data, 0, (int)rbuf->data_size, &c) !=
-        (int)rbuf->data_size) {
+    cdpr_lcm_wire_command_t c;
+    cdpr_lcm_wire_command_init(&c);
+    if (cdpr_lcm_wire_command_decode(&c, rbuf->data, (int)rbuf->data_size) != CDPR_LCM_WIRE_OK) {
         return;
     }
     g_commands++;
-    g_last_state_seq = c.state_seq;
-    for (int j = 0; j < c.n_cables; ++j) {
+    g_last_state_seq = c.msg.state_seq;
+    for (int j = 0; j < c.msg.n_cables; ++j) {
         g_max_rate = fmax(g_max_rate, fabs(c.value[j]));
     }
 }
@@ -93,10 +93,10 @@ void tearDown(void)
 }
 
 /* The plant's messages of period k: the cabin at rest at home, the IK's tensions and lengths. */
-static void make_pair(int64_t k, cdpr_cabin_state_t *st, cdpr_cable_tensions_t *ten)
+static void make_pair(int64_t k, cdpr_cabin_state_t *st, cdpr_lcm_wire_tensions_t *ten)
 {
     memset(st, 0, sizeof *st);
-    memset(ten, 0, sizeof *ten);
+    cdpr_lcm_wire_tensions_init(ten);
     st->utime_us = k * (int64_t)llround(T_S * 1e6);
     st->seq = k;
     st->command_seq = -1;
@@ -104,10 +104,10 @@ static void make_pair(int64_t k, cdpr_cabin_state_t *st, cdpr_cable_tensions_t *
     st->controller_session = (g_node.cmd_seq >= 0) ? g_node.controller_session : 0;
     st->position_m[2] = HOME[2];
     st->orientation[0] = 1.0;
-    ten->utime_us = st->utime_us;
-    ten->seq = k;
-    ten->plant_session = 77;
-    ten->n_cables = 6;
+    ten->msg.utime_us = st->utime_us;
+    ten->msg.seq = k;
+    ten->msg.plant_session = 77;
+    ten->msg.n_cables = 6;
     for (int j = 0; j < 6; ++j) {
         ten->tension_cabin_N[j] = g_ik.cable[j].tension_cabin_N;
         ten->tension_winch_N[j] = g_ik.cable[j].tension_winch_N;
@@ -117,13 +117,13 @@ static void make_pair(int64_t k, cdpr_cabin_state_t *st, cdpr_cable_tensions_t *
 }
 
 /* Publish a pair and let the node answer it (memq delivers on lcm_handle). */
-static void send(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten)
+static void send(const cdpr_cabin_state_t *st, const cdpr_lcm_wire_tensions_t *ten)
 {
     unsigned char buf[1024];
     int n = cdpr_cabin_state_t_encode(buf, 0, (int)sizeof buf, st);
     TEST_ASSERT_TRUE(n > 0);
     TEST_ASSERT_EQUAL_INT(0, lcm_publish(g_lcm, "CDPR_CABIN_STATE", buf, (unsigned)n));
-    n = cdpr_cable_tensions_t_encode(buf, 0, (int)sizeof buf, ten);
+    n = cdpr_lcm_wire_tensions_encode(ten, buf, (int)sizeof buf);
     TEST_ASSERT_TRUE(n > 0);
     TEST_ASSERT_EQUAL_INT(0, lcm_publish(g_lcm, "CDPR_CABLE_TENSIONS", buf, (unsigned)n));
     for (int i = 0; i < 4; ++i) {
@@ -138,7 +138,7 @@ static void send(const cdpr_cabin_state_t *st, const cdpr_cable_tensions_t *ten)
 static void send_real(int64_t k)
 {
     cdpr_cabin_state_t st;
-    cdpr_cable_tensions_t ten;
+    cdpr_lcm_wire_tensions_t ten;
     make_pair(k, &st, &ten);
     send(&st, &ten);
 }
@@ -167,7 +167,7 @@ static void test_forged_far_seq_costs_one_update(void)
     for (int64_t k = 0; k < N_STATES; ++k) {
         if (k == 10) {
             cdpr_cabin_state_t st;
-            cdpr_cable_tensions_t ten;
+            cdpr_lcm_wire_tensions_t ten;
             make_pair(k + ((int64_t)1 << 40), &st, &ten);
             send(&st, &ten);
         }
@@ -185,7 +185,7 @@ static void test_forged_tension_never_reaches_the_filter(void)
         if (k == 10) {
             /* The forged tensions of period 10 arrive first and pair with the real state. */
             cdpr_cabin_state_t st;
-            cdpr_cable_tensions_t ten;
+            cdpr_lcm_wire_tensions_t ten;
             make_pair(k, &st, &ten);
             ten.tension_winch_N[2] = 1e300;
             send(&st, &ten);
@@ -207,9 +207,9 @@ static void test_forged_time_ahead_is_refused(void)
     for (int64_t k = 0; k < N_STATES; ++k) {
         if (k == 20) {
             cdpr_cabin_state_t st;
-            cdpr_cable_tensions_t ten;
+            cdpr_lcm_wire_tensions_t ten;
             make_pair(k, &st, &ten);
-            st.utime_us = ten.utime_us = 8000000; /* the end of an 8 s run */
+            st.utime_us = ten.msg.utime_us = 8000000; /* the end of an 8 s run */
             send(&st, &ten);
             TEST_ASSERT_EQUAL_UINT64(1, g_node.stats.refused_time);
         }
@@ -237,7 +237,7 @@ static void test_implausible_values_are_refused(void)
     send_real(k++);
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         cdpr_cabin_state_t st;
-        cdpr_cable_tensions_t ten;
+        cdpr_lcm_wire_tensions_t ten;
         make_pair(k, &st, &ten);
         switch (bad[i].what) {
         case 0:
@@ -273,9 +273,9 @@ static void test_implausible_values_are_refused(void)
 static void test_forged_anchor_resyncs_after_two_pairs(void)
 {
     cdpr_cabin_state_t st;
-    cdpr_cable_tensions_t ten;
+    cdpr_lcm_wire_tensions_t ten;
     make_pair((int64_t)1 << 40, &st, &ten); /* the first state ever seen is forged */
-    st.utime_us = ten.utime_us = (int64_t)1 << 40;
+    st.utime_us = ten.msg.utime_us = (int64_t)1 << 40;
     send(&st, &ten);
     const long before = g_commands; /* answered or not: nothing to compare it with */
     for (int64_t k = 0; k < 20; ++k) {
@@ -303,7 +303,7 @@ static void test_another_controller_in_control(void)
     g_node.on_in_control = count_in_control;
     for (int64_t k = 0; k < N_STATES; ++k) {
         cdpr_cabin_state_t st;
-        cdpr_cable_tensions_t ten;
+        cdpr_lcm_wire_tensions_t ten;
         make_pair(k, &st, &ten);
         if (k >= 30) {
             st.controller_session = 999; /* a take-over: a new command of it every period */
@@ -329,7 +329,7 @@ static void test_stopped_controller_last_command_is_not_a_rival(void)
 {
     for (int64_t k = 0; k < N_STATES; ++k) {
         cdpr_cabin_state_t st;
-        cdpr_cable_tensions_t ten;
+        cdpr_lcm_wire_tensions_t ten;
         make_pair(k, &st, &ten);
         if (k < 12) {
             st.controller_session = 999;
@@ -349,10 +349,10 @@ static void test_stopped_controller_last_command_is_not_a_rival(void)
 static void test_tensions_before_the_first_state_are_not_another_plant(void)
 {
     cdpr_cabin_state_t st;
-    cdpr_cable_tensions_t ten;
+    cdpr_lcm_wire_tensions_t ten;
     make_pair(0, &st, &ten);
     unsigned char buf[1024];
-    const int n = cdpr_cable_tensions_t_encode(buf, 0, (int)sizeof buf, &ten);
+    const int n = cdpr_lcm_wire_tensions_encode(&ten, buf, (int)sizeof buf);
     TEST_ASSERT_TRUE(n > 0);
     TEST_ASSERT_EQUAL_INT(0, lcm_publish(g_lcm, "CDPR_CABLE_TENSIONS", buf, (unsigned)n));
     (void)lcm_handle_timeout(g_lcm, 0);
@@ -368,9 +368,9 @@ static void test_plant_at_another_rate(void)
     /* A plant at 200 Hz against a 100 Hz controller: every step is half a period. */
     for (int64_t k = 0; k < 20; ++k) {
         cdpr_cabin_state_t st;
-        cdpr_cable_tensions_t ten;
+        cdpr_lcm_wire_tensions_t ten;
         make_pair(k, &st, &ten);
-        st.utime_us = ten.utime_us = k * 5000;
+        st.utime_us = ten.msg.utime_us = k * 5000;
         send(&st, &ten);
     }
     TEST_ASSERT_EQUAL_UINT64(19, g_node.stats.rate_mismatch);
@@ -380,9 +380,9 @@ static void test_plant_at_another_rate(void)
     setUp();
     for (int64_t k = 0; k < 20; ++k) {
         cdpr_cabin_state_t st;
-        cdpr_cable_tensions_t ten;
+        cdpr_lcm_wire_tensions_t ten;
         make_pair(k, &st, &ten);
-        st.utime_us = ten.utime_us = k * 20000;
+        st.utime_us = ten.msg.utime_us = k * 20000;
         send(&st, &ten);
     }
     TEST_ASSERT_TRUE(g_node.stats.refused_time >= 18);
@@ -441,9 +441,9 @@ static void test_second_plant_is_ignored_not_followed(void)
     for (int64_t k = 0; k < 20; ++k) {
         send_real(k);
         cdpr_cabin_state_t st;
-        cdpr_cable_tensions_t ten;
+        cdpr_lcm_wire_tensions_t ten;
         make_pair(k, &st, &ten);
-        st.plant_session = ten.plant_session = 88;
+        st.plant_session = ten.msg.plant_session = 88;
         send(&st, &ten);
     }
     TEST_ASSERT_EQUAL_UINT64(0, g_node.stats.plant_restarts);

@@ -67,7 +67,7 @@ void cdpr_lcm_bridge_params_default(cdpr_lcm_bridge_params_t *p)
     memset(p, 0, sizeof *p);
     p->url = NULL;
     p->channel_prefix = "CDPR_";
-    p->n_cables = CDPR_LCM_MAX_CABLES; // the messages carry at most 6
+    p->n_cables = (CDPR_LCM_MAX_CABLES < 6) ? CDPR_LCM_MAX_CABLES : 6; // the paper's robot
     for (j = 0; j < CDPR_MAX_CABLES; j++) {
         cdpr_winch_params_default(&p->winch[j]);
     }
@@ -94,26 +94,30 @@ static int fits(int encoded, uint32_t slot_bytes)
     return encoded > 0 && (uint32_t)encoded <= slot_bytes;
 }
 
-// Every message type has fixed-size fields only, so its encoded size does not depend on the
-// content: check once that each fits its ring's slots. Encoding once also makes the generated
-// code compute and cache each type's hash here instead of on the real-time thread.
-static cdpr_status_t check_sizes(const cdpr_lcm_bridge_t *b, cdpr_diag_t *diag)
+// Check once that each message of this plant fits its ring's slots: the state and diagnostics
+// have fixed sizes, the tensions' size is set by the cable count, the shape's at most by the
+// cable count times CDPR_CABLE_SHAPE_T_MAX_NODES. Encoding once also makes the generated code
+// compute and cache each type's hash here instead of on the real-time thread.
+static cdpr_status_t check_sizes(const cdpr_lcm_bridge_t *b, int n_cables, cdpr_diag_t *diag)
 {
+    cdpr_lcm_wire_shape_t sh;
     cdpr_cabin_state_t st;
-    cdpr_cable_tensions_t te;
+    cdpr_lcm_wire_tensions_t te;
     cdpr_diagnostics_t di;
-    cdpr_cable_shape_t sh;
     unsigned char scratch[CDPR_LCM_SHAPE_SLOT_BYTES];
 
     memset(&st, 0, sizeof st);
-    memset(&te, 0, sizeof te);
     memset(&di, 0, sizeof di);
-    memset(&sh, 0, sizeof sh);
+    cdpr_lcm_wire_tensions_init(&te);
+    te.msg.n_cables = (int8_t)n_cables;
+    cdpr_lcm_wire_shape_init(&sh);
+    sh.msg.n_cables = (int8_t)n_cables;
+    sh.msg.n_points = (int32_t)(n_cables * CDPR_CABLE_SHAPE_T_MAX_NODES);
     if (!fits(cdpr_cabin_state_t_encode(scratch, 0, (int)sizeof scratch, &st),
               b->ring.slot_bytes)) {
         return cdpr_diag_set(diag, CDPR_E_CAPACITY, "CDPR_LCM_SLOT_BYTES (cabin_state_t)", -1);
     }
-    if (!fits(cdpr_cable_tensions_t_encode(scratch, 0, (int)sizeof scratch, &te),
+    if (!fits(cdpr_lcm_wire_tensions_encode(&te, scratch, (int)sizeof scratch),
               b->ring.slot_bytes)) {
         return cdpr_diag_set(diag, CDPR_E_CAPACITY, "CDPR_LCM_SLOT_BYTES (cable_tensions_t)", -1);
     }
@@ -121,7 +125,7 @@ static cdpr_status_t check_sizes(const cdpr_lcm_bridge_t *b, cdpr_diag_t *diag)
               b->ring.slot_bytes)) {
         return cdpr_diag_set(diag, CDPR_E_CAPACITY, "CDPR_LCM_SLOT_BYTES (diagnostics_t)", -1);
     }
-    if (!fits(cdpr_cable_shape_t_encode(scratch, 0, (int)sizeof scratch, &sh),
+    if (!fits(cdpr_lcm_wire_shape_encode(&sh, scratch, (int)sizeof scratch),
               b->shape_ring.slot_bytes)) {
         return cdpr_diag_set(diag, CDPR_E_CAPACITY, "CDPR_LCM_SHAPE_SLOT_BYTES", -1);
     }
@@ -210,7 +214,7 @@ cdpr_status_t cdpr_lcm_bridge_init(cdpr_lcm_bridge_t *b, const cdpr_lcm_bridge_p
                                 CDPR_LCM_SHAPE_SLOTS, CDPR_LCM_SHAPE_SLOT_BYTES, diag);
     }
     if (st == CDPR_OK) {
-        st = check_sizes(b, diag);
+        st = check_sizes(b, p->n_cables, diag);
     }
     if (st == CDPR_OK) {
         st = cdpr_lcm_validator_init(&b->validator, &lim, b->p.plant_session,
@@ -625,15 +629,16 @@ cdpr_status_t cdpr_lcm_bridge_push_cabin_state(cdpr_lcm_bridge_t *b, const cdpr_
                            CDPR_LCM_CH_CABIN_STATE, msg->seq);
 }
 
-cdpr_status_t cdpr_lcm_bridge_push_tensions(cdpr_lcm_bridge_t *b, const cdpr_cable_tensions_t *msg)
+cdpr_status_t cdpr_lcm_bridge_push_tensions(cdpr_lcm_bridge_t *b,
+                                            const cdpr_lcm_wire_tensions_t *msg)
 {
     unsigned char *slot = cdpr_lcm_ring_claim(&b->ring);
     if (slot == NULL) {
         return CDPR_E_CAPACITY;
     }
     return commit_and_wake(b, &b->ring,
-                           cdpr_cable_tensions_t_encode(slot, 0, (int)b->ring.slot_bytes, msg),
-                           CDPR_LCM_CH_CABLE_TENSIONS, msg->seq);
+                           cdpr_lcm_wire_tensions_encode(msg, slot, (int)b->ring.slot_bytes),
+                           CDPR_LCM_CH_CABLE_TENSIONS, msg->msg.seq);
 }
 
 cdpr_status_t cdpr_lcm_bridge_push_diagnostics(cdpr_lcm_bridge_t *b, const cdpr_diagnostics_t *msg)
@@ -647,15 +652,15 @@ cdpr_status_t cdpr_lcm_bridge_push_diagnostics(cdpr_lcm_bridge_t *b, const cdpr_
                            CDPR_LCM_CH_DIAGNOSTICS, msg->seq);
 }
 
-cdpr_status_t cdpr_lcm_bridge_push_shape(cdpr_lcm_bridge_t *b, const cdpr_cable_shape_t *msg)
+cdpr_status_t cdpr_lcm_bridge_push_shape(cdpr_lcm_bridge_t *b, const cdpr_lcm_wire_shape_t *msg)
 {
     unsigned char *slot = cdpr_lcm_ring_claim(&b->shape_ring);
     if (slot == NULL) {
         return CDPR_E_CAPACITY;
     }
     return commit_and_wake(b, &b->shape_ring,
-                           cdpr_cable_shape_t_encode(slot, 0, (int)b->shape_ring.slot_bytes, msg),
-                           CDPR_LCM_CH_CABLE_SHAPE, msg->seq);
+                           cdpr_lcm_wire_shape_encode(msg, slot, (int)b->shape_ring.slot_bytes),
+                           CDPR_LCM_CH_CABLE_SHAPE, msg->msg.seq);
 }
 
 int cdpr_lcm_bridge_read_command(cdpr_lcm_bridge_t *b, int64_t now_ns, cdpr_lcm_command_t *out)

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "cdpr/lcm/wire.h"
 #include "lcm_check.h"
 #include "lcmtypes/cdpr_diagnostics_t.h"
 
@@ -126,7 +127,7 @@ cdpr_status_t cdpr_lcm_validator_init(cdpr_lcm_validator_t *v, const cdpr_lcm_li
                                       int64_t plant_session, int64_t takeover_ns, cdpr_diag_t *diag)
 {
     cdpr_winch_command_t probe;
-    unsigned char buf[sizeof(cdpr_winch_command_t) + 64];
+    unsigned char buf[64];
     cdpr_status_t st;
 
     if (v == NULL || lim == NULL) {
@@ -177,8 +178,7 @@ static cdpr_lcm_reject_t check_values(const cdpr_lcm_limits_t *lim, const cdpr_w
     if ((int)msg->n_cables != lim->n_cables) {
         return CDPR_LCM_REJECT_CABLE_COUNT;
     }
-    // Unused entries too: a NaN anywhere means the sender is broken.
-    for (j = 0; j < CDPR_WINCH_COMMAND_T_MAX_CABLES; j++) {
+    for (j = 0; j < lim->n_cables; j++) {
         if (!isfinite(msg->value[j])) {
             return CDPR_LCM_REJECT_NOT_FINITE;
         }
@@ -262,9 +262,10 @@ static cdpr_lcm_reject_t count(cdpr_lcm_validator_t *v, cdpr_lcm_reject_t reason
 cdpr_lcm_reject_t cdpr_lcm_validator_accept(cdpr_lcm_validator_t *v, const void *buf, size_t len,
                                             int64_t rx_time_ns, cdpr_lcm_command_t *out)
 {
-    cdpr_winch_command_t msg;
+    cdpr_lcm_wire_command_t w;
+    const cdpr_winch_command_t *msg = &w.msg;
+    cdpr_lcm_wire_t dec;
     cdpr_lcm_reject_t reason;
-    int n;
     int j;
 
     if (buf == NULL || len < sizeof v->fingerprint || len > (size_t)INT_MAX) {
@@ -273,35 +274,40 @@ cdpr_lcm_reject_t cdpr_lcm_validator_accept(cdpr_lcm_validator_t *v, const void 
     if (memcmp(buf, v->fingerprint, sizeof v->fingerprint) != 0) {
         return count(v, CDPR_LCM_REJECT_WRONG_TYPE);
     }
-    // Fixed-size arrays only: the generated decoder writes into `msg` and never allocates, so
-    // no cdpr_winch_command_t_decode_cleanup is needed.
-    n = cdpr_winch_command_t_decode(buf, 0, (int)len, &msg);
-    if (n < 0 || (size_t)n != len) {
+    // Into fixed storage (wire.h): no allocation; more cables than this build holds is a
+    // well-formed command for another plant.
+    cdpr_lcm_wire_command_init(&w);
+    dec = cdpr_lcm_wire_command_decode(&w, buf, (int)len);
+    if (dec == CDPR_LCM_WIRE_OVER_CAPACITY) {
+        return count(v, CDPR_LCM_REJECT_CABLE_COUNT);
+    }
+    if (dec != CDPR_LCM_WIRE_OK) {
         return count(v, CDPR_LCM_REJECT_MALFORMED);
     }
-    reason = cdpr_lcm_validator_check(v, &msg, rx_time_ns);
+    reason = cdpr_lcm_validator_check(v, msg, rx_time_ns);
     if (reason != CDPR_LCM_ACCEPTED) {
         return count(v, reason);
     }
 
-    if (msg.controller_session != v->controller_session) {
+    if (msg->controller_session != v->controller_session) {
         // A take-over (the first controller included): read by cdpr_lcm_validator_sessions.
-        __atomic_store_n(&v->controller_session, msg.controller_session, __ATOMIC_RELAXED);
+        __atomic_store_n(&v->controller_session, msg->controller_session, __ATOMIC_RELAXED);
         __atomic_store_n(&v->sessions, v->sessions + 1u, __ATOMIC_RELAXED);
     }
-    __atomic_store_n(&v->last_seq, msg.seq, __ATOMIC_RELAXED); // read by cdpr_lcm_validator_counts
-    v->last_state_seq = msg.state_seq;
+    // read by cdpr_lcm_validator_counts
+    __atomic_store_n(&v->last_seq, msg->seq, __ATOMIC_RELAXED);
+    v->last_state_seq = msg->state_seq;
     v->last_accept_ns = rx_time_ns;
     memset(out, 0, sizeof *out);
-    out->seq = msg.seq;
-    out->controller_session = msg.controller_session;
-    out->state_seq = msg.state_seq;
-    out->utime_us = msg.utime_us;
+    out->seq = msg->seq;
+    out->controller_session = msg->controller_session;
+    out->state_seq = msg->state_seq;
+    out->utime_us = msg->utime_us;
     out->rx_time_ns = rx_time_ns;
-    out->mode = msg.mode == CDPR_WINCH_COMMAND_T_MODE_RATE ? CDPR_WINCH_RATE : CDPR_WINCH_LENGTH;
-    out->n_cables = v->lim.n_cables; // == msg.n_cables (checked)
+    out->mode = msg->mode == CDPR_WINCH_COMMAND_T_MODE_RATE ? CDPR_WINCH_RATE : CDPR_WINCH_LENGTH;
+    out->n_cables = v->lim.n_cables; // == msg->n_cables (checked)
     for (j = 0; j < v->lim.n_cables; j++) {
-        out->value[j] = msg.value[j];
+        out->value[j] = msg->value[j];
     }
     return count(v, CDPR_LCM_ACCEPTED);
 }

@@ -7,29 +7,13 @@
 #include <math.h>
 #include <string.h>
 
-#include "cdpr/lcm/command.h"
 #include "cdpr/cable.h"
 #include "cdpr/vec3.h"
+#include "cdpr/lcm/wire.h"
 #include "lcm_check.h"
-#include "lcmtypes/cdpr_winch_command_t.h"
 
-// The wire format's capacities. A plant with more cables than the messages carry is refused
-// before anything is packed (CDPR_LCM_MAX_CABLES, command.h); the packers clamp to it anyway.
-#define ARRAY_LEN(a) (sizeof(a) / sizeof((a)[0]))
-CDPR_LCM_STATIC_ASSERT(ARRAY_LEN(((cdpr_winch_command_t *)0)->value) ==
-                           CDPR_WINCH_COMMAND_T_MAX_CABLES,
-                       command_capacity);
-CDPR_LCM_STATIC_ASSERT(ARRAY_LEN(((cdpr_cable_tensions_t *)0)->tension_cabin_N) ==
-                           CDPR_CABLE_TENSIONS_T_MAX_CABLES,
-                       tensions_capacity);
-CDPR_LCM_STATIC_ASSERT(CDPR_CABLE_TENSIONS_T_MAX_CABLES == CDPR_WINCH_COMMAND_T_MAX_CABLES,
-                       tensions_command_cables);
-CDPR_LCM_STATIC_ASSERT(ARRAY_LEN(((cdpr_cable_shape_t *)0)->node_m) ==
-                           CDPR_CABLE_SHAPE_T_MAX_CABLES,
-                       shape_cables);
-CDPR_LCM_STATIC_ASSERT(ARRAY_LEN(((cdpr_cable_shape_t *)0)->node_m[0]) ==
-                           CDPR_CABLE_SHAPE_T_MAX_NODES,
-                       shape_nodes);
+// n_cables is an int8_t on the wire.
+CDPR_LCM_STATIC_ASSERT(CDPR_MAX_CABLES <= 127, cables_fit_int8);
 
 int64_t cdpr_lcm_utime_us(double t_s)
 {
@@ -75,22 +59,23 @@ void cdpr_lcm_pack_cabin_state(cdpr_cabin_state_t *msg, const cdpr_robot_t *r, c
     cdpr_lcm_pack_cabin_motion(msg, &m, t_s, seq, command_seq, flags);
 }
 
-void cdpr_lcm_pack_tensions(cdpr_cable_tensions_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
-                            const cdpr_robot_out_t *out, double t_s, int64_t seq)
+void cdpr_lcm_pack_tensions(cdpr_lcm_wire_tensions_t *w, const cdpr_robot_t *r,
+                            const cdpr_real_t *y, const cdpr_robot_out_t *out, double t_s,
+                            int64_t seq)
 {
-    const int n = (r->p.n_cables < CDPR_LCM_MAX_CABLES) ? r->p.n_cables : CDPR_LCM_MAX_CABLES;
+    const int n = r->p.n_cables; // 1..CDPR_MAX_CABLES (cdpr_robot_init)
     int j;
 
-    memset(msg, 0, sizeof *msg);
-    msg->utime_us = cdpr_lcm_utime_us(t_s);
-    msg->seq = seq;
-    msg->n_cables = (int8_t)n;
+    cdpr_lcm_wire_tensions_init(w);
+    w->msg.utime_us = cdpr_lcm_utime_us(t_s);
+    w->msg.seq = seq;
+    w->msg.n_cables = (int8_t)n;
     for (j = 0; j < n; j++) {
-        msg->tension_cabin_N[j] = (double)out->tension_cabin_N[j];
-        msg->tension_winch_N[j] = (double)out->tension_winch_N[j];
-        msg->length_m[j] = (double)cdpr_cable_total_length(&r->cable[j], y + r->offset[j]);
-        msg->payout_m_per_s[j] = (double)r->in.payout_m_per_s[j];
-        msg->n_segments[j] = (int32_t)r->cable[j].n;
+        w->tension_cabin_N[j] = (double)out->tension_cabin_N[j];
+        w->tension_winch_N[j] = (double)out->tension_winch_N[j];
+        w->length_m[j] = (double)cdpr_cable_total_length(&r->cable[j], y + r->offset[j]);
+        w->payout_m_per_s[j] = (double)r->in.payout_m_per_s[j];
+        w->n_segments[j] = (int32_t)r->cable[j].n;
     }
 }
 
@@ -108,26 +93,26 @@ int cdpr_lcm_shape_node_index(int i, int n_sent, int n_nodes)
     return (int)((2 * num + den) / (2 * den));
 }
 
-static void put_node(cdpr_cable_shape_t *msg, int j, int i, cdpr_vec3_t p)
+static void put_node(cdpr_lcm_wire_shape_t *w, int k, cdpr_vec3_t p)
 {
-    msg->node_m[j][i][0] = (float)p.x;
-    msg->node_m[j][i][1] = (float)p.y;
-    msg->node_m[j][i][2] = (float)p.z;
+    w->node_x_m[k] = (float)p.x;
+    w->node_y_m[k] = (float)p.y;
+    w->node_z_m[k] = (float)p.z;
 }
 
-void cdpr_lcm_pack_shape(cdpr_cable_shape_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
+void cdpr_lcm_pack_shape(cdpr_lcm_wire_shape_t *w, const cdpr_robot_t *r, const cdpr_real_t *y,
                          double t_s, int64_t seq)
 {
     cdpr_cabin_motion_t m;
+    int first = 0; // index of the cable's first sent node in node_*_m
     int j;
 
     cdpr_robot_cabin_motion(r, (cdpr_real_t)t_s, y, &m);
-    memset(msg, 0, sizeof *msg);
-    msg->utime_us = cdpr_lcm_utime_us(t_s);
-    msg->seq = seq;
-    const int nc = (r->p.n_cables < CDPR_LCM_MAX_CABLES) ? r->p.n_cables : CDPR_LCM_MAX_CABLES;
-    msg->n_cables = (int8_t)nc;
-    for (j = 0; j < nc; j++) {
+    cdpr_lcm_wire_shape_init(w);
+    w->msg.utime_us = cdpr_lcm_utime_us(t_s);
+    w->msg.seq = seq;
+    w->msg.n_cables = (int8_t)r->p.n_cables;
+    for (j = 0; j < r->p.n_cables; j++) {
         const int n = r->cable[j].n; // segments; nodes 0..n
         const int n_nodes = n + 1;
         const int n_sent =
@@ -138,18 +123,20 @@ void cdpr_lcm_pack_shape(cdpr_cable_shape_t *msg, const cdpr_robot_t *r, const c
         int i;
 
         cdpr_robot_attachment(r, j, &m, &attach, &attach_vel);
-        msg->n_segments[j] = (int32_t)n;
-        msg->n_nodes[j] = (int16_t)n_sent;
+        w->n_segments[j] = (int32_t)n;
+        w->n_nodes[j] = (int16_t)n_sent;
         for (i = 0; i < n_sent; i++) {
             const int k = cdpr_lcm_shape_node_index(i, n_sent, n_nodes);
             if (k == 0) {
-                put_node(msg, j, i, attach);
+                put_node(w, first + i, attach);
             } else if (k == n) {
-                put_node(msg, j, i, r->p.cables[j].exit_point_m);
+                put_node(w, first + i, r->p.cables[j].exit_point_m);
             } else {
                 const cdpr_real_t *p = pos + 3 * (k - 1);
-                put_node(msg, j, i, cdpr_v3(p[0], p[1], p[2]));
+                put_node(w, first + i, cdpr_v3(p[0], p[1], p[2]));
             }
         }
+        first += n_sent;
     }
+    w->msg.n_points = (int32_t)first;
 }

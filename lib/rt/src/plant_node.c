@@ -337,11 +337,11 @@ static void publish(cdpr_rt_plant_t *rt, int plant_flags)
     rt->st_msg.controller_session = rt->command_session;
     (void)cdpr_lcm_bridge_push_cabin_state(&rt->bridge, &rt->st_msg);
     cdpr_lcm_pack_tensions(&rt->ten_msg, &p->robot, p->y, &rt->out, m.t_s, rt->seq);
-    rt->ten_msg.plant_session = session;
+    rt->ten_msg.msg.plant_session = session;
     (void)cdpr_lcm_bridge_push_tensions(&rt->bridge, &rt->ten_msg);
     if (rt->shape_every > 0 && rt->seq % rt->shape_every == 0) {
         cdpr_lcm_pack_shape(&rt->shape_msg, &p->robot, p->y, m.t_s, rt->seq);
-        rt->shape_msg.plant_session = session;
+        rt->shape_msg.msg.plant_session = session;
         (void)cdpr_lcm_bridge_push_shape(&rt->bridge, &rt->shape_msg);
     }
     if (last == 0 && rt->diag_every > 0 && rt->seq > 0 && rt->seq % rt->diag_every == 0) {

@@ -5,6 +5,7 @@
 
 #include "hist.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -100,6 +101,7 @@ cdpr_status_t cdpr_rt_tracker_init(cdpr_rt_tracker_t *t, const cdpr_robot_params
                                    const char *prefix, cdpr_diag_t *diag)
 {
     memset(t, 0, sizeof *t);
+    cdpr_lcm_wire_tensions_init(&t->ten);
     const char *pre = (prefix != NULL) ? prefix : "CDPR_";
     if (strlen(pre) > 40) {
         if (diag != NULL) {
@@ -228,17 +230,20 @@ static void on_tensions(const lcm_recv_buf_t *rbuf, const char *channel, void *u
 {
     (void)channel;
     cdpr_rt_tracker_t *t = user;
-    cdpr_cable_tensions_t msg;
-    if (cdpr_cable_tensions_t_decode(rbuf->data, 0, (int)rbuf->data_size, &msg) !=
-        (int)rbuf->data_size) {
+    cdpr_lcm_wire_tensions_t msg;
+    /* Into fixed storage: no allocation; a plant with more cables than this build holds is
+     * counted here (its count never matches ours). */
+    cdpr_lcm_wire_tensions_init(&msg);
+    if (rbuf->data_size > (uint32_t)INT_MAX ||
+        cdpr_lcm_wire_tensions_decode(&msg, rbuf->data, (int)rbuf->data_size) != CDPR_LCM_WIRE_OK) {
         t->stats.decode_errors++;
         return;
     }
     t->stats.tensions++;
-    if (from_followed_plant(t, msg.plant_session, 0) == 0) {
+    if (from_followed_plant(t, msg.msg.plant_session, 0) == 0) {
         return;
     }
-    t->ten = msg;
+    cdpr_lcm_wire_tensions_copy(&t->ten, &msg);
     t->have_ten = 1;
     if (t->answer_in_handler != 0) {
         (void)cdpr_rt_tracker_service(t);
@@ -537,12 +542,12 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
 {
     /* A pair is used once: have_state is cleared when it is answered or refused (its order
      * against the pairs before it is the sequence window's to judge). */
-    if (t->have_state == 0 || t->have_ten == 0 || t->state.seq != t->ten.seq ||
-        t->state.plant_session != t->ten.plant_session || t->lcm == NULL) {
+    if (t->have_state == 0 || t->have_ten == 0 || t->state.seq != t->ten.msg.seq ||
+        t->state.plant_session != t->ten.msg.plant_session || t->lcm == NULL) {
         return 0;
     }
     char why[sizeof t->last_refusal];
-    const cdpr_status_t cs = cdpr_rt_tracker_check_pair(t, &t->state, &t->ten, why, sizeof why);
+    const cdpr_status_t cs = cdpr_rt_tracker_check_pair(t, &t->state, &t->ten.msg, why, sizeof why);
     if (cs != CDPR_OK) {
         t->refused_in_row++;
     }
@@ -554,8 +559,8 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
     }
     if (cs != CDPR_OK) {
         /* A re-anchor accepts the pair if its values are plausible. */
-        if (refuse(t, cs, why) == 0 ||
-            check_values(&t->bounds, &t->state, &t->ten, t->n_cables, why, sizeof why) != CDPR_OK) {
+        if (refuse(t, cs, why) == 0 || check_values(&t->bounds, &t->state, &t->ten.msg, t->n_cables,
+                                                    why, sizeof why) != CDPR_OK) {
             t->have_state = 0;
             return -1;
         }
@@ -580,7 +585,7 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
     t->have_state = 0;
     cdpr_tracker_meas_t m;
     cdpr_tracker_cmd_t c;
-    (void)cdpr_rt_tracker_meas_from_msgs(&t->state, &t->ten, t->period_s, t->n_cables, &m);
+    (void)cdpr_rt_tracker_meas_from_msgs(&t->state, &t->ten.msg, t->period_s, t->n_cables, &m);
     if (t->wind != NULL && t->wind->given != 0) {
         double w[3];
         cdpr_scenario_wind_eval(t->wind, m.t_s + 0.5 * t->period_s, w);
@@ -594,32 +599,33 @@ int cdpr_rt_tracker_service(cdpr_rt_tracker_t *t)
         return -1;
     }
     t->stats.ik_failures = t->tracker.ik_failures;
-    cdpr_winch_command_t cmd;
-    memset(&cmd, 0, sizeof cmd);
-    cmd.utime_us = t->state.utime_us;
-    cmd.seq = t->cmd_seq + 1;
-    cmd.state_seq = t->state.seq;
-    cmd.controller_session = t->controller_session;
-    cmd.plant_session = t->state.plant_session;
-    cmd.mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
-    cmd.n_cables = (int8_t)t->n_cables;
+    cdpr_lcm_wire_command_t w;
+    cdpr_winch_command_t *cmd = &w.msg;
+    cdpr_lcm_wire_command_init(&w);
+    cmd->utime_us = t->state.utime_us;
+    cmd->seq = t->cmd_seq + 1;
+    cmd->state_seq = t->state.seq;
+    cmd->controller_session = t->controller_session;
+    cmd->plant_session = t->state.plant_session;
+    cmd->mode = CDPR_WINCH_COMMAND_T_MODE_RATE;
+    cmd->n_cables = (int8_t)t->n_cables;
     for (int j = 0; j < t->n_cables; ++j) {
         const double u = fmax(-t->u_max_m_per_s[j], fmin(t->u_max_m_per_s[j], c.rate_m_per_s[j]));
         if (fabs(u - c.rate_m_per_s[j]) > 0.0) {
             t->clamped++;
         }
-        cmd.value[j] = u;
+        cmd->value[j] = u;
     }
-    const int len = cdpr_winch_command_t_encode(t->cmd_buf, 0, (int)sizeof t->cmd_buf, &cmd);
+    const int len = cdpr_lcm_wire_command_encode(&w, t->cmd_buf, (int)sizeof t->cmd_buf);
     t->cmd_len = (len > 0) ? len : 0;
     if (len <= 0 || lcm_publish(t->lcm, t->ch_command, t->cmd_buf, (unsigned int)len) != 0) {
         t->stats.publish_errors++;
         return -1;
     }
-    t->cmd_seq = cmd.seq;
+    t->cmd_seq = cmd->seq;
     t->stats.answered++;
     if (t->on_step != NULL) {
-        t->on_step(&m, &c, &t->state, &t->ten, t->on_step_ctx);
+        t->on_step(&m, &c, &t->state, &t->ten.msg, t->on_step_ctx);
     }
     return 1;
 }

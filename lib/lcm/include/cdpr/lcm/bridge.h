@@ -48,8 +48,7 @@
 #include "cdpr/lcm/command.h"
 #include "cdpr/lcm/ring.h"
 #include "lcmtypes/cdpr_cabin_state_t.h"
-#include "lcmtypes/cdpr_cable_shape_t.h"
-#include "lcmtypes/cdpr_cable_tensions_t.h"
+#include "cdpr/lcm/wire.h"
 #include "lcmtypes/cdpr_diagnostics_t.h"
 
 /// Slots of the ring for state, tensions and diagnostics (power of two; 256 = 85 ms of three
@@ -66,6 +65,8 @@
 #ifndef CDPR_LCM_SHAPE_SLOTS
 #define CDPR_LCM_SHAPE_SLOTS 4
 #endif
+/// A shape takes at most 64 + n_cables x (6 + 12 x CDPR_CABLE_SHAPE_T_MAX_NODES) bytes
+/// (6352 at eight cables); cdpr_lcm_bridge_init refuses a plant whose shape may not fit.
 #ifndef CDPR_LCM_SHAPE_SLOT_BYTES
 #define CDPR_LCM_SHAPE_SLOT_BYTES 8192
 #endif
@@ -108,7 +109,7 @@ int64_t cdpr_lcm_new_session(void);
 typedef struct {
     const char *url;            ///< LCM provider URL; NULL or "": liblcm's default
     const char *channel_prefix; ///< channel name prefix; default "CDPR_"
-    int n_cables;               ///< plant cable count, 1..CDPR_LCM_MAX_CABLES (its default)
+    int n_cables;               ///< plant cable count, 1..CDPR_LCM_MAX_CABLES; default 6
     cdpr_winch_params_t winch[CDPR_MAX_CABLES]; ///< limits per winch; default winch defaults
     double max_length_m;         ///< longest length setpoint accepted [m]; default 1000
     double watchdog_timeout_s;   ///< no valid command for this long -> hold [s]; default 0.1
@@ -240,12 +241,14 @@ const char *cdpr_lcm_bridge_channel(const cdpr_lcm_bridge_t *b, cdpr_lcm_channel
 /// dropped and counted), CDPR_E_INVALID_ARG (does not fit a slot: counted in encode_errors).
 /// Work: the generated encoder, O(message size); one non-blocking eventfd write if enabled.
 cdpr_status_t cdpr_lcm_bridge_push_cabin_state(cdpr_lcm_bridge_t *b, const cdpr_cabin_state_t *msg);
-/// RT-safe: as above for the tensions message.
-cdpr_status_t cdpr_lcm_bridge_push_tensions(cdpr_lcm_bridge_t *b, const cdpr_cable_tensions_t *msg);
+/// RT-safe: as above for the tensions message (held with its arrays: wire.h; a holder whose
+/// pointers or count do not fit it is not encoded: CDPR_E_INVALID_ARG, counted).
+cdpr_status_t cdpr_lcm_bridge_push_tensions(cdpr_lcm_bridge_t *b,
+                                            const cdpr_lcm_wire_tensions_t *msg);
 /// RT-safe: as above for the diagnostics message.
 cdpr_status_t cdpr_lcm_bridge_push_diagnostics(cdpr_lcm_bridge_t *b, const cdpr_diagnostics_t *msg);
 /// RT-safe: as above for the cable shape message (its own ring of CDPR_LCM_SHAPE_SLOTS).
-cdpr_status_t cdpr_lcm_bridge_push_shape(cdpr_lcm_bridge_t *b, const cdpr_cable_shape_t *msg);
+cdpr_status_t cdpr_lcm_bridge_push_shape(cdpr_lcm_bridge_t *b, const cdpr_lcm_wire_shape_t *msg);
 
 /// RT-safe: wake the bridge thread if it is asleep, so what was pushed is published now (with
 /// wake_on_push = 0: call once after the period's pushes; one wake-up instead of one per

@@ -9,12 +9,14 @@
 /// Validation (every rule, in this order; the first one that fails names the reason, the
 /// command is counted under it and ignored, the last good command stays in the mailbox):
 ///   MALFORMED     fewer than 8 bytes, or the fingerprint matches but the bytes do not decode
-///                 as exactly one winch_command_t (truncated, or trailing bytes after it)
+///                 as exactly one winch_command_t (truncated, trailing bytes after it, or a
+///                 negative n_cables)
 ///   WRONG_TYPE    the first 8 bytes are not winch_command_t's fingerprint: another type (e.g.
 ///                 a cabin_state_t on the wrong channel) or garbage
 ///   BAD_MODE      mode is neither MODE_RATE nor MODE_LENGTH
-///   CABLE_COUNT   n_cables differs from the plant's cable count
-///   NOT_FINITE    any of the value[] entries (used or not) is NaN or infinite
+///   CABLE_COUNT   n_cables differs from the plant's cable count (also a well-formed command
+///                 with more cables than this build can hold: it is for another robot)
+///   NOT_FINITE    any of the value[] entries is NaN or infinite
 ///   OUT_OF_LIMIT  rate mode: |value[j]| > u_max_m_per_s of winch j; length mode: value[j]
 ///                 outside [min_length_m of winch j, max_length_m]
 ///   NO_SESSION    controller_session <= 0
@@ -54,7 +56,7 @@
 /// value 0) and CDPR_LCM_READ_HOLD, and stays on hold until a newer command arrives.
 ///
 /// Memory: caller-owned, fixed size; no allocation anywhere in this module (decoding goes into
-/// a caller struct: the message type has fixed-size arrays only). Threads: the validator and
+/// fixed storage for CDPR_MAX_CABLES values: wire.h). Threads: the validator and
 /// the mailbox writer belong to the receiver thread, the mailbox reader to the real-time
 /// thread; statistics may be read from any thread.
 #ifndef CDPR_LCM_COMMAND_H
@@ -68,14 +70,10 @@
 #include "cdpr/winch.h"
 #include "lcmtypes/cdpr_winch_command_t.h"
 
-/// Cables the LCM messages carry: their fixed arrays hold CDPR_WINCH_COMMAND_T_MAX_CABLES (6),
-/// or fewer when the core's capacity is smaller. A plant with more cables (a redundant robot in
-/// a core built with CDPR_MAX_CABLES = 8) is refused by cdpr_lcm_bridge_init, the limits and the
-/// mailbox with CDPR_E_CAPACITY naming n_cables: it runs in-process (cdpr-sim, cdprlib), not over
-/// LCM, until the messages size their arrays by n_cables.
-#define CDPR_LCM_MAX_CABLES                                                                        \
-    ((CDPR_MAX_CABLES < CDPR_WINCH_COMMAND_T_MAX_CABLES) ? CDPR_MAX_CABLES                         \
-                                                         : CDPR_WINCH_COMMAND_T_MAX_CABLES)
+/// Cables a plant may have over LCM: the messages size their per-cable arrays by n_cables (an
+/// int8_t), so the limit is the core's capacity. A plant with more is refused by
+/// cdpr_lcm_bridge_init, the limits and the mailbox with CDPR_E_CAPACITY naming n_cables.
+#define CDPR_LCM_MAX_CABLES CDPR_MAX_CABLES
 
 /// Why a command was ignored (indices of the counters; equal to diagnostics_t.REJECT_*).
 typedef enum {

@@ -4,13 +4,13 @@
 ///
 /// Inputs are the robot (cdpr_robot_t), its state vector `y` at time `t_s` and, for tensions,
 /// the outputs of cdpr_robot_outputs at the same (t, y). Every function writes every field of
-/// its message (entries past the robot's cable or node count are zero), so a message struct
-/// can be reused from period to period without clearing. Values are converted from
+/// its message (the per-cable ones into a holder of wire.h, whose pointers it binds), so a
+/// message can be reused from period to period without clearing. Values are converted from
 /// cdpr_real_t (double or float) to the wire types exactly as C converts them.
 ///
 /// Real-time: no allocation, no system call, no lcm_* call; reentrant. Work: O(cables) for the
-/// state and tensions, O(total nodes) for the shape. The wire format carries at most
-/// CDPR_WINCH_COMMAND_T_MAX_CABLES (6) cables: a core built with more does not compile here.
+/// state and tensions, O(total nodes) for the shape. Any cable count of the core (1..
+/// CDPR_MAX_CABLES): the per-cable arrays are sized by n_cables on the wire.
 #ifndef CDPR_LCM_PACK_H
 #define CDPR_LCM_PACK_H
 
@@ -18,8 +18,7 @@
 
 #include "cdpr/robot.h"
 #include "lcmtypes/cdpr_cabin_state_t.h"
-#include "lcmtypes/cdpr_cable_shape_t.h"
-#include "lcmtypes/cdpr_cable_tensions_t.h"
+#include "cdpr/lcm/wire.h"
 #include "lcmtypes/cdpr_diagnostics_t.h"
 
 /// Plant time [s] -> utime_us [us], rounded to the nearest microsecond (ties away from zero).
@@ -39,8 +38,9 @@ void cdpr_lcm_pack_cabin_motion(cdpr_cabin_state_t *msg, const cdpr_cabin_motion
 /// Tensions and winch state at (t_s, y): `out` from cdpr_robot_outputs(r, t_s, y, out); total
 /// unstretched lengths from cdpr_cable_total_length; payout rates are r->in.payout_m_per_s
 /// (the rates applied in the step that led to y).
-void cdpr_lcm_pack_tensions(cdpr_cable_tensions_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
-                            const cdpr_robot_out_t *out, double t_s, int64_t seq);
+void cdpr_lcm_pack_tensions(cdpr_lcm_wire_tensions_t *w, const cdpr_robot_t *r,
+                            const cdpr_real_t *y, const cdpr_robot_out_t *out, double t_s,
+                            int64_t seq);
 
 /// Node i (0..n_sent-1) of the shape message -> node index of a cable with `n_nodes` nodes:
 /// the identity when n_nodes <= n_sent, else evenly spread indices round(i (n_nodes-1) /
@@ -49,8 +49,9 @@ int cdpr_lcm_shape_node_index(int i, int n_sent, int n_nodes);
 
 /// Node positions at (t_s, y): node 0 at the cabin attachment (cdpr_robot_attachment), the
 /// free nodes from y, the last node at the pulley exit point; subsampled to
-/// CDPR_CABLE_SHAPE_T_MAX_NODES per cable when a cable has more nodes (see the .lcm file).
-void cdpr_lcm_pack_shape(cdpr_cable_shape_t *msg, const cdpr_robot_t *r, const cdpr_real_t *y,
+/// CDPR_CABLE_SHAPE_T_MAX_NODES per cable when a cable has more nodes (see the .lcm file);
+/// the cables' nodes one after the other in node_{x,y,z}_m.
+void cdpr_lcm_pack_shape(cdpr_lcm_wire_shape_t *w, const cdpr_robot_t *r, const cdpr_real_t *y,
                          double t_s, int64_t seq);
 
 #endif /* CDPR_LCM_PACK_H */

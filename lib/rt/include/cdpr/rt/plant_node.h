@@ -187,9 +187,9 @@ typedef struct {
     long recorded;                          ///< periods in hist and hist_cpu (the newest
                                             ///< period's is added after its messages)
     cdpr_cabin_state_t st_msg;
-    cdpr_cable_tensions_t ten_msg;
+    cdpr_lcm_wire_tensions_t ten_msg;
     cdpr_diagnostics_t diag_msg;
-    cdpr_cable_shape_t shape_msg;
+    cdpr_lcm_wire_shape_t shape_msg;
     cdpr_robot_out_t out;
     cdpr_robot_t check_model;   ///< storage of the trajectory check at init
     int64_t seq;                ///< seq of the newest state published

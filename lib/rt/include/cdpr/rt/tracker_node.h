@@ -72,10 +72,9 @@
 #include "cdpr/host/record.h"
 #include "cdpr/control/tracker.h"
 #include "cdpr/winch.h"
-#include "lcmtypes/cdpr_cable_tensions_t.h"
+#include "cdpr/lcm/wire.h"
 #include "lcmtypes/cdpr_cabin_state_t.h"
 #include "lcmtypes/cdpr_diagnostics_t.h"
-#include "lcmtypes/cdpr_winch_command_t.h"
 
 /// Called after each answered state (e.g. to log the period): the measurement, the command
 /// computed, and the two messages it came from.
@@ -168,14 +167,14 @@ typedef struct {
     lcm_subscription_t *sub_state;
     lcm_subscription_t *sub_tensions;
     lcm_subscription_t *sub_diag;
-    cdpr_cabin_state_t state;              ///< newest state
-    cdpr_cable_tensions_t ten;             ///< newest tensions
-    int have_state;                        ///< a state has been received
-    int have_ten;                          ///< tensions have been received
-    int64_t answered_state_seq;            ///< newest state answered (-1: none)
-    int64_t cmd_seq;                       ///< seq of the last command published (-1: none)
-    unsigned char cmd_buf[256];            ///< the last command, encoded
-    int cmd_len;                           ///< its length (0: none)
+    cdpr_cabin_state_t state;     ///< newest state
+    cdpr_lcm_wire_tensions_t ten; ///< newest tensions (ten.msg: the message)
+    int have_state;               ///< a state has been received
+    int have_ten;                 ///< tensions have been received
+    int64_t answered_state_seq;   ///< newest state answered (-1: none)
+    int64_t cmd_seq;              ///< seq of the last command published (-1: none)
+    unsigned char cmd_buf[64 + 8 * CDPR_MAX_CABLES]; ///< the last command, encoded
+    int cmd_len;                                     ///< its length (0: none)
     double u_max_m_per_s[CDPR_MAX_CABLES]; ///< commands are clamped to +-this (winch limits)
     uint64_t clamped;                      ///< command values clamped to the winch speed limit
     int answer_in_handler;                 ///< 1: the tensions handler calls service
