@@ -15,7 +15,11 @@
 #     Writes out/paper-circle-rt/ (timeseries.csv, summary.json, figure4, errors, tensions,
 #     cables and laps as .png and .pdf, laps.csv, circle.lcmlog) and prints the tracking summary (with
 #     the RMS error of every lap) and the plant telemetry; about 65 s;
-#  3. the paper's line scenario as a batch run (cdpr-sim; out/paper-line/).
+#  3. the paper's line scenario as a batch run (cdpr-sim; out/paper-line/);
+#  4. a redundant robot: the paper's line on eight cables (robots/eight-50m.yaml,
+#     scenarios/eight-line.yaml: the redundancy resolved by the robot's tension distribution)
+#     through the real-time loop, cdpr-rt + cdpr-tracker over the same URL as 2 (or memq://)
+#     at the scenario's 100 Hz, eight values in every command; out/eight-line-rt/; 15 s.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source scripts/setup.sh
@@ -91,3 +95,27 @@ echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png (one panel p
 echo
 echo "==== scenarios/paper-line.yaml (batch run)"
 "$bin/cdpr-sim" scenarios/paper-line.yaml --out out/paper-line
+
+echo
+echo "==== scenarios/eight-line.yaml: eight cables, closed loop over LCM at 100 Hz"
+out=out/eight-line-rt
+rm -rf "$out"
+mkdir -p "$out"
+if [[ $multicast -eq 1 ]]; then
+    "$bin/cdpr-tracker" scenarios/eight-line.yaml --lcm-url "$url" --out "$out" \
+        2> >(tee "$out/tracker.stderr" >&2) &
+    tracker=$!
+    for _ in $(seq 600); do
+        grep -q "waiting for" "$out/tracker.stderr" 2>/dev/null && break
+        kill -0 "$tracker" 2>/dev/null || break
+        sleep 0.1
+    done
+    status=0
+    "$bin/cdpr-rt" scenarios/eight-line.yaml --lcm-url "$url" --start-delay 0.5 --realtime || status=$?
+    wait "$tracker" || status=$?
+    [[ $status -eq 0 ]] || { echo "demo: the eight-cable loop failed (exit $status)"; exit "$status"; }
+else
+    "$bin/cdpr-rt" scenarios/eight-line.yaml --lcm-url memq:// --realtime --with-tracker \
+        --tracker-out "$out"
+fi
+echo "figures: $out/errors.png, $out/tensions.png (eight panels), $out/cables.png; each also as .pdf"
