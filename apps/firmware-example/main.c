@@ -19,6 +19,10 @@
 /// known length and prints the instructions per control period (docs/firmware.md). The exit
 /// status is 0 when the run ends taut, finite and without integrator errors.
 ///
+/// -DFW_EIGHT (cdpr-firmware-example-eight): the eight-cable robot of robots/eight-50m.yaml at its
+/// nominal pose (13 m), started by the sag-aware IK with its tension distribution, in the fixed
+/// mode; the core compiled into it at 8 cables x 16 segments (the presets' is 6 x 64).
+///
 /// -DFW_CONTROL (cdpr-firmware-example-control): the example controller of lib/control closes
 /// the loop on the target in the same period: measure the plant, one cdpr_tracker_step (the
 /// sag-aware IK feed-forward of the paper's circle plus pose feedback), command the winches,
@@ -37,7 +41,11 @@
 
 /* ---- Compiled-in configuration -------------------------------------------------------- */
 
+#ifdef FW_EIGHT
+#define N_CABLES 8
+#else
 #define N_CABLES 6
+#endif
 #ifndef N_SEGMENTS
 #define N_SEGMENTS 16 /* -DN_SEGMENTS=32: the variants of CMakeLists.txt */
 #endif
@@ -63,20 +71,33 @@
 #define SYSTICK_RELOAD (CPU_CLOCK_HZ / SYSTICK_HZ)
 
 #if CDPR_MAX_CABLES < N_CABLES || CDPR_MAX_SEGMENTS < N_SEGMENTS
-#error "the example needs CDPR_MAX_CABLES >= 6 and CDPR_MAX_SEGMENTS >= 16"
+#error "the example needs CDPR_MAX_CABLES >= N_CABLES and CDPR_MAX_SEGMENTS >= N_SEGMENTS"
 #endif
 
 static const cdpr_real_t DT_S = CDPR_R(0.001); /* control period [s] */
 
+#ifdef FW_EIGHT
+/* The eight-cable robot (EXIT_M, ATTACH_M, TENSION_*); its nominal pose 13 m up, level. */
+#include "eight_robot.h"
+static const cdpr_real_t CHORD_M = CDPR_R(29.0); /* initial guess only: the IK sets L */
+static const cdpr_real_t CABIN_Z_M = CDPR_R(13.0);
+#else
 /* The paper's robot (EXIT_M, ATTACH_M); the cabin's home pose: 9.135 m above the ground, level. */
 #include "paper_robot.h"
 static const cdpr_real_t CHORD_M = CDPR_R(31.541); /* initial guess only: the IK sets L */
 static const cdpr_real_t CABIN_Z_M = CDPR_R(9.135);
+#endif
 /* Winch commands: a slow payout on two opposite cables, haul-in on two others [m/s]. */
 #ifndef FW_CONTROL
 /* The open-loop winch commands of the plain build [m/s]. */
+#ifdef FW_EIGHT
+static const cdpr_real_t RATE_CMD_M_PER_S[N_CABLES] = {CDPR_R(0.02),  CDPR_R(0.0),  CDPR_R(-0.02),
+                                                       CDPR_R(0.0),   CDPR_R(0.02), CDPR_R(0.0),
+                                                       CDPR_R(-0.02), CDPR_R(0.0)};
+#else
 static const cdpr_real_t RATE_CMD_M_PER_S[N_CABLES] = {CDPR_R(0.02), CDPR_R(0.0), CDPR_R(-0.02),
                                                        CDPR_R(0.02), CDPR_R(0.0), CDPR_R(-0.02)};
+#endif
 #endif
 
 /* Integrator tolerances [relative; m, m/s, rad/s]. float resolves the strain of these stiff
@@ -196,6 +217,13 @@ static int init_model(void)
         c->n_segments = N_SEGMENTS;
         c->length_m = CHORD_M;
     }
+#ifdef FW_EIGHT
+    /* A redundant robot: its start (the IK) resolves the redundancy by this distribution. */
+    r->has_tension_dist = 1;
+    r->tension_min_N = TENSION_MIN_N;
+    r->tension_max_N = TENSION_MAX_N;
+    r->tension_ref_N = TENSION_REF_N;
+#endif
     /* Home pose at rest: the plant's IK gives the unstretched lengths that hold it and the
      * cables start on their catenaries (no settling on the target: CATENARY start). */
     const cdpr_real_t home[6] = {CDPR_R(0.0), CDPR_R(0.0), CABIN_Z_M,
