@@ -190,6 +190,16 @@ cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
         free(pt);
         return st;
     }
+    if (pt->plant.params.n_cables != CDPR_DESIGN_NU) {
+        /* The model's shapes (rate commands, filter states, outputs, J) are six cables'. */
+        snprintf(err->msg, sizeof err->msg,
+                 "design: the linear design covers robots of %d cables (rate commands, filter "
+                 "states and the length Jacobian are sized for them); this robot has %d: its "
+                 "feedback and learning cannot be checked",
+                 CDPR_DESIGN_NU, pt->plant.params.n_cables);
+        free(pt);
+        return CDPR_E_CAPACITY;
+    }
     cdpr_tracker_gains_t g = pt->sc.gains;
     g.wind_m_per_s = pt->plant.pp.wind_m_per_s;
     cdpr_diag_t d;
