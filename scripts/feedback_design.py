@@ -4,6 +4,7 @@
 "Feedback design").
 
     scripts/feedback_design.py SCENARIO [key=value ...] [--at T] [--out DIR] [--step-test J]
+        [--step-rate R]
 
 key=value pairs change the scenario (dotted keys, e.g. controller.kd_s=0.1
 robot.rope.damping_ratio=0.005) in a copy written to OUT/scenario.yaml. cdpr-design (the C
@@ -15,7 +16,7 @@ Zx, Zz); this script then computes:
     T_c; the command computed from the measurement at t_k acts over [t_k, t_k+1): cdpr-sim's
     order), with the tracker's filters and gains as linearised;
   - the closed-loop eigenvalues (largest modulus: < 1 is stable);
-  - the loop broken at the six rate commands, L(z) = -[Kx Kz] (zI - A_o)^-1 [Γ; 0]:
+  - the loop broken at the rate commands (one per cable), L(z) = -[Kx Kz] (zI - A_o)^-1 [Γ; 0]:
     loop-at-a-time gain and phase margins (channel j open, the other five closed), and the
     minimum over frequency of the smallest singular value α of I + L, with the simultaneous
     margins it guarantees in every channel at once (gain 1/(1+α) .. 1/(1-α), phase
@@ -67,7 +68,7 @@ def load(d):
     n, nz, nu, nm = (int(meta[k]) for k in ("n", "nz", "nu", "nm"))
     shapes = {"A": (n, n), "B": (n, nu), "Kx": (nu, n), "Kz": (nu, nz), "Zx": (nz, n),
               "Zz": (nz, nz), "Cm": (nm, n)}
-    shapes.update({"Ku": (nu, nu), "Zu": (nz, nu), "J": (6, 6)})
+    shapes.update({"Ku": (nu, nu), "Zu": (nz, nu), "J": (nu, 6)})
     m = {k: np.fromfile(os.path.join(d, k + ".bin"), dtype="<f8").reshape(s)
          for k, s in shapes.items()}
     m["T"] = meta["period_s"]
@@ -153,10 +154,11 @@ class Loop:
         self.Phi, self.Gam = Phi, Gam
 
     def H(self, f_hz):
-        """u_out = H u_in (6x6 per frequency)."""
+        """u_out = H u_in (nu x nu per frequency, one rate command per cable)."""
         z = np.exp(1j * 2 * np.pi * np.atleast_1d(f_hz) * self.T)
         nz = self.m["Zz"].shape[0]
-        out = np.empty((z.size, 6, 6), dtype=complex)
+        nu = self.m["Ku"].shape[0]
+        out = np.empty((z.size, nu, nu), dtype=complex)
         for i, zi in enumerate(z):
             X = self.W / (zi - self.mu)[:, None]  # modal plant state per input
             Zp = sla.solve(zi * np.eye(nz) - self.m["Zz"], self.ZxV @ X + self.m["Zu"] / zi)
@@ -180,14 +182,14 @@ def closed_loop(m, Phi, Gam, scale=None):
 
 def channel_loops(H):
     """Scalar loop gain l_j (negative-feedback convention) with the other loops closed."""
-    F = H.shape[0]
-    l = np.empty((F, 6), dtype=complex)
-    for j in range(6):
-        o = [i for i in range(6) if i != j]
+    F, nu = H.shape[0], H.shape[1]
+    l = np.empty((F, nu), dtype=complex)
+    for j in range(nu):
+        o = [i for i in range(nu) if i != j]
         for k in range(F):
             Hk = H[k]
             Hoo = Hk[np.ix_(o, o)]
-            u_o = sla.solve(np.eye(5) - Hoo, Hk[o, j])
+            u_o = sla.solve(np.eye(nu - 1) - Hoo, Hk[o, j])
             l[k, j] = -(Hk[j, j] + Hk[j, o] @ u_o)
     return l
 
@@ -214,10 +216,11 @@ def margins(f, l):
     return gm, gm_f, pm, pm_f
 
 
-def step_check(m, Phi, Gam, path, cable):
+def step_check(m, Phi, Gam, path, cable, rate=1e-3):
     data = np.loadtxt(path, delimiter=",")
-    u = np.zeros(6)
-    u[cable] = 1e-3
+    nu = m["Ku"].shape[0]
+    u = np.zeros(nu)
+    u[cable] = rate
     x = np.zeros(Phi.shape[0])
     lin = []
     for _ in range(data.shape[0]):
@@ -227,7 +230,7 @@ def step_check(m, Phi, Gam, path, cable):
     nl = data[:, 1:]
     res = {}
     for name, sl in (("position", slice(0, 3)), ("rotation", slice(3, 6)),
-                     ("length", slice(12, 18))):
+                     ("length", slice(12, 12 + nu))):
         peak = np.max(np.abs(nl[:, sl]))
         err = np.max(np.abs(nl[:, sl] - lin[:, sl]))
         res[name] = (peak, err)
@@ -257,13 +260,13 @@ class LearningPlant:
 
     def __init__(self, m, Phi, Gam):
         Acl = closed_loop_matrix(m, Phi, Gam)
-        n, nu = Phi.shape[0], 6
+        n, nu = Phi.shape[0], m["Ku"].shape[0]
         N = Acl.shape[0]
         Bc = np.zeros((N, nu))
         Bc[:n, :] = Gam
         Bc[N - nu:, :] = np.eye(nu)  # u_prev carries the command of which c is part
         Bc *= m["k_length_per_s"]
-        C = np.zeros((6, N))
+        C = np.zeros((nu, N))
         C[:, :n] = m["J"] @ m["Cm"][0:6, :]
         lam, V = sla.eig(Acl)
         self.lam = lam
@@ -295,7 +298,8 @@ def learning_map(lp, f, gamma, lead, fc, dphi):
     rho = np.empty(len(f))
     smax = np.empty(len(f))
     for i, fi in enumerate(f):
-        Mf = q[i] * (np.eye(6) - gamma * np.exp(1j * 2 * np.pi * fi * lead) * lp.G(fi))
+        Gf = lp.G(fi)
+        Mf = q[i] * (np.eye(Gf.shape[0]) - gamma * np.exp(1j * 2 * np.pi * fi * lead) * Gf)
         rho[i] = np.max(np.abs(sla.eigvals(Mf)))
         smax[i] = np.linalg.svd(Mf, compute_uv=False)[0]
     return rho, smax, q
@@ -358,6 +362,8 @@ def main():
     ap.add_argument("--at", type=float, default=None)
     ap.add_argument("--out", default="out/design")
     ap.add_argument("--step-test", type=int, default=None)
+    ap.add_argument("--step-rate", type=float, default=1e-3,
+                    help="the step test's payout rate [m/s] (default 1 mm/s)")
     ap.add_argument("--bin", default=None, help="cdpr-design (default: build/release)")
     ap.add_argument("--fmax", type=float, default=None, help="top of the grid [Hz]")
     ap.add_argument("--points", type=int, default=3000)
@@ -376,7 +382,7 @@ def main():
     if a.at is not None:
         cmd += ["--at", repr(a.at)]
     if a.step_test is not None:
-        cmd += ["--step-test", str(a.step_test)]
+        cmd += ["--step-test", str(a.step_test), "--step-rate", repr(a.step_rate)]
     rc = subprocess.run(cmd, check=False).returncode
     if rc != 0:
         raise SystemExit("feedback_design: cdpr-design exited with %d" % rc)
@@ -419,7 +425,8 @@ def main():
         Hm = loop.H(fc)[0]
         chk.append(float(np.linalg.norm(Hd - Hm) / max(np.linalg.norm(Hd), 1e-300)))
     rep["modal_vs_direct_rel_err"] = chk
-    ret = np.eye(6)[None, :, :] - H  # I + L with L = -H
+    nu = H.shape[1]
+    ret = np.eye(nu)[None, :, :] - H  # I + L with L = -H
     smin = np.array([np.linalg.svd(r, compute_uv=False)[-1] for r in ret])
     i = int(np.argmin(smin))
     alpha = float(smin[i])
@@ -435,16 +442,17 @@ def main():
     if active:
         l = channel_loops(H)
         rep["channels"] = []
-        for j in range(6):
+        for j in range(nu):
             gm, gmf, pm, pmf = margins(f, l[:, j])
             rep["channels"].append({"cable": j, "gm_db": gm, "gm_hz": gmf, "pm_deg": pm,
                                     "pm_hz": pmf})
         np.savetxt(os.path.join(a.out, "loop.csv"),
-                   np.column_stack([f, smin] + [np.abs(l[:, j]) for j in range(6)] +
-                                   [np.degrees(np.angle(l[:, j])) for j in range(6)]),
-                   delimiter=",", header="f_hz,sigma_min,|l1..6|,phase1..6_deg")
+                   np.column_stack([f, smin] + [np.abs(l[:, j]) for j in range(nu)] +
+                                   [np.degrees(np.angle(l[:, j])) for j in range(nu)]),
+                   delimiter=",", header="f_hz,sigma_min,|l1..%d|,phase1..%d_deg" % (nu, nu))
     if a.step_test is not None:
-        res, t, nl, lin = step_check(m, Phi, Gam, os.path.join(a.out, "step.csv"), a.step_test)
+        res, t, nl, lin = step_check(m, Phi, Gam, os.path.join(a.out, "step.csv"), a.step_test,
+                                     a.step_rate)
         rep["step_test"] = {k: {"peak": v[0], "max_err": v[1]} for k, v in res.items()}
         np.savetxt(os.path.join(a.out, "step_lin.csv"), np.column_stack([t, lin]), delimiter=",")
     ok = growth[k] <= GROWTH_TOL

@@ -5,26 +5,27 @@
 ///
 /// The scenario's robot is settled at the trajectory's pose at time T (default: the time the
 /// trajectory stops, or 0) and the scenario's controller is built to hold that pose. Written
-/// to OUT (raw little-endian doubles, row-major, dimensions in OUT/meta.txt):
+/// to OUT (raw little-endian doubles, row-major, dimensions in OUT/meta.txt; m = the robot's
+/// cables, nu = m, nz = 24 + m, nm = 12 + m):
 ///   A.bin  n x n   ∂f/∂y of cdpr_robot_rhs at the settled state (central differences)
-///   B.bin  n x 6   ∂f/∂u for the six payout rates
-///   Kx.bin 6 x n, Kz.bin 6 x 24, Zx.bin 24 x n, Zz.bin 24 x 24: one cdpr_tracker_step
+///   B.bin  n x m   ∂f/∂u for the m payout rates
+///   Kx.bin m x n, Kz.bin m x nz, Zx.bin nz x n, Zz.bin nz x nz: one cdpr_tracker_step
 ///          linearised (central differences of the real step on copies of the tracker):
 ///          u_k = Kx x_k + Kz z_k, z_{k+1} = Zx x_k + Zz z_k, with x the plant state at t_k
-///          (measured by cdpr_plant_measure) and z the 30 filter states (err_f1, err_f,
+///          (measured by cdpr_plant_measure) and z the nz filter states (err_f1, err_f,
 ///          ten_f)
-///   Ku.bin 6 x 6, Zu.bin 30 x 6: the same step's dependence on the payout rates in force
+///   Ku.bin m x m, Zu.bin nz x m: the same step's dependence on the payout rates in force
 ///          at t_k (the previous period's command: the measured winch-end tensions carry
 ///          the rope's damping of the payout), u_k += Ku u_{k-1}, z_{k+1} += Zu u_{k-1}
-///   Cm.bin 18 x n  the pose (p, rotation vector of q q0^-1), v, ω (world) and the six
+///   Cm.bin nm x n  the pose (p, rotation vector of q q0^-1), v, ω (world) and the m
 ///          measured lengths, linearised (for the validation step)
-///   J.bin  6 x 6   the straight-cable length Jacobian at the settled pose, row j = (u_j,
+///   J.bin  m x 6   the straight-cable length Jacobian at the settled pose, row j = (u_j,
 ///          (R b_j) x u_j) (cdpr_tracker_jacobian): the learning's length error is
 ///          e_L = J (δp, δθ) (tracker.h step 8); meta.txt also gives the scenario trajectory's
 ///          lap (lap_s, learn_knots) and the learning keys, for feedback_design.py --learning
 /// With --step-test J: OUT/step.csv, the nonlinear plant (cdpr_plant_step, rate mode) from
-/// the settled state with a payout rate of 1 mm/s on cable J for 2 s, open loop: the same 18
-/// outputs per period minus their initial values.
+/// the settled state with a payout rate of 1 mm/s (--step-rate R: R m/s) on cable J for 2 s,
+/// open loop: the same nm outputs per period minus their initial values.
 /// With --check: the analysis in C (lib/design, cdpr/design/design.h: the check the apps run
 /// at load) printed as JSON with design.json's names, and OUT/check.json; --zoh: OUT/Phi.bin,
 /// OUT/Gam.bin, its zero-order hold. The operating point and the linearisation are
@@ -51,9 +52,7 @@
 #include "cdpr/control/trajectory.h"
 #include "cdpr/vec3.h"
 
-#define NZ CDPR_DESIGN_NZ
-#define NM CDPR_DESIGN_NM
-#define NU CDPR_DESIGN_NU
+#define NM_MAX CDPR_DESIGN_NM_MAX
 
 static int write_bin(const char *dir, const char *name, const double *a, size_t count)
 {
@@ -69,7 +68,7 @@ static int write_bin(const char *dir, const char *name, const double *a, size_t 
 }
 
 /* Open-loop step of 1 mm/s on cable j for 2 s, nonlinear plant: outputs minus initial. */
-static int step_test(cdpr_design_point_t *pt, const char *dir, int j)
+static int step_test(cdpr_design_point_t *pt, const char *dir, int j, double rate_m_per_s)
 {
     char path[1200];
     snprintf(path, sizeof path, "%s/step.csv", dir);
@@ -77,18 +76,25 @@ static int step_test(cdpr_design_point_t *pt, const char *dir, int j)
     if (f == NULL) {
         return -1;
     }
-    double o0[NM];
-    double o[NM];
+    double o0[NM_MAX];
+    double o[NM_MAX];
+    const int nm = 12 + pt->plant.robot.p.n_cables;
+    if (j >= pt->plant.robot.p.n_cables) {
+        (void)fclose(f);
+        fprintf(stderr, "cdpr-design: --step-test %d: the robot has %d winches (0..%d)\n", j,
+                pt->plant.robot.p.n_cables, pt->plant.robot.p.n_cables - 1);
+        return -1;
+    }
     cdpr_design_outputs(pt, pt->plant.y, o0);
     double u[CDPR_MAX_CABLES] = {0.0};
-    u[j] = 1e-3;
+    u[j] = rate_m_per_s;
     const double period_s = pt->sc.period_s;
     const long steps = (long)floor(2.0 / period_s + 0.5);
     int rc = 0;
     for (long k = 0; k <= steps && rc == 0; ++k) {
         cdpr_design_outputs(pt, pt->plant.y, o);
         fprintf(f, "%.6f", (double)k * period_s);
-        for (int i = 0; i < NM; ++i) {
+        for (int i = 0; i < nm; ++i) {
             fprintf(f, ",%.10e", o[i] - o0[i]);
         }
         fprintf(f, "\n");
@@ -113,17 +119,21 @@ static int write_all(const char *dir, const cdpr_design_point_t *pt, const cdpr_
 {
     const int n = m->n;
     const size_t nn = (size_t)n;
-    int rc = write_bin(dir, "A.bin", m->A, nn * nn) | write_bin(dir, "B.bin", m->B, nn * NU) |
-             write_bin(dir, "Kx.bin", m->Kx, NU * nn) | write_bin(dir, "Kz.bin", m->Kz, NU * NZ) |
-             write_bin(dir, "Zx.bin", m->Zx, NZ * nn) | write_bin(dir, "Zz.bin", m->Zz, NZ * NZ) |
-             write_bin(dir, "Cm.bin", m->Cm, NM * nn) | write_bin(dir, "Ku.bin", m->Ku, NU * NU) |
-             write_bin(dir, "Zu.bin", m->Zu, NZ * NU) | write_bin(dir, "J.bin", m->J, NU * 6);
+    const size_t nu = (size_t)m->nu;
+    const size_t nz = (size_t)m->nz;
+    const size_t nm = (size_t)m->nm;
+    int rc = write_bin(dir, "A.bin", m->A, nn * nn) | write_bin(dir, "B.bin", m->B, nn * nu) |
+             write_bin(dir, "Kx.bin", m->Kx, nu * nn) | write_bin(dir, "Kz.bin", m->Kz, nu * nz) |
+             write_bin(dir, "Zx.bin", m->Zx, nz * nn) | write_bin(dir, "Zz.bin", m->Zz, nz * nz) |
+             write_bin(dir, "Cm.bin", m->Cm, nm * nn) | write_bin(dir, "Ku.bin", m->Ku, nu * nu) |
+             write_bin(dir, "Zu.bin", m->Zu, nz * nu) | write_bin(dir, "J.bin", m->J, nu * 6u);
     char path[1200];
     snprintf(path, sizeof path, "%s/meta.txt", dir);
     FILE *f = cdpr_fs_fopen(path, "w", NULL, 0);
     if (f != NULL) {
         const double *pose = pt->pose;
-        fprintf(f, "n %d\nperiod_s %.17g\nnz %d\nnu %d\nnm %d\n", n, m->period_s, NZ, NU, NM);
+        fprintf(f, "n %d\nperiod_s %.17g\nnz %d\nnu %d\nnm %d\n", n, m->period_s, m->nz, m->nu,
+                m->nm);
         fprintf(f, "pose %.17g %.17g %.17g %.17g %.17g %.17g\n", pose[0], pose[1], pose[2], pose[3],
                 pose[4], pose[5]);
         fprintf(f, "cabin_mass_kg %.17g\n", pt->plant.robot.p.cabin.mass_kg);
@@ -165,7 +175,7 @@ static void print_check(FILE *f, const cdpr_design_report_t *r, double seconds)
     jnum(f, "sigma_min_I_plus_L", r->alpha, ",\n ");
     jnum(f, "sigma_min_at_hz", r->alpha_hz, ",\n ");
     fprintf(f, "\"active\": %s,\n \"channels\": [", r->active ? "true" : "false");
-    for (int j = 0; r->active && j < 6; ++j) {
+    for (int j = 0; r->active && j < r->n_channels; ++j) {
         fprintf(f, "%s\n  {\"cable\": %d, ", (j > 0) ? "," : "", j);
         jnum(f, "gm_db", r->gm_db[j], ", ");
         jnum(f, "gm_hz", r->gm_hz[j], ", ");
@@ -184,7 +194,7 @@ static void print_check(FILE *f, const cdpr_design_report_t *r, double seconds)
         jnum(f, "max_rho_at_harmonics", r->max_rho, ", ");
         fprintf(f, "\"worst_harmonic\": %d, \"first_diverging\": %d,\n  \"G_at_0_diag\": [",
                 r->worst_harmonic, r->first_diverging);
-        for (int i = 0; i < 6; ++i) {
+        for (int i = 0; i < r->n_channels; ++i) {
             fprintf(f, "%s%.17g", (i > 0) ? ", " : "", r->g0_diag[i]);
         }
         fprintf(f, "],\n  \"harmonics\": [");
@@ -207,7 +217,8 @@ static void usage(FILE *f)
             "it (modes, closed-loop eigenvalues, margins; docs/validation.md \"Feedback\n"
             "design\").\n\n"
             "  --at T          hold the pose of the trajectory at T [s]\n"
-            "  --step-test J   also the nonlinear response to a 1 mm/s step on winch J (0..5)\n"
+            "  --step-test J   also the nonlinear response to a 1 mm/s step on winch J (0..m-1)\n"
+            "  --step-rate R   that step's payout rate [m/s] instead (0 < R <= 0.1)\n"
             "  --check         also the analysis in C (the check the apps run with\n"
             "                  --check-design: growth, margins, α, the learning's ρ) as JSON on\n"
             "                  stdout and OUT/check.json\n"
@@ -217,7 +228,7 @@ static void usage(FILE *f)
             "                  --quiet only the refusal or the warning is printed\n"
             "  --rate HZ  --duration S  --max-trials N  --max-attempts N  --integrator NAME\n"
             "                  the run settings of cdpr-sim (docs/scenarios.md), applied first\n"
-            "  --zoh           also OUT/Phi.bin (n x n) and OUT/Gam.bin (n x 6): the zero-order\n"
+            "  --zoh           also OUT/Phi.bin (n x n) and OUT/Gam.bin (n x m): the zero-order\n"
             "                  hold over the control period as the check computes it\n"
             "  --help          this text\n"
             "  --version       version and git description\n\n"
@@ -230,7 +241,8 @@ static void usage(FILE *f)
 static int write_zoh(const char *dir, const cdpr_design_model_t *m)
 {
     const size_t n = (size_t)m->n;
-    double *Phi = malloc(sizeof(double) * n * (n + NU));
+    const size_t nu = (size_t)m->nu;
+    double *Phi = malloc(sizeof(double) * n * (n + nu));
     if (Phi == NULL) {
         return CDPR_EXIT_UNKNOWN;
     }
@@ -240,7 +252,7 @@ static int write_zoh(const char *dir, const cdpr_design_model_t *m)
         fprintf(stderr, "cdpr-design: %s\n", err.msg);
         rc = CDPR_EXIT_UNKNOWN;
     } else if ((write_bin(dir, "Phi.bin", Phi, n * n) |
-                write_bin(dir, "Gam.bin", Phi + n * n, n * NU)) != 0) {
+                write_bin(dir, "Gam.bin", Phi + n * n, n * nu)) != 0) {
         rc = cdpr_app_exit_code(CDPR_E_IO);
     }
     free(Phi);
@@ -309,8 +321,9 @@ static int run_verdict(int argc, char **argv, const cdpr_scenario_overrides_t *o
 
 /* The command line of cdpr-design. */
 typedef struct {
-    double at_s;  /* --at, NaN: not given */
-    double cable; /* --step-test, < 0: not given */
+    double at_s;      /* --at, NaN: not given */
+    double cable;     /* --step-test, < 0: not given */
+    double step_rate; /* --step-rate [m/s] */
     int check, zoh, verdict, quiet;
     cdpr_scenario_overrides_t ov;
 } options_t;
@@ -327,10 +340,13 @@ static int take(int c, const char *arg, void *ctx)
     if (c == 'a') {
         bad = cdpr_cli_number("cdpr-design", "at", arg, 0.0, 1e6, &o->at_s);
     } else if (c == 's') {
-        bad = cdpr_cli_number("cdpr-design", "step-test", arg, 0.0, 5.0, &o->cable);
+        bad = cdpr_cli_number("cdpr-design", "step-test", arg, 0.0, (double)(CDPR_MAX_CABLES - 1),
+                              &o->cable);
         bad = (bad == CDPR_OK && floor(o->cable) < o->cable)
-                  ? cdpr_app_usage_error("cdpr-design", "--step-test: a winch 0..5")
+                  ? cdpr_app_usage_error("cdpr-design", "--step-test: a winch 0..m-1")
                   : bad;
+    } else if (c == 'p') {
+        bad = cdpr_cli_number("cdpr-design", "step-rate", arg, 1e-9, 0.1, &o->step_rate);
     } else {
         const cdpr_app_store_t stores[] = {
             {.code = 'c', .flag = &o->check, .value = 1},
@@ -346,6 +362,7 @@ int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"at", required_argument, NULL, 'a'},
                                              {"step-test", required_argument, NULL, 's'},
+                                             {"step-rate", required_argument, NULL, 'p'},
                                              {"check", no_argument, NULL, 'c'},
                                              {"zoh", no_argument, NULL, 'z'},
                                              {"verdict", no_argument, NULL, 'v'},
@@ -356,6 +373,7 @@ int main(int argc, char **argv)
     memset(&o, 0, sizeof o);
     o.at_s = (double)NAN;
     o.cable = -1.0;
+    o.step_rate = 1e-3;
     cdpr_scenario_overrides_none(&o.ov);
     if (cdpr_app_parse("cdpr-design", argc, argv, longopts, usage, take, &o) != 0) {
         return cdpr_app_exit_code(CDPR_E_INVALID_ARG);
@@ -408,7 +426,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "cdpr-design: %s: cannot write the model\n", dir);
         rc = cdpr_app_exit_code(CDPR_E_IO);
     }
-    if (rc == 0 && step_cable >= 0 && step_test(pt, dir, step_cable) != 0) {
+    if (rc == 0 && step_cable >= 0 && step_test(pt, dir, step_cable, o.step_rate) != 0) {
         fprintf(stderr, "cdpr-design: step test failed\n");
         rc = 1;
     }

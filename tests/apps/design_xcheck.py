@@ -2,7 +2,7 @@
 """app_design_xcheck: the C analysis of the check at load (lib/design, `cdpr-design --check`)
 against scripts/feedback_design.py (numpy/scipy) on the same linear model.
 
-    python3 design_xcheck.py SCRIPT CDPR_DESIGN SOURCE_DIR WORKDIR
+    python3 design_xcheck.py SCRIPT CDPR_DESIGN SOURCE_DIR WORKDIR [--eight]
 
 For each case feedback_design.py writes design.json from cdpr-design's matrices; then
 `cdpr-design --check` re-linearises the same scenario copy (the matrices must be
@@ -17,7 +17,9 @@ byte-identical: the linearisation is deterministic) and prints its own analysis.
   - the learning (--learning): the band, the harmonics, ρ(M) and σ_max(M) at each harmonic
     (recomputed here with feedback_design's LearningPlant/learning_map at full precision,
     design.json rounds them) and G(0): 1e-6 relative.
-The documented numbers (docs/validation.md §8) are checked to their printed digits.
+With --eight (a build that holds eight cables) also two cases of the eight-cable robot: its
+tension feedback on the line and its learning on the circle, every quantity on all eight rate
+commands. The documented numbers (docs/validation.md §8) are checked to their printed digits.
 Exit 77 (skip) without numpy/scipy.
 """
 import json
@@ -45,6 +47,13 @@ CASES = [
                                       "controller.learning_lead_s=0.7",
                                       "controller.learning_cutoff_hz=0.5"], True),
 ]
+EIGHT = [
+    ("kt8", "eight-line.yaml", ["controller.tension_gain_m_per_s_per_N=1e-3",
+                                "controller.tension_filter_s=0.05"], False),
+    ("learn8", "eight-circle.yaml", ["controller.learning_gain=0.2",
+                                     "controller.learning_lead_s=0.7",
+                                     "controller.learning_cutoff_hz=0.5"], True),
+]
 MATS = ("A", "B", "Kx", "Kz", "Zx", "Zz", "Ku", "Zu", "Cm", "J")
 
 fails = []
@@ -62,10 +71,11 @@ def close(what, c, p, rel, ab=0.0):
 
 def main():
     script, exe, src, work = sys.argv[1:5]
+    cases = CASES + (EIGHT if "--eight" in sys.argv[5:] else [])
     sys.path.insert(0, os.path.dirname(os.path.abspath(script)))
     import feedback_design as fd  # noqa: E402
     times = {}
-    for name, scen, settings, learn in CASES:
+    for name, scen, settings, learn in cases:
         pdir = os.path.join(work, name, "py")
         cdir = os.path.join(work, name, "c")
         os.makedirs(cdir, exist_ok=True)
@@ -93,7 +103,7 @@ def main():
         if name == "ff":
             n = m["A"].shape[0]
             P = np.fromfile(os.path.join(cdir, "Phi.bin")).reshape(n, n)
-            G = np.fromfile(os.path.join(cdir, "Gam.bin")).reshape(n, 6)
+            G = np.fromfile(os.path.join(cdir, "Gam.bin")).reshape(n, m["Ku"].shape[0])
             ep = np.linalg.norm(P - Phi) / np.linalg.norm(Phi)
             eg = np.linalg.norm(G - Gam) / np.linalg.norm(Gam)
             print("app_design_xcheck: expm against scipy: Phi %.2g, Gam %.2g relative" % (ep, eg))
@@ -112,7 +122,7 @@ def main():
             close(j + "gm_hz", cc["gm_hz"], pc["gm_hz"], 1e-6)
             close(j + "pm_deg", cc["pm_deg"], pc["pm_deg"], 1e-6, 1e-9)
             close(j + "pm_hz", cc["pm_hz"], pc["pm_hz"], 1e-6)
-        if len(c["channels"]) != len(py["channels"]):
+        if len(c["channels"]) != len(py["channels"]) or len(c["channels"]) != m["Ku"].shape[0]:
             fails.append(tag + "channels: C %d, Python %d" % (len(c["channels"]),
                                                               len(py["channels"])))
         if "loop_at_a_time_min" in py:
@@ -148,7 +158,9 @@ def main():
                 close(tag + "harmonic %d rho" % (k + 1), row[2], float(rho[k]), 1e-6)
                 close(tag + "harmonic %d sigma_max" % (k + 1), row[3], float(smax[k]), 1e-6)
             g0 = np.real(np.diag(lp.G(1e-4)))
-            for i in range(6):
+            if len(cl["G_at_0_diag"]) != len(g0):
+                fails.append(tag + "G(0): C %d, Python %d" % (len(cl["G_at_0_diag"]), len(g0)))
+            for i in range(min(len(g0), len(cl["G_at_0_diag"]))):
                 close(tag + "G(0)[%d]" % i, cl["G_at_0_diag"][i], float(g0[i]), 1e-6)
             worst = int(np.argmax(rho)) + 1
             if cl["worst_harmonic"] != worst:

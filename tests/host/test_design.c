@@ -7,7 +7,9 @@
 /// phase margin 90° - asin(k_L T / 2), no -180° crossing below Nyquist and α -> 1 - k_L T / 2
 /// at Nyquist; k_L T > 2 grows at Nyquist at ln(k_L T - 1) / T; the learning's lap-to-lap map
 /// is M = Q (1 - γ e^{jωλ} (1 - a) / (z - a)), a = 1 - k_L T (tests/host/test_learning.c's
-/// closed form). And the failures: NaN in a matrix, an empty model, no feedback -> no check.
+/// closed form). The same length loops on CDPR_DESIGN_NU_MAX winches (eight in the default build):
+/// every channel has the closed-form margins. And the failures: NaN in a matrix, an empty or
+/// mis-sized model, no feedback -> no check.
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,12 +24,15 @@
 void setUp(void) {}
 void tearDown(void) {}
 
-#define N 6
-static double g_A[N * N], g_B[N * 6], g_Kx[6 * N], g_Kz[6 * 30], g_Zx[30 * N], g_Zz[30 * 30];
-static double g_Ku[36], g_Zu[30 * 6], g_Cm[18 * N];
+#define N   6
+#define NX  CDPR_DESIGN_NU_MAX /* the most winches (and states) of a model here */
+#define NZX CDPR_DESIGN_NZ_MAX
+static double g_A[NX * NX], g_B[NX * NX], g_Kx[NX * NX], g_Kz[NX * NZX], g_Zx[NZX * NX];
+static double g_Zz[NZX * NZX], g_Ku[NX * NX], g_Zu[NZX * NX], g_Cm[CDPR_DESIGN_NM_MAX * NX];
 static cdpr_design_report_t g_r;
 
-static void integrators(cdpr_design_model_t *m, double kl, double T)
+/* nu winch lengths (nu states), each integrating its payout rate under u = -k_L x. */
+static void integrators_n(cdpr_design_model_t *m, double kl, double T, int nu)
 {
     memset(m, 0, sizeof *m);
     memset(g_A, 0, sizeof g_A);
@@ -39,14 +44,19 @@ static void integrators(cdpr_design_model_t *m, double kl, double T)
     memset(g_Ku, 0, sizeof g_Ku);
     memset(g_Zu, 0, sizeof g_Zu);
     memset(g_Cm, 0, sizeof g_Cm);
-    for (int i = 0; i < N; ++i) {
-        g_B[i * 6 + i] = 1.0;
-        g_Kx[i * N + i] = -kl;
-        g_Cm[i * N + i] = -1.0;       /* the pose rows: e_L = J (δp, δθ) = -x */
-        g_Cm[(12 + i) * N + i] = 1.0; /* the lengths */
-        m->J[i * 6 + i] = 1.0;
+    for (int i = 0; i < nu; ++i) {
+        g_B[i * nu + i] = 1.0;
+        g_Kx[i * nu + i] = -kl;
+        if (i < 6) {
+            g_Cm[i * nu + i] = -1.0; /* the pose rows: e_L = J (δp, δθ) = -x (six winches) */
+            m->J[i * 6 + i] = 1.0;
+        }
+        g_Cm[(12 + i) * nu + i] = 1.0; /* the lengths */
     }
-    m->n = N;
+    m->n = nu;
+    m->nu = nu;
+    m->nz = 24 + nu;
+    m->nm = 12 + nu;
     m->period_s = T;
     m->A = g_A;
     m->B = g_B;
@@ -58,6 +68,11 @@ static void integrators(cdpr_design_model_t *m, double kl, double T)
     m->Zu = g_Zu;
     m->Cm = g_Cm;
     m->k_length_per_s = kl;
+}
+
+static void integrators(cdpr_design_model_t *m, double kl, double T)
+{
+    integrators_n(m, kl, T, N);
 }
 
 static void test_zero_order_hold(void)
@@ -96,6 +111,36 @@ static void test_length_loop_closed_forms(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-4, 1.0 - kl * T / 2.0, g_r.alpha);
     TEST_ASSERT_TRUE(g_r.alpha_hz > 49.9);
     TEST_ASSERT_EQUAL_INT(0, g_r.learning);
+}
+
+/* Every winch of the largest model this build analyses: nu channels, each the closed form. */
+static void test_length_loops_of_every_winch(void)
+{
+    const double kl = 5.0;
+    const double T = 0.01;
+    cdpr_design_model_t m;
+    integrators_n(&m, kl, T, NX);
+    cdpr_design_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_design_analyse(&m, 0, &g_r, &err));
+    TEST_ASSERT_EQUAL_INT(NX, g_r.n_channels);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 1.0 - kl * T, g_r.max_abs_eig);
+    const double pm = 90.0 - asin(kl * T / 2.0) * 180.0 / 3.14159265358979323846;
+    for (int j = 0; j < NX; ++j) {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-5, pm, g_r.pm_deg[j]);
+        TEST_ASSERT_TRUE(isinf(g_r.gm_db[j]));
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(1e-4, 1.0 - kl * T / 2.0, g_r.alpha);
+    /* One winch's loop twice as fast: only its channel's margin moves (decoupled loops). */
+    g_Kx[(NX - 1) * NX + (NX - 1)] = -2.0 * kl;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_design_analyse(&m, 0, &g_r, &err));
+    const double pm2 = 90.0 - asin(2.0 * kl * T / 2.0) * 180.0 / 3.14159265358979323846;
+    TEST_ASSERT_DOUBLE_WITHIN(1e-5, pm, g_r.pm_deg[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-5, pm2, g_r.pm_deg[NX - 1]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-5, pm2, g_r.pm_min_deg);
+    /* Sizes that do not fit together are refused. */
+    m.nz = 30;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG, cdpr_design_analyse(&m, 0, &g_r, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "model sizes"));
 }
 
 static void test_length_loop_too_fast_grows(void)
@@ -205,6 +250,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_zero_order_hold);
     RUN_TEST(test_length_loop_closed_forms);
+    RUN_TEST(test_length_loops_of_every_winch);
     RUN_TEST(test_length_loop_too_fast_grows);
     RUN_TEST(test_learning_closed_form);
     RUN_TEST(test_not_finite_refused);

@@ -17,8 +17,8 @@
 #include <complex.h>
 #undef I
 
-#define NZ CDPR_DESIGN_NZ
-#define NU CDPR_DESIGN_NU
+#define NZ_MAX CDPR_DESIGN_NZ_MAX
+#define NU_MAX CDPR_DESIGN_NU_MAX
 
 typedef double complex cplx;
 
@@ -227,12 +227,13 @@ static cdpr_status_t expm(int N, double *X, cdpr_design_error_t *err)
     return CDPR_OK;
 }
 
-/* Phi, Gam column-major (n x n, n x 6). */
+/* Phi, Gam column-major (n x n, n x nu). */
 static cdpr_status_t discretise_col(const cdpr_design_model_t *m, double *Phi, double *Gam,
                                     cdpr_design_error_t *err)
 {
     const int n = m->n;
-    const int N = n + NU;
+    const int nu = m->nu;
+    const int N = n + nu;
     const size_t NN = (size_t)N;
     double *X = calloc(NN * NN, sizeof(double));
     if (X == NULL) {
@@ -243,8 +244,9 @@ static cdpr_status_t discretise_col(const cdpr_design_model_t *m, double *Phi, d
         for (int j = 0; j < n; ++j) {
             X[(size_t)j * NN + (size_t)i] = m->A[(size_t)i * (size_t)n + (size_t)j] * m->period_s;
         }
-        for (int j = 0; j < NU; ++j) {
-            X[(size_t)(n + j) * NN + (size_t)i] = m->B[(size_t)i * NU + (size_t)j] * m->period_s;
+        for (int j = 0; j < nu; ++j) {
+            X[(size_t)(n + j) * NN + (size_t)i] =
+                m->B[(size_t)i * (size_t)nu + (size_t)j] * m->period_s;
         }
     }
     const cdpr_status_t st = expm(N, X, err);
@@ -252,7 +254,7 @@ static cdpr_status_t discretise_col(const cdpr_design_model_t *m, double *Phi, d
         for (int j = 0; j < n; ++j) {
             memcpy(&Phi[(size_t)j * (size_t)n], &X[(size_t)j * NN], sizeof(double) * (size_t)n);
         }
-        for (int j = 0; j < NU; ++j) {
+        for (int j = 0; j < nu; ++j) {
             memcpy(&Gam[(size_t)j * (size_t)n], &X[(size_t)(n + j) * NN],
                    sizeof(double) * (size_t)n);
         }
@@ -270,15 +272,24 @@ static cdpr_status_t check_model(const cdpr_design_model_t *m, cdpr_design_error
         snprintf(err->msg, sizeof err->msg, "design: incomplete model");
         return CDPR_E_INVALID_ARG;
     }
+    if (m->nu < 1 || m->nu > NU_MAX || m->nz != 24 + m->nu || m->nm != 12 + m->nu) {
+        snprintf(err->msg, sizeof err->msg,
+                 "design: model sizes nu %d, nz %d, nm %d (nu 1..%d, nz = 24 + nu, nm = 12 + nu)",
+                 m->nu, m->nz, m->nm, NU_MAX);
+        return CDPR_E_INVALID_ARG;
+    }
     const size_t n = (size_t)m->n;
+    const size_t nu = (size_t)m->nu;
+    const size_t nz = (size_t)m->nz;
+    const size_t nm = (size_t)m->nm;
     const struct {
         const char *name;
         const double *a;
         size_t count;
-    } mats[] = {{"A", m->A, n * n},     {"B", m->B, n * NU},    {"Kx", m->Kx, NU * n},
-                {"Kz", m->Kz, NU * NZ}, {"Zx", m->Zx, NZ * n},  {"Zz", m->Zz, NZ * NZ},
-                {"Ku", m->Ku, NU * NU}, {"Zu", m->Zu, NZ * NU}, {"Cm", m->Cm, 18 * n},
-                {"J", m->J, 36}};
+    } mats[] = {{"A", m->A, n * n},     {"B", m->B, n * nu},    {"Kx", m->Kx, nu * n},
+                {"Kz", m->Kz, nu * nz}, {"Zx", m->Zx, nz * n},  {"Zz", m->Zz, nz * nz},
+                {"Ku", m->Ku, nu * nu}, {"Zu", m->Zu, nz * nu}, {"Cm", m->Cm, nm * n},
+                {"J", m->J, nu * 6u}};
     for (size_t i = 0; i < sizeof mats / sizeof mats[0]; ++i) {
         if (!all_finite(mats[i].a, mats[i].count)) {
             snprintf(err->msg, sizeof err->msg, "design: the linear model's %s is not finite",
@@ -303,7 +314,8 @@ cdpr_status_t cdpr_design_discretise(const cdpr_design_model_t *m, double *Phi, 
         return st;
     }
     const size_t n = (size_t)m->n;
-    double *P = malloc(sizeof(double) * n * (n + NU));
+    const size_t nu = (size_t)m->nu;
+    double *P = malloc(sizeof(double) * n * (n + nu));
     if (P == NULL) {
         snprintf(err->msg, sizeof err->msg, "design: out of memory");
         return CDPR_E_CAPACITY;
@@ -314,8 +326,8 @@ cdpr_status_t cdpr_design_discretise(const cdpr_design_model_t *m, double *Phi, 
             for (size_t j = 0; j < n; ++j) {
                 Phi[i * n + j] = P[j * n + i];
             }
-            for (size_t j = 0; j < NU; ++j) {
-                Gam[i * NU + j] = P[n * n + j * n + i];
+            for (size_t j = 0; j < nu; ++j) {
+                Gam[i * nu + j] = P[n * n + j * n + i];
             }
         }
     }
@@ -394,26 +406,25 @@ static cdpr_status_t zsolve(int N, int nrhs, cplx *A, cplx *B, int *ipiv)
     return (info == 0) ? CDPR_OK : CDPR_E_SINGULAR;
 }
 
-/* Singular values of the 6 x 6 complex A (overwritten), descending. */
-static int svd6(cplx *A, double s[6])
+/* Singular values of the m x m complex A (overwritten), descending; m <= NU_MAX. */
+static int svdn(int m, cplx *A, double *s)
 {
-    int m = 6;
     int one = 1;
-    int lwork = 64;
-    cplx work[64];
-    double rwork[30];
+    int lwork = 64 + 8 * NU_MAX;
+    cplx work[64 + 8 * NU_MAX];
+    double rwork[5 * NU_MAX];
     int info = 0;
     zgesvd_("N", "N", &m, &m, A, &m, s, NULL, &one, NULL, &one, work, &lwork, rwork, &info, 1, 1);
     return info;
 }
 
-static int eig6(cplx *A, cplx w[6])
+/* Eigenvalues of the m x m complex A (overwritten); m <= NU_MAX. */
+static int eign(int m, cplx *A, cplx *w)
 {
-    int m = 6;
     int one = 1;
-    int lwork = 64;
-    cplx work[64];
-    double rwork[12];
+    int lwork = 64 + 8 * NU_MAX;
+    cplx work[64 + 8 * NU_MAX];
+    double rwork[2 * NU_MAX];
     int info = 0;
     zgeev_("N", "N", &m, A, &m, w, NULL, &one, NULL, &one, work, &lwork, rwork, &info, 1, 1);
     return info;
@@ -518,16 +529,16 @@ static void margins(const double *f, const cplx *l, int stride, int F, double *g
 
 /* Work of the analysis (freed by analysis_free). */
 typedef struct {
-    double *Phi, *Gam; /* column-major n x n, n x 6 */
+    double *Phi, *Gam; /* column-major n x n, n x nu */
     double *Acl;       /* column-major Nc x Nc */
     double *scratch;   /* Nc x Nc */
     cplx *lamA, *VA;   /* modes of A */
-    cplx *W;           /* n x 6: modal ZOH input */
-    cplx *P;           /* 36 x n: [Kx; Zx] V */
-    double *R;         /* n x 216: R_k[r + 36 c] = P[r, k] W[k, c], real form (pairs: Re, Im) */
+    cplx *W;           /* n x nu: modal ZOH input */
+    cplx *P;           /* nk x n: [Kx; Zx] V (nk = nu + nz) */
+    double *R;         /* n x nk nu: R_k[r + nk c] = P[r, k] W[k, c], real form (pairs: Re, Im) */
     double *D;         /* 2 x chunk x n: the modes' 1 / (z - mu) in the same real form */
-    double *Y;         /* 2 x chunk x 216: [Kx; Zx] X, real and imaginary parts */
-    cplx *H;           /* F x 36: H(f) column-major 6 x 6 per frequency */
+    double *Y;         /* 2 x chunk x nk nu: [Kx; Zx] X, real and imaginary parts */
+    cplx *H;           /* F x nu^2: H(f) column-major nu x nu per frequency */
     double *f;
     cplx *lamC, *VC; /* closed loop */
     int *ipiv;
@@ -560,17 +571,21 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
                                    cdpr_design_error_t *err)
 {
     const int n = m->n;
+    const int nu = m->nu;
+    const int nz = m->nz;
+    const int nk = nu + nz;                    /* rows of [Kx; Zx] */
+    const size_t nr = (size_t)nk * (size_t)nu; /* columns of R and Y */
     const size_t nn = (size_t)n;
     const double T = m->period_s;
     cplx *mu = malloc(sizeof(cplx) * nn);
     cplx *Vc = malloc(sizeof(cplx) * nn * nn);
-    cplx *KZ = malloc(sizeof(cplx) * 36 * nn);
-    w->W = malloc(sizeof(cplx) * nn * NU);
-    w->P = malloc(sizeof(cplx) * 36 * nn);
-    w->R = malloc(sizeof(double) * nn * 216);
+    cplx *KZ = malloc(sizeof(cplx) * (size_t)nk * nn);
+    w->W = malloc(sizeof(cplx) * nn * (size_t)nu);
+    w->P = malloc(sizeof(cplx) * (size_t)nk * nn);
+    w->R = malloc(sizeof(double) * nn * nr);
     w->D = malloc(sizeof(double) * 2 * CHUNK * nn);
-    w->Y = malloc(sizeof(double) * 2 * CHUNK * 216);
-    w->H = malloc(sizeof(cplx) * (size_t)F * 36);
+    w->Y = malloc(sizeof(double) * 2 * CHUNK * nr);
+    w->H = malloc(sizeof(cplx) * (size_t)F * ((size_t)nu * (size_t)nu));
     if (mu == NULL || Vc == NULL || KZ == NULL || w->W == NULL || w->P == NULL || w->R == NULL ||
         w->D == NULL || w->Y == NULL || w->H == NULL) {
         free(mu);
@@ -582,11 +597,11 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
     /* W = g .* (V \ B), g = (mu - 1) / lam (T where |lam T| < 1e-9) */
     memcpy(Vc, w->VA, sizeof(cplx) * nn * nn);
     for (int i = 0; i < n; ++i) {
-        for (int j = 0; j < NU; ++j) {
-            w->W[(size_t)j * nn + (size_t)i] = m->B[(size_t)i * NU + (size_t)j];
+        for (int j = 0; j < nu; ++j) {
+            w->W[(size_t)j * nn + (size_t)i] = m->B[(size_t)i * (size_t)nu + (size_t)j];
         }
     }
-    if (zsolve(n, NU, Vc, w->W, w->ipiv) != CDPR_OK) {
+    if (zsolve(n, nu, Vc, w->W, w->ipiv) != CDPR_OK) {
         free(mu);
         free(Vc);
         free(KZ);
@@ -597,18 +612,19 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
         const cplx lam = w->lamA[k];
         mu[k] = cexp(lam * T);
         const cplx g = (cabs(lam * T) < 1e-9) ? (cplx)T : (mu[k] - 1.0) / lam;
-        for (int j = 0; j < NU; ++j) {
+        for (int j = 0; j < nu; ++j) {
             w->W[(size_t)j * nn + (size_t)k] *= g;
         }
     }
-    /* P = [Kx; Zx] V (36 x n) */
-    for (int i = 0; i < 36; ++i) {
+    /* P = [Kx; Zx] V (nk x n) */
+    for (int i = 0; i < nk; ++i) {
         for (int k = 0; k < n; ++k) {
-            KZ[(size_t)k * 36 + (size_t)i] = (i < NU) ? m->Kx[(size_t)i * nn + (size_t)k]
-                                                      : m->Zx[(size_t)(i - NU) * nn + (size_t)k];
+            KZ[(size_t)k * (size_t)nk + (size_t)i] = (i < nu)
+                                                         ? m->Kx[(size_t)i * nn + (size_t)k]
+                                                         : m->Zx[(size_t)(i - nu) * nn + (size_t)k];
         }
     }
-    zmul(36, n, n, KZ, 36, w->VA, n, w->P, 36);
+    zmul(nk, n, n, KZ, nk, w->VA, n, w->P, nk);
     free(Vc);
     free(KZ);
     /* The sum over the modes, sum_k R_k / (z - mu_k), with a conjugate pair (k, k + 1) (dgeev:
@@ -618,23 +634,23 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
      * sum is two real products (half the work of the complex one). */
     for (int k = 0; k < n; ++k) {
         const int pair = (cimag(w->lamA[k]) > 0.0 && k + 1 < n);
-        for (int c = 0; c < NU; ++c) {
+        for (int c = 0; c < nu; ++c) {
             const cplx wk = w->W[(size_t)c * nn + (size_t)k];
-            for (int r = 0; r < 36; ++r) {
-                const cplx v = w->P[(size_t)k * 36 + (size_t)r] * wk;
-                w->R[(size_t)(r + 36 * c) * nn + (size_t)k] = creal(v);
+            for (int r = 0; r < nk; ++r) {
+                const cplx v = w->P[(size_t)k * (size_t)nk + (size_t)r] * wk;
+                w->R[(size_t)(r + nk * c) * nn + (size_t)k] = creal(v);
                 if (pair) {
-                    w->R[(size_t)(r + 36 * c) * nn + (size_t)k + 1] = cimag(v);
+                    w->R[(size_t)(r + nk * c) * nn + (size_t)k + 1] = cimag(v);
                 }
             }
         }
         k += pair;
     }
-    int ipiv[NZ];
+    int ipiv[NZ_MAX];
     double *Dr = w->D;
     double *Di = w->D + (size_t)CHUNK * nn;
     double *Yr = w->Y;
-    double *Yi = w->Y + (size_t)CHUNK * 216;
+    double *Yi = w->Y + (size_t)CHUNK * nr;
     cplx zs[CHUNK];
     for (int f0 = 0; f0 < F; f0 += CHUNK) {
         const int nb = (F - f0 < CHUNK) ? F - f0 : CHUNK;
@@ -661,38 +677,38 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
             }
             k += pair;
         }
-        dmul(nb, 216, n, Dr, CHUNK, w->R, n, Yr, CHUNK);
-        dmul(nb, 216, n, Di, CHUNK, w->R, n, Yi, CHUNK);
+        dmul(nb, (int)nr, n, Dr, CHUNK, w->R, n, Yr, CHUNK);
+        dmul(nb, (int)nr, n, Di, CHUNK, w->R, n, Yi, CHUNK);
         for (int i = 0; i < nb; ++i) {
             const cplx z = zs[i];
             /* Zp = (zI - Zz) \ (ZxV X + Zu / z), H = KxV X + Kz Zp + Ku / z */
-            cplx M[NZ * NZ];
-            cplx Zp[NZ * NU];
-            for (int r = 0; r < NZ; ++r) {
-                for (int c = 0; c < NZ; ++c) {
-                    M[c * NZ + r] = ((r == c) ? z : 0.0) - m->Zz[r * NZ + c];
+            cplx M[NZ_MAX * NZ_MAX];
+            cplx Zp[NZ_MAX * NU_MAX];
+            for (int r = 0; r < nz; ++r) {
+                for (int c = 0; c < nz; ++c) {
+                    M[c * nz + r] = ((r == c) ? z : 0.0) - m->Zz[r * nz + c];
                 }
-                for (int c = 0; c < NU; ++c) {
-                    Zp[c * NZ + r] = mk(Yr[(size_t)(NU + r + 36 * c) * CHUNK + (size_t)i],
-                                        Yi[(size_t)(NU + r + 36 * c) * CHUNK + (size_t)i]) +
-                                     m->Zu[r * NU + c] / z;
+                for (int c = 0; c < nu; ++c) {
+                    Zp[c * nz + r] = mk(Yr[(size_t)(nu + r + nk * c) * CHUNK + (size_t)i],
+                                        Yi[(size_t)(nu + r + nk * c) * CHUNK + (size_t)i]) +
+                                     m->Zu[r * nu + c] / z;
                 }
             }
-            if (zsolve(NZ, NU, M, Zp, ipiv) != CDPR_OK) {
+            if (zsolve(nz, nu, M, Zp, ipiv) != CDPR_OK) {
                 free(mu);
                 snprintf(err->msg, sizeof err->msg, "design: zI - Zz singular at %g Hz",
                          w->f[f0 + i]);
                 return CDPR_E_SINGULAR;
             }
-            cplx *H = &w->H[(size_t)(f0 + i) * 36];
-            for (int r = 0; r < NU; ++r) {
-                for (int c = 0; c < NU; ++c) {
-                    cplx s = mk(Yr[(size_t)(r + 36 * c) * CHUNK + (size_t)i],
-                                Yi[(size_t)(r + 36 * c) * CHUNK + (size_t)i]);
-                    for (int q = 0; q < NZ; ++q) {
-                        s += m->Kz[r * NZ + q] * Zp[c * NZ + q];
+            cplx *H = &w->H[(size_t)(f0 + i) * ((size_t)nu * (size_t)nu)];
+            for (int r = 0; r < nu; ++r) {
+                for (int c = 0; c < nu; ++c) {
+                    cplx s = mk(Yr[(size_t)(r + nk * c) * CHUNK + (size_t)i],
+                                Yi[(size_t)(r + nk * c) * CHUNK + (size_t)i]);
+                    for (int q = 0; q < nz; ++q) {
+                        s += m->Kz[r * nz + q] * Zp[c * nz + q];
                     }
-                    H[c * NU + r] = s + m->Ku[r * NU + c] / z;
+                    H[c * nu + r] = s + m->Ku[r * nu + c] / z;
                 }
             }
         }
@@ -701,27 +717,60 @@ static cdpr_status_t loop_response(const cdpr_design_model_t *m, work_t *w, int 
     return CDPR_OK;
 }
 
+/* The loop of channel j with the other nu - 1 closed, at one frequency (H column-major
+ * nu x nu): l_j = -(H_jj + H_j,o (I - H_oo)^-1 H_o,j). CDPR_OK or CDPR_E_SINGULAR. */
+static cdpr_status_t channel_loop(int nu, const cplx *H, int j, cplx *l)
+{
+    int o[NU_MAX];
+    int c = 0;
+    for (int i = 0; i < nu; ++i) {
+        if (i != j) {
+            o[c++] = i;
+        }
+    }
+    cplx M[NU_MAX * NU_MAX];
+    cplx u[NU_MAX];
+    int ipiv[NU_MAX];
+    for (int a = 0; a < c; ++a) {
+        for (int b2 = 0; b2 < c; ++b2) {
+            M[b2 * c + a] = ((a == b2) ? 1.0 : 0.0) - H[o[b2] * nu + o[a]];
+        }
+        u[a] = H[j * nu + o[a]];
+    }
+    if (c > 0 && zsolve(c, 1, M, u, ipiv) != CDPR_OK) {
+        return CDPR_E_SINGULAR;
+    }
+    cplx s = H[j * nu + j];
+    for (int a = 0; a < c; ++a) {
+        s += H[o[a] * nu + j] * u[a];
+    }
+    *l = -s;
+    return CDPR_OK;
+}
+
 /* α, the channel loops and their margins from H over the grid. */
-static cdpr_status_t loop_margins(const work_t *w, int F, cdpr_design_report_t *r,
+static cdpr_status_t loop_margins(int nu, const work_t *w, int F, cdpr_design_report_t *r,
                                   cdpr_design_error_t *err)
 {
+    const size_t nh = (size_t)nu * (size_t)nu;
+    r->n_channels = nu;
     r->alpha = HUGE_VAL;
     r->alpha_hz = (double)NAN;
     double hmax = 0.0;
     for (int k = 0; k < F; ++k) {
-        const cplx *H = &w->H[(size_t)k * 36];
-        cplx A[36];
-        double s[6];
-        for (int i = 0; i < 36; ++i) {
-            A[i] = ((i % 7) == 0 ? 1.0 : 0.0) - H[i];
+        const cplx *H = &w->H[(size_t)k * nh];
+        cplx A[NU_MAX * NU_MAX];
+        double s[NU_MAX];
+        for (size_t i = 0; i < nh; ++i) {
+            A[i] = ((i % (size_t)(nu + 1)) == 0 ? 1.0 : 0.0) - H[i];
             hmax = fmax(hmax, cabs(H[i]));
         }
-        if (svd6(A, s) != 0) {
+        if (svdn(nu, A, s) != 0) {
             snprintf(err->msg, sizeof err->msg, "design: SVD failed at %g Hz", w->f[k]);
             return CDPR_E_NO_CONVERGENCE;
         }
-        if (s[5] < r->alpha) {
-            r->alpha = s[5];
+        if (s[nu - 1] < r->alpha) {
+            r->alpha = s[nu - 1];
             r->alpha_hz = w->f[k];
         }
     }
@@ -733,45 +782,24 @@ static cdpr_status_t loop_margins(const work_t *w, int F, cdpr_design_report_t *
     if (r->active == 0) {
         return CDPR_OK;
     }
-    cplx *l = malloc(sizeof(cplx) * (size_t)F * 6);
+    cplx *l = malloc(sizeof(cplx) * (size_t)F * (size_t)nu);
     if (l == NULL) {
         snprintf(err->msg, sizeof err->msg, "design: out of memory (channel loops)");
         return CDPR_E_CAPACITY;
     }
     for (int k = 0; k < F; ++k) {
-        const cplx *H = &w->H[(size_t)k * 36];
-        for (int j = 0; j < 6; ++j) {
-            int o[5] = {0, 0, 0, 0, 0}; /* filled below: the five i != j */
-            int c = 0;
-            for (int i = 0; i < 6; ++i) {
-                if (i != j) {
-                    o[c++] = i;
-                }
-            }
-            cplx M[25];
-            cplx u[5];
-            int ipiv[5];
-            for (int a = 0; a < 5; ++a) {
-                for (int b2 = 0; b2 < 5; ++b2) {
-                    M[b2 * 5 + a] = ((a == b2) ? 1.0 : 0.0) - H[o[b2] * 6 + o[a]];
-                }
-                u[a] = H[j * 6 + o[a]];
-            }
-            if (zsolve(5, 1, M, u, ipiv) != CDPR_OK) {
+        const cplx *H = &w->H[(size_t)k * nh];
+        for (int j = 0; j < nu; ++j) {
+            if (channel_loop(nu, H, j, &l[(size_t)k * (size_t)nu + (size_t)j]) != CDPR_OK) {
                 free(l);
                 snprintf(err->msg, sizeof err->msg,
-                         "design: the other five loops are singular at %g Hz", w->f[k]);
+                         "design: the other %d loops are singular at %g Hz", nu - 1, w->f[k]);
                 return CDPR_E_SINGULAR;
             }
-            cplx s = H[j * 6 + j];
-            for (int a = 0; a < 5; ++a) {
-                s += H[o[a] * 6 + j] * u[a];
-            }
-            l[(size_t)k * 6 + (size_t)j] = -s;
         }
     }
-    for (int j = 0; j < 6; ++j) {
-        margins(w->f, l + j, 6, F, &r->gm_db[j], &r->gm_hz[j], &r->pm_deg[j], &r->pm_hz[j]);
+    for (int j = 0; j < nu; ++j) {
+        margins(w->f, l + j, nu, F, &r->gm_db[j], &r->gm_hz[j], &r->pm_deg[j], &r->pm_hz[j]);
         if (fabs(r->gm_db[j]) < r->gm_min_db) {
             r->gm_min_db = fabs(r->gm_db[j]);
             r->gm_min_hz = r->gm_hz[j];
@@ -790,37 +818,39 @@ static cdpr_status_t closed_loop_matrix(const cdpr_design_model_t *m, const work
 {
     const int n = m->n;
     const size_t nn = (size_t)n;
-    const size_t Nc = nn + NZ + NU;
+    const size_t nu = (size_t)m->nu;
+    const size_t nz = (size_t)m->nz;
+    const size_t Nc = nn + nz + nu;
     memset(Acl, 0, sizeof(double) * Nc * Nc);
 #define AT(i, j) Acl[(size_t)(j)*Nc + (size_t)(i)]
     for (size_t j = 0; j < nn; ++j) {
         memcpy(&AT(0, j), &w->Phi[j * nn], sizeof(double) * nn);
     }
-    for (size_t i = 0; i < NZ; ++i) {
+    for (size_t i = 0; i < nz; ++i) {
         for (size_t j = 0; j < nn; ++j) {
             AT(nn + i, j) = m->Zx[i * nn + j];
         }
-        for (size_t j = 0; j < NZ; ++j) {
-            AT(nn + i, nn + j) = m->Zz[i * NZ + j];
+        for (size_t j = 0; j < nz; ++j) {
+            AT(nn + i, nn + j) = m->Zz[i * nz + j];
         }
-        for (size_t j = 0; j < NU; ++j) {
-            AT(nn + i, nn + NZ + j) = m->Zu[i * NU + j];
+        for (size_t j = 0; j < nu; ++j) {
+            AT(nn + i, nn + nz + j) = m->Zu[i * nu + j];
         }
     }
-    /* K = [Kx Kz Ku] (6 x Nc): rows n+30.. and Phi rows += Gam K */
-    double *K = malloc(sizeof(double) * NU * Nc);
+    /* K = [Kx Kz Ku] (nu x Nc): rows n+nz.. and Phi rows += Gam K */
+    double *K = malloc(sizeof(double) * nu * Nc);
     double *GK = malloc(sizeof(double) * nn * Nc);
-    for (size_t i = 0; K != NULL && GK != NULL && i < NU; ++i) {
+    for (size_t i = 0; K != NULL && GK != NULL && i < nu; ++i) {
         for (size_t j = 0; j < Nc; ++j) {
             const double v = (j < nn)        ? m->Kx[i * nn + j]
-                             : (j < nn + NZ) ? m->Kz[i * NZ + (j - nn)]
-                                             : m->Ku[i * NU + (j - nn - NZ)];
-            K[j * NU + i] = v;
-            AT(nn + NZ + i, j) = v;
+                             : (j < nn + nz) ? m->Kz[i * nz + (j - nn)]
+                                             : m->Ku[i * nu + (j - nn - nz)];
+            K[j * nu + i] = v;
+            AT(nn + nz + i, j) = v;
         }
     }
     if (K != NULL && GK != NULL) {
-        mul(n, (int)Nc, NU, w->Gam, K, GK);
+        mul(n, (int)Nc, (int)nu, w->Gam, K, GK);
         for (size_t j = 0; j < Nc; ++j) {
             for (size_t i = 0; i < nn; ++i) {
                 AT(i, j) += GK[j * nn + i];
@@ -860,8 +890,10 @@ static cdpr_status_t learning(const cdpr_design_model_t *m, work_t *w, cdpr_desi
     }
     r->learning = 1;
     const int n = m->n;
+    const int nu = m->nu;
+    const size_t nu_s = (size_t)nu;
     const size_t nn = (size_t)n;
-    const int Nc = n + NZ + NU;
+    const int Nc = n + m->nz + nu;
     const size_t NC = (size_t)Nc;
     const double T = m->period_s;
     const double dphi = lap / (double)knots;
@@ -873,10 +905,10 @@ static cdpr_status_t learning(const cdpr_design_model_t *m, work_t *w, cdpr_desi
         }
     }
     r->band_top_hz = linspace_at(1e-3, fnyq, 20000, top);
-    /* CV = (J Cm[0:6]) V[0:n], W = V \ Bc, Bc = k_L [Gam; 0; I] */
-    cplx *CV = malloc(sizeof(cplx) * 6 * NC);
-    cplx *Wl = malloc(sizeof(cplx) * NC * 6);
-    cplx *C = malloc(sizeof(cplx) * 6 * nn);
+    /* CV = (J Cm[0:6]) V[0:n] (nu x Nc), W = V \ Bc, Bc = k_L [Gam; 0; I] */
+    cplx *CV = malloc(sizeof(cplx) * nu_s * NC);
+    cplx *Wl = malloc(sizeof(cplx) * NC * nu_s);
+    cplx *C = malloc(sizeof(cplx) * nu_s * nn);
     if (CV == NULL || Wl == NULL || C == NULL) {
         free(CV);
         free(Wl);
@@ -884,24 +916,24 @@ static cdpr_status_t learning(const cdpr_design_model_t *m, work_t *w, cdpr_desi
         snprintf(err->msg, sizeof err->msg, "design: out of memory (learning)");
         return CDPR_E_CAPACITY;
     }
-    for (int i = 0; i < 6; ++i) {
+    for (int i = 0; i < nu; ++i) {
         for (int k = 0; k < n; ++k) {
             double s = 0.0;
             for (int q = 0; q < 6; ++q) {
                 s += m->J[i * 6 + q] * m->Cm[(size_t)q * nn + (size_t)k];
             }
-            C[(size_t)k * 6 + (size_t)i] = s;
+            C[(size_t)k * nu_s + (size_t)i] = s;
         }
     }
-    zmul(6, Nc, n, C, 6, w->VC, Nc, CV, 6);
+    zmul(nu, Nc, n, C, nu, w->VC, Nc, CV, nu);
     free(C);
-    for (int j = 0; j < 6; ++j) {
+    for (int j = 0; j < nu; ++j) {
         for (int i = 0; i < Nc; ++i) {
             double v = 0.0;
             if (i < n) {
                 v = w->Gam[(size_t)j * nn + (size_t)i];
-            } else if (i >= Nc - NU) {
-                v = (i - (Nc - NU) == j) ? 1.0 : 0.0;
+            } else if (i >= Nc - nu) {
+                v = (i - (Nc - nu) == j) ? 1.0 : 0.0;
             }
             Wl[(size_t)j * NC + (size_t)i] = v * m->k_length_per_s;
         }
@@ -911,7 +943,7 @@ static cdpr_status_t learning(const cdpr_design_model_t *m, work_t *w, cdpr_desi
     cdpr_status_t st = (Vc != NULL && ipiv != NULL) ? CDPR_OK : CDPR_E_CAPACITY;
     if (st == CDPR_OK) {
         memcpy(Vc, w->VC, sizeof(cplx) * NC * NC);
-        st = zsolve(Nc, 6, Vc, Wl, ipiv);
+        st = zsolve(Nc, nu, Vc, Wl, ipiv);
     }
     free(Vc);
     free(ipiv);
@@ -929,40 +961,40 @@ static cdpr_status_t learning(const cdpr_design_model_t *m, work_t *w, cdpr_desi
         /* h = 0: G at 1e-4 Hz (G_at_0_diag) */
         const double f = (h == 0) ? 1e-4 : (double)h / lap;
         const cplx z = cis(2.0 * k_pi * f * T);
-        cplx G[36];
-        for (int i = 0; i < 6; ++i) {
-            for (int j = 0; j < 6; ++j) {
+        cplx G[NU_MAX * NU_MAX];
+        for (int i = 0; i < nu; ++i) {
+            for (int j = 0; j < nu; ++j) {
                 cplx s = 0.0;
                 for (int k = 0; k < Nc; ++k) {
-                    s += CV[(size_t)k * 6 + (size_t)i] / (z - w->lamC[k]) *
+                    s += CV[(size_t)k * nu_s + (size_t)i] / (z - w->lamC[k]) *
                          Wl[(size_t)j * NC + (size_t)k];
                 }
-                G[j * 6 + i] = -s;
+                G[j * nu + i] = -s;
             }
         }
         if (h == 0) {
-            for (int i = 0; i < 6; ++i) {
-                r->g0_diag[i] = creal(G[i * 7]);
+            for (int i = 0; i < nu; ++i) {
+                r->g0_diag[i] = creal(G[i * (nu + 1)]);
             }
             continue;
         }
         const double q = learning_q(f, fc, dphi);
         const cplx e = cis(2.0 * k_pi * f * lead);
-        cplx M[36];
-        cplx M2[36];
-        for (int i = 0; i < 36; ++i) {
-            M[i] = q * (((i % 7) == 0 ? 1.0 : 0.0) - gamma * e * G[i]);
+        cplx M[NU_MAX * NU_MAX];
+        cplx M2[NU_MAX * NU_MAX];
+        for (int i = 0; i < nu * nu; ++i) {
+            M[i] = q * (((i % (nu + 1)) == 0 ? 1.0 : 0.0) - gamma * e * G[i]);
             M2[i] = M[i];
         }
-        cplx ev[6];
-        double s[6];
-        if (eig6(M, ev) != 0 || svd6(M2, s) != 0) {
+        cplx ev[NU_MAX];
+        double s[NU_MAX];
+        if (eign(nu, M, ev) != 0 || svdn(nu, M2, s) != 0) {
             snprintf(err->msg, sizeof err->msg, "design: learning map at %g Hz", f);
             st = CDPR_E_NO_CONVERGENCE;
             break;
         }
         double rho = 0.0;
-        for (int i = 0; i < 6; ++i) {
+        for (int i = 0; i < nu; ++i) {
             rho = fmax(rho, cabs(ev[i]));
         }
         r->harmonic_hz[h - 1] = f;
@@ -992,14 +1024,14 @@ cdpr_status_t cdpr_design_analyse(const cdpr_design_model_t *m, int learn, cdpr_
     }
     const int n = m->n;
     const size_t nn = (size_t)n;
-    const int Nc = n + NZ + NU;
+    const int Nc = n + m->nz + m->nu;
     const size_t NC = (size_t)Nc;
     const double T = m->period_s;
     const int want_learning =
         (learn != 0 && m->lap_s > 0.0 && m->learn_knots >= 2.0 && m->learning_gain > 0.0);
     work_t w;
     memset(&w, 0, sizeof w);
-    w.Phi = malloc(sizeof(double) * nn * (nn + NU));
+    w.Phi = malloc(sizeof(double) * nn * (nn + (size_t)m->nu));
     w.Acl = malloc(sizeof(double) * NC * NC);
     w.scratch = malloc(sizeof(double) * NC * NC);
     w.lamA = malloc(sizeof(cplx) * nn);
@@ -1051,7 +1083,7 @@ cdpr_status_t cdpr_design_analyse(const cdpr_design_model_t *m, int learn, cdpr_
         st = loop_response(m, &w, F, err);
     }
     if (st == CDPR_OK) {
-        st = loop_margins(&w, F, r, err);
+        st = loop_margins(m->nu, &w, F, r, err);
     }
     if (st == CDPR_OK && want_learning) {
         st = learning(m, &w, r, err);

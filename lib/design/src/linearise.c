@@ -11,9 +11,15 @@
 #include "cdpr/design/design.h"
 #include "cdpr/vec3.h"
 
-#define NZ CDPR_DESIGN_NZ
-#define NM CDPR_DESIGN_NM
-#define NU CDPR_DESIGN_NU
+#define NZ_MAX CDPR_DESIGN_NZ_MAX
+#define NM_MAX CDPR_DESIGN_NM_MAX
+#define NU_MAX CDPR_DESIGN_NU_MAX
+
+/* The model's sizes for the point's robot (design.h): nu rate commands, one per cable. */
+static int nu_of(const cdpr_design_point_t *pt)
+{
+    return pt->plant.robot.p.n_cables;
+}
 
 /* Perturbation of state component i (relative above 1). */
 static double step_of(double y, double rel)
@@ -21,7 +27,7 @@ static double step_of(double y, double rel)
     return rel * fmax(1.0, fabs(y));
 }
 
-void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR_DESIGN_NM])
+void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR_DESIGN_NM_MAX])
 {
     cdpr_plant_t *pl = &pt->plant;
     const int n = pl->robot.dim;
@@ -41,7 +47,7 @@ void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR
         m.cabin.p_m.x,       m.cabin.p_m.y,       m.cabin.p_m.z,       th.x, th.y, th.z,
         m.cabin.v_m_per_s.x, m.cabin.v_m_per_s.y, m.cabin.v_m_per_s.z, w.x,  w.y,  w.z};
     memcpy(o, v, sizeof v);
-    for (int j = 0; j < 6; ++j) {
+    for (int j = 0; j < nu_of(pt); ++j) {
         o[12 + j] = m.length_m[j];
     }
 }
@@ -53,15 +59,16 @@ static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, c
 {
     cdpr_plant_t *pl = &pt->plant;
     const int n = pl->robot.dim;
+    const int nu = nu_of(pt);
     double save[CDPR_ROBOT_STATE_MAX];
     memcpy(save, pl->y, sizeof(double) * (size_t)n);
     memcpy(pl->y, y, sizeof(double) * (size_t)n);
-    for (int j = 0; j < NU; ++j) {
+    for (int j = 0; j < nu; ++j) {
         pl->robot.in.payout_m_per_s[j] = up[j];
     }
     cdpr_plant_meas_t m;
     cdpr_plant_measure(pl, &m);
-    for (int j = 0; j < NU; ++j) {
+    for (int j = 0; j < nu; ++j) {
         pl->robot.in.payout_m_per_s[j] = 0.0;
     }
     memcpy(pl->y, save, sizeof(double) * (size_t)n);
@@ -69,14 +76,14 @@ static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, c
     pt->tr = pt->tr0;
     memcpy(pt->tr.err_f1, z, sizeof(double) * 12);
     memcpy(pt->tr.err_f, z + 12, sizeof(double) * 12);
-    memcpy(pt->tr.ten_f, z + 24, sizeof(double) * 6);
+    memcpy(pt->tr.ten_f, z + 24, sizeof(double) * (size_t)nu);
     pt->tr.filter_primed = 1;
     cdpr_tracker_cmd_t cmd;
     (void)cdpr_tracker_step(&pt->tr, &m, &cmd);
-    memcpy(u, cmd.rate_m_per_s, sizeof(double) * NU);
+    memcpy(u, cmd.rate_m_per_s, sizeof(double) * (size_t)nu);
     memcpy(zn, pt->tr.err_f1, sizeof(double) * 12);
     memcpy(zn + 12, pt->tr.err_f, sizeof(double) * 12);
-    memcpy(zn + 24, pt->tr.ten_f, sizeof(double) * 6);
+    memcpy(zn + 24, pt->tr.ten_f, sizeof(double) * (size_t)nu);
 }
 
 /* A and B by central differences of cdpr_robot_rhs (payout rates zero at the settled state). */
@@ -85,11 +92,12 @@ static void plant_jacobians(cdpr_design_point_t *pt, double *y, double *fp, doub
 {
     cdpr_robot_t *r = &pt->plant.robot;
     const int n = r->dim;
+    const int nu = nu_of(pt);
     memcpy(y, pt->plant.y, sizeof(double) * (size_t)n);
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
         r->in.payout_m_per_s[j] = 0.0;
     }
-    for (int i = 0; i < n + NU; ++i) {
+    for (int i = 0; i < n + nu; ++i) {
         const double h = (i < n) ? step_of(y[i], 1e-6) : 1e-6;
         double *slot = (i < n) ? &y[i] : &r->in.payout_m_per_s[i - n];
         const double y0 = *slot;
@@ -103,7 +111,7 @@ static void plant_jacobians(cdpr_design_point_t *pt, double *y, double *fp, doub
             if (i < n) {
                 A[(size_t)k * (size_t)n + (size_t)i] = d;
             } else {
-                B[(size_t)k * NU + (size_t)(i - n)] = d;
+                B[(size_t)k * (size_t)nu + (size_t)(i - n)] = d;
             }
         }
     }
@@ -115,15 +123,19 @@ static void ctrl_jacobians(cdpr_design_point_t *pt, double *y, const double *z0,
                            cdpr_design_model_t *md)
 {
     const int n = pt->plant.robot.dim;
+    const int nu = nu_of(pt);
+    const int nz = 24 + nu;
+    const int nm = 12 + nu;
     memcpy(y, pt->plant.y, sizeof(double) * (size_t)n);
-    double z[NZ];
-    memcpy(z, z0, sizeof z);
-    double u0[NU] = {0.0};
-    double up[NU], um[NU], zp[NZ], zm[NZ], op[NM], om[NM];
-    for (int i = 0; i < n + NZ + NU; ++i) {
-        double *slot = (i < n) ? &y[i] : (i < n + NZ) ? &z[i - n] : &u0[i - n - NZ];
+    double z[NZ_MAX];
+    memcpy(z, z0, sizeof(double) * (size_t)nz);
+    double u0[NU_MAX];
+    memset(u0, 0, sizeof u0);
+    double up[NU_MAX], um[NU_MAX], zp[NZ_MAX], zm[NZ_MAX], op[NM_MAX], om[NM_MAX];
+    for (int i = 0; i < n + nz + nu; ++i) {
+        double *slot = (i < n) ? &y[i] : (i < n + nz) ? &z[i - n] : &u0[i - n - nz];
         const double v0 = *slot;
-        const double h = (i < n + NZ) ? step_of(v0, 1e-6) : 1e-6;
+        const double h = (i < n + nz) ? step_of(v0, 1e-6) : 1e-6;
         *slot = v0 + h;
         ctrl_at(pt, y, z, u0, up, zp);
         if (i < n) {
@@ -135,19 +147,19 @@ static void ctrl_jacobians(cdpr_design_point_t *pt, double *y, const double *z0,
             cdpr_design_outputs(pt, y, om);
         }
         *slot = v0;
-        const size_t nc = (i < n) ? (size_t)n : (i < n + NZ) ? NZ : NU;
+        const size_t nc = (i < n) ? (size_t)n : (i < n + nz) ? (size_t)nz : (size_t)nu;
         const size_t c = (i < n)        ? (size_t)i
-                         : (i < n + NZ) ? (size_t)(i - n)
-                                        : (size_t)(i - n - NZ);
-        double *K = (i < n) ? md->Kx : (i < n + NZ) ? md->Kz : md->Ku;
-        double *Z = (i < n) ? md->Zx : (i < n + NZ) ? md->Zz : md->Zu;
-        for (int k = 0; k < NU; ++k) {
+                         : (i < n + nz) ? (size_t)(i - n)
+                                        : (size_t)(i - n - nz);
+        double *K = (i < n) ? md->Kx : (i < n + nz) ? md->Kz : md->Ku;
+        double *Z = (i < n) ? md->Zx : (i < n + nz) ? md->Zz : md->Zu;
+        for (int k = 0; k < nu; ++k) {
             K[(size_t)k * nc + c] = (up[k] - um[k]) / (2.0 * h);
         }
-        for (int k = 0; k < NZ; ++k) {
+        for (int k = 0; k < nz; ++k) {
             Z[(size_t)k * nc + c] = (zp[k] - zm[k]) / (2.0 * h);
         }
-        for (int k = 0; i < n && k < NM; ++k) {
+        for (int k = 0; i < n && k < nm; ++k) {
             md->Cm[(size_t)k * nc + c] = (op[k] - om[k]) / (2.0 * h);
         }
     }
@@ -190,16 +202,6 @@ cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
         free(pt);
         return st;
     }
-    if (pt->plant.params.n_cables != CDPR_DESIGN_NU) {
-        /* The model's shapes (rate commands, filter states, outputs, J) are six cables'. */
-        snprintf(err->msg, sizeof err->msg,
-                 "design: the linear design covers robots of %d cables (rate commands, filter "
-                 "states and the length Jacobian are sized for them); this robot has %d: its "
-                 "feedback and learning cannot be checked",
-                 CDPR_DESIGN_NU, pt->plant.params.n_cables);
-        free(pt);
-        return CDPR_E_CAPACITY;
-    }
     cdpr_tracker_gains_t g = pt->sc.gains;
     g.wind_m_per_s = pt->plant.pp.wind_m_per_s;
     cdpr_diag_t d;
@@ -232,7 +234,7 @@ static void operating_filter(cdpr_design_point_t *pt, double *z0)
     (void)cdpr_tracker_step(&pt->tr, &m, &cmd);
     memcpy(z0, pt->tr.err_f1, sizeof(double) * 12);
     memcpy(z0 + 12, pt->tr.err_f, sizeof(double) * 12);
-    memcpy(z0 + 24, pt->tr.ten_f, sizeof(double) * 6);
+    memcpy(z0 + 24, pt->tr.ten_f, sizeof(double) * (size_t)nu_of(pt));
 }
 
 /* J: the straight-cable length Jacobian at the settled pose (rows u_j, (R b_j) x u_j). */
@@ -240,7 +242,7 @@ static void length_jacobian(cdpr_design_point_t *pt, double *J)
 {
     cdpr_plant_meas_t m;
     cdpr_plant_measure(&pt->plant, &m);
-    for (int j = 0; j < NU; ++j) {
+    for (int j = 0; j < nu_of(pt); ++j) {
         cdpr_vec3_t u;
         cdpr_vec3_t g;
         cdpr_tracker_jacobian(&pt->tr0.model, j, &m.cabin, &u, &g);
@@ -269,17 +271,23 @@ cdpr_status_t cdpr_design_linearise(cdpr_design_point_t *pt, cdpr_design_model_t
     err->msg[0] = '\0';
     const int n = pt->plant.robot.dim;
     const size_t nn = (size_t)n;
+    const size_t nu = (size_t)nu_of(pt);
+    const size_t nz = 24u + nu;
+    const size_t nm = 12u + nu;
     m->n = n;
+    m->nu = (int)nu;
+    m->nz = (int)nz;
+    m->nm = (int)nm;
     m->period_s = pt->sc.period_s;
     m->A = calloc(nn * nn, sizeof(double));
-    m->B = calloc(nn * NU, sizeof(double));
-    m->Kx = calloc(NU * nn, sizeof(double));
-    m->Zx = calloc(NZ * nn, sizeof(double));
-    m->Cm = calloc(NM * nn, sizeof(double));
-    m->Kz = calloc(NU * NZ, sizeof(double));
-    m->Zz = calloc(NZ * NZ, sizeof(double));
-    m->Ku = calloc(NU * NU, sizeof(double));
-    m->Zu = calloc(NZ * NU, sizeof(double));
+    m->B = calloc(nn * nu, sizeof(double));
+    m->Kx = calloc(nu * nn, sizeof(double));
+    m->Zx = calloc(nz * nn, sizeof(double));
+    m->Cm = calloc(nm * nn, sizeof(double));
+    m->Kz = calloc(nu * nz, sizeof(double));
+    m->Zz = calloc(nz * nz, sizeof(double));
+    m->Ku = calloc(nu * nu, sizeof(double));
+    m->Zu = calloc(nz * nu, sizeof(double));
     double *work = calloc(3 * nn, sizeof(double));
     if (m->A == NULL || m->B == NULL || m->Kx == NULL || m->Zx == NULL || m->Cm == NULL ||
         m->Kz == NULL || m->Zz == NULL || m->Ku == NULL || m->Zu == NULL || work == NULL) {
@@ -288,7 +296,7 @@ cdpr_status_t cdpr_design_linearise(cdpr_design_point_t *pt, cdpr_design_model_t
         snprintf(err->msg, sizeof err->msg, "design: out of memory (n = %d)", n);
         return CDPR_E_CAPACITY;
     }
-    double z0[NZ];
+    double z0[NZ_MAX];
     operating_filter(pt, z0);
     plant_jacobians(pt, work, work + nn, work + 2 * nn, m->A, m->B);
     ctrl_jacobians(pt, work, z0, m);

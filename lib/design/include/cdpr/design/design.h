@@ -2,8 +2,8 @@
 /// @file design.h
 /// The linear design of a scenario's feedback loop (docs/validation.md §8, "Feedback design"):
 /// the loop linearised about a held pose, and its analysis -- the closed-loop eigenvalues,
-/// the loop broken at the six rate commands (loop-at-a-time margins, α = min σ(I + L)) and
-/// the convergence of the learning over laps -- with the definitions of
+/// the loop broken at the rate commands, one per cable (loop-at-a-time margins, α = min σ(I + L))
+/// and the convergence of the learning over laps -- with the definitions of
 /// scripts/feedback_design.py, on LAPACK.
 ///
 /// Library cdpr_design (component `design`, target cdpr::design, pkg-config cdpr-design):
@@ -22,9 +22,12 @@
 #include "cdpr/host/scenario.h"
 #include "cdpr/control/tracker.h"
 
-#define CDPR_DESIGN_NZ            30 ///< filter states of the tracker: err_f1, err_f (12 each), ten_f (6)
-#define CDPR_DESIGN_NU            6    ///< rate commands (payout rates)
-#define CDPR_DESIGN_NM            18   ///< linearised outputs (p, θ, v, ω, six lengths)
+/// Sizes of the model of a robot of m cables (cdpr_design_model_t.nu, .nz, .nm): m rate commands
+/// (payout rates), 24 + m filter states of the tracker (err_f1, err_f: 12 each; ten_f: one per
+/// cable), 12 + m linearised outputs (p, θ, v, ω, the m lengths). The most a build holds:
+#define CDPR_DESIGN_NU_MAX        CDPR_MAX_CABLES
+#define CDPR_DESIGN_NZ_MAX        (24 + CDPR_MAX_CABLES)
+#define CDPR_DESIGN_NM_MAX        (12 + CDPR_MAX_CABLES)
 #define CDPR_DESIGN_GOAL_GM_DB    6.0  ///< goal: loop-at-a-time gain margin [dB]
 #define CDPR_DESIGN_GOAL_PM_DEG   30.0 ///< goal: loop-at-a-time phase margin [deg]
 #define CDPR_DESIGN_GROWTH_TOL    1e-5 ///< growth [1/s] below which the loop counts as not growing
@@ -50,18 +53,21 @@ typedef struct {
 /// The linear model (row-major doubles, as cdpr-design's .bin files; see apps/cdpr-design).
 typedef struct {
     int n;           ///< plant states
+    int nu;          ///< rate commands: the robot's cables m (1..CDPR_DESIGN_NU_MAX)
+    int nz;          ///< filter states: 24 + nu
+    int nm;          ///< outputs: 12 + nu
     double period_s; ///< control period T
     double *A;       ///< n x n    ∂f/∂y of cdpr_robot_rhs
-    double *B;       ///< n x 6    ∂f/∂u (payout rates)
-    double *Kx;      ///< 6 x n    u_k = Kx x_k + Kz z_k + Ku u_{k-1}
-    double *Kz;      ///< 6 x 30
-    double *Zx;      ///< 30 x n   z_{k+1} = Zx x_k + Zz z_k + Zu u_{k-1}
-    double *Zz;      ///< 30 x 30
-    double *Ku;      ///< 6 x 6
-    double *Zu;      ///< 30 x 6
-    double *Cm;      ///< 18 x n   outputs (pose, v, ω, lengths)
-    double J[36];    ///< 6 x 6 straight-cable length Jacobian at the pose
-    double lap_s;    ///< lap of the trajectory (0: none)
+    double *B;       ///< n x nu   ∂f/∂u (payout rates)
+    double *Kx;      ///< nu x n   u_k = Kx x_k + Kz z_k + Ku u_{k-1}
+    double *Kz;      ///< nu x nz
+    double *Zx;      ///< nz x n   z_{k+1} = Zx x_k + Zz z_k + Zu u_{k-1}
+    double *Zz;      ///< nz x nz
+    double *Ku;      ///< nu x nu
+    double *Zu;      ///< nz x nu
+    double *Cm;      ///< nm x n   outputs (pose, v, ω, lengths)
+    double J[6 * CDPR_DESIGN_NU_MAX]; ///< nu x 6 straight-cable length Jacobian at the pose
+    double lap_s;                     ///< lap of the trajectory (0: none)
     double learn_knots;
     double k_length_per_s;
     double learning_gain;
@@ -79,25 +85,27 @@ typedef struct {
     double alpha;        ///< min σ_min(I + L) [sigma_min_I_plus_L]
     double alpha_hz;     ///< where [sigma_min_at_hz]
     int active;          ///< the loop has any gain (else no margins)
-    double gm_db[6];     ///< per channel: gain margin [dB] (HUGE_VAL: no -180° crossing)
-    double gm_hz[6];     ///< its frequency (NaN: none)
-    double pm_deg[6];    ///< phase margin [deg] (HUGE_VAL: no crossover)
-    double pm_hz[6];     ///< its frequency (NaN: none)
-    double gm_min_db;    ///< min_j |gm_db[j]| [loop_at_a_time_min.gm_db]
-    double gm_min_hz;    ///< the frequency of that channel's margin
-    double pm_min_deg;   ///< min_j pm_deg[j] [loop_at_a_time_min.pm_deg]
-    double pm_min_hz;    ///< the frequency of that channel's margin
-    int learning;        ///< the learning is analysed (periodic trajectory, γ > 0)
-    double band_top_hz;  ///< top of the band Q >= 0.01 [learning.band_top_hz]
-    int n_harmonics;     ///< lap harmonics in that band (at most CDPR_DESIGN_MAX_HARMONICS)
+    int n_channels;      ///< rate commands analysed (the model's nu)
+    double
+        gm_db[CDPR_DESIGN_NU_MAX]; ///< per channel: gain margin [dB] (HUGE_VAL: no -180° crossing)
+    double gm_hz[CDPR_DESIGN_NU_MAX];  ///< its frequency (NaN: none)
+    double pm_deg[CDPR_DESIGN_NU_MAX]; ///< phase margin [deg] (HUGE_VAL: no crossover)
+    double pm_hz[CDPR_DESIGN_NU_MAX];  ///< its frequency (NaN: none)
+    double gm_min_db;                  ///< min_j |gm_db[j]| [loop_at_a_time_min.gm_db]
+    double gm_min_hz;                  ///< the frequency of that channel's margin
+    double pm_min_deg;                 ///< min_j pm_deg[j] [loop_at_a_time_min.pm_deg]
+    double pm_min_hz;                  ///< the frequency of that channel's margin
+    int learning;                      ///< the learning is analysed (periodic trajectory, γ > 0)
+    double band_top_hz;                ///< top of the band Q >= 0.01 [learning.band_top_hz]
+    int n_harmonics; ///< lap harmonics in that band (at most CDPR_DESIGN_MAX_HARMONICS)
     double harmonic_hz[CDPR_DESIGN_MAX_HARMONICS]; ///< k / T_lap
     double harmonic_q[CDPR_DESIGN_MAX_HARMONICS];  ///< Q there
     double rho[CDPR_DESIGN_MAX_HARMONICS];         ///< ρ(M) there
     double sigma_max[CDPR_DESIGN_MAX_HARMONICS];   ///< σ_max(M) there
-    double max_rho;      ///< max ρ at the harmonics [learning.max_rho_at_harmonics]
-    int worst_harmonic;  ///< the harmonic (1-based) where ρ is largest (0: none)
-    int first_diverging; ///< the first harmonic with ρ >= 1 (0: none)
-    double g0_diag[6];   ///< Re diag G(1e-4 Hz) [learning.G_at_0_diag]
+    double max_rho;                     ///< max ρ at the harmonics [learning.max_rho_at_harmonics]
+    int worst_harmonic;                 ///< the harmonic (1-based) where ρ is largest (0: none)
+    int first_diverging;                ///< the first harmonic with ρ >= 1 (0: none)
+    double g0_diag[CDPR_DESIGN_NU_MAX]; ///< Re diag G(1e-4 Hz) [learning.G_at_0_diag]
 } cdpr_design_report_t;
 
 /// Settle scenario `sc` at its trajectory's pose at `at_s` (NaN: where it stops, or its start
@@ -107,9 +115,9 @@ cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
                                     cdpr_design_point_t **pt, cdpr_design_error_t *err);
 void cdpr_design_point_free(cdpr_design_point_t *pt);
 
-/// The 18 outputs (p, rotation vector of q q0^-1, v, ω world, six measured lengths) of the
-/// measurement at plant state y (pt->plant.robot.dim values), q0 the held attitude.
-void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR_DESIGN_NM]);
+/// The 12 + m outputs (p, rotation vector of q q0^-1, v, ω world, the m measured lengths) of
+/// the measurement at plant state y (pt->plant.robot.dim values), q0 the held attitude.
+void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR_DESIGN_NM_MAX]);
 
 /// Linearise the loop at `pt` (central differences of cdpr_robot_rhs and of one real
 /// cdpr_tracker_step). Allocates the model's matrices (free with cdpr_design_model_free).
@@ -117,7 +125,7 @@ cdpr_status_t cdpr_design_linearise(cdpr_design_point_t *pt, cdpr_design_model_t
                                     cdpr_design_error_t *err);
 void cdpr_design_model_free(cdpr_design_model_t *m);
 
-/// Zero-order hold: Phi (n x n) and Gam (n x 6), row-major, the blocks of
+/// Zero-order hold: Phi (n x n) and Gam (n x nu), row-major, the blocks of
 /// exp([[A, B], [0, 0]] T) (scaling and squaring, Padé degree 13). Caller's buffers.
 cdpr_status_t cdpr_design_discretise(const cdpr_design_model_t *m, double *Phi, double *Gam,
                                      cdpr_design_error_t *err);
