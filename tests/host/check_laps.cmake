@@ -4,8 +4,16 @@
 # reduced the error. Loose guards around the measured run (docs/validation.md §8: lap 1
 # 1.15 m, lap 10 0.240 m, 8 laps learned, no saturation), not the issue's targets:
 #   status ok, 10 laps, learning_updates 8, learning_saturations 0,
-#   lap 10 <= 0.35 m and lap 10 <= 0.4 x lap 1.
-#   cmake -DDIR=... -P check_laps.cmake
+#   lap 10 <= 0.35 m and lap 10 <= 0.4 x lap 1
+# (-DLAP10_MAX_UM and -DLAP10_PCT_OF_LAP1 set the last two: eight_circle_laps, the same on the
+# eight-cable robot, measured lap 1 0.733 m, lap 10 0.068 m, guards 0.15 m and 20 %).
+#   cmake -DDIR=... [-DLAP10_MAX_UM=...] [-DLAP10_PCT_OF_LAP1=...] -P check_laps.cmake
+if(NOT DEFINED LAP10_MAX_UM)
+    set(LAP10_MAX_UM 350000)
+endif()
+if(NOT DEFINED LAP10_PCT_OF_LAP1)
+    set(LAP10_PCT_OF_LAP1 40)
+endif()
 file(READ "${DIR}/summary.json" j)
 string(JSON status GET "${j}" status)
 string(JSON n LENGTH "${j}" lap_rms_m)
@@ -31,12 +39,12 @@ else()
         string(SUBSTRING "${CMAKE_MATCH_2}000000" 0 6 frac)
         math(EXPR ${v}_um "${int} * 1000000 + 1${frac} - 1000000")
     endforeach()
-    if(lap10_um GREATER 350000)
-        string(APPEND fail " lap 10 RMS ${lap10} m > 0.35 m;")
+    if(lap10_um GREATER LAP10_MAX_UM)
+        string(APPEND fail " lap 10 RMS ${lap10} m > ${LAP10_MAX_UM} um;")
     endif()
-    math(EXPR bound "${lap1_um} * 4 / 10")
+    math(EXPR bound "${lap1_um} * ${LAP10_PCT_OF_LAP1} / 100")
     if(lap10_um GREATER bound)
-        string(APPEND fail " lap 10 RMS ${lap10} m > 0.4 x lap 1 (${lap1} m);")
+        string(APPEND fail " lap 10 RMS ${lap10} m > ${LAP10_PCT_OF_LAP1} % of lap 1 (${lap1} m);")
     endif()
 endif()
 if(NOT updates EQUAL 8)
@@ -46,6 +54,6 @@ if(NOT sat EQUAL 0)
     string(APPEND fail " learning_saturations ${sat};")
 endif()
 if(fail)
-    message(FATAL_ERROR "paper-circle-laps:${fail}")
+    message(FATAL_ERROR "${DIR}:${fail}")
 endif()
-message(STATUS "paper-circle-laps: lap 1 ${lap1} m, lap 10 ${lap10} m, ${updates} laps learned")
+message(STATUS "${DIR}: lap 1 ${lap1} m, lap 10 ${lap10} m, ${updates} laps learned")

@@ -9,8 +9,8 @@
 #  2. the recorded log replayed into a fresh plant in lockstep (cdpr-tracker --replay) must
 #     reproduce the recorded cabin states bit for bit.
 # Runs inside a private network namespace (run_in_netns.sh), so it needs no host network.
-# SCENARIO: the paper's line by default; rt_loop_udpm_eight runs the eight-cable robot's
-# (scenarios/eight-line.yaml: eight values in every command and tension message).
+# SCENARIO: the paper's line by default; rt_loop_udpm_eight and _eight_circle run the
+# eight-cable robot's line and circle (eight values in every command and tension message).
 # Usage: loop_udpm.sh BUILD_DIR SOURCE_DIR WORK_DIR [SCENARIO]
 set -eu
 bin=$1/apps
