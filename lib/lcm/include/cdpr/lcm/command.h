@@ -161,7 +161,8 @@ void cdpr_lcm_validator_note_published(cdpr_lcm_validator_t *v, int64_t seq);
 
 /// Check a decoded message received at `rx_time_ns` (CLOCK_MONOTONIC [ns]) against every
 /// rule except decoding (pure: no counter, no state change). Returns CDPR_LCM_ACCEPTED or the
-/// first failing reason. O(CDPR_MAX_CABLES).
+/// first failing reason. msg->value is read only once n_cables equals the plant's (it must
+/// then point to that many values, as a decoded holder's does: wire.h). O(CDPR_MAX_CABLES).
 cdpr_lcm_reject_t cdpr_lcm_validator_check(const cdpr_lcm_validator_t *v,
                                            const cdpr_winch_command_t *msg, int64_t rx_time_ns);
 
