@@ -34,6 +34,18 @@ gnuplot -e "dir='$out'" scripts/plot_settle.gp
 echo "plot: $out/settled_shape.png"
 
 bin=build/release/apps
+
+# Wait until cdpr-tracker (pid $1, stderr in $2) listens: 0 when it does, 1 when it exits or
+# 60 s pass. The plant starts only then, so that the tracker sees state 0.
+wait_for_tracker() {
+    for _ in $(seq 600); do
+        grep -q "waiting for" "$2" 2>/dev/null && return 0
+        kill -0 "$1" 2>/dev/null || break
+        sleep 0.1
+    done
+    grep -q "waiting for" "$2" 2>/dev/null
+}
+
 scenario=scenarios/paper-circle-laps.yaml
 out=out/paper-circle-rt
 rm -rf "$out"
@@ -66,12 +78,7 @@ if [[ $multicast -eq 1 ]]; then
     "$bin/cdpr-tracker" "$scenario" --rate 1000 --integrator ros34pw2-fixed --lcm-url "$url" --out "$out" \
         2> >(tee "$out/tracker.stderr" >&2) &
     tracker=$!
-    for _ in $(seq 600); do
-        grep -q "waiting for" "$out/tracker.stderr" 2>/dev/null && break
-        kill -0 "$tracker" 2>/dev/null || break
-        sleep 0.1
-    done
-    if ! grep -q "waiting for" "$out/tracker.stderr" 2>/dev/null; then
+    if ! wait_for_tracker "$tracker" "$out/tracker.stderr"; then
         kill -INT "$logger" 2>/dev/null || true
         echo "demo: cdpr-tracker did not come up (see $out/tracker.stderr)"
         exit 1
@@ -105,11 +112,8 @@ if [[ $multicast -eq 1 ]]; then
     "$bin/cdpr-tracker" scenarios/eight-line.yaml --lcm-url "$url" --out "$out" \
         2> >(tee "$out/tracker.stderr" >&2) &
     tracker=$!
-    for _ in $(seq 600); do
-        grep -q "waiting for" "$out/tracker.stderr" 2>/dev/null && break
-        kill -0 "$tracker" 2>/dev/null || break
-        sleep 0.1
-    done
+    wait_for_tracker "$tracker" "$out/tracker.stderr" ||
+        { echo "demo: cdpr-tracker did not come up (see $out/tracker.stderr)"; exit 1; }
     status=0
     "$bin/cdpr-rt" scenarios/eight-line.yaml --lcm-url "$url" --start-delay 0.5 --realtime || status=$?
     wait "$tracker" || status=$?

@@ -5,6 +5,7 @@
 # 0.339 m; every feed-forward IK of the distribution solved), not targets:
 #   status ok, ik_failures 0, 2 laps, lap 2 <= 0.5 m and lap 2 <= 0.7 x lap 1.
 #   cmake -DDIR=... -P check_eight_circle.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/json_um.cmake)
 file(READ "${DIR}/summary.json" j)
 string(JSON status GET "${j}" status)
 string(JSON ik GET "${j}" ik_failures)
@@ -21,17 +22,8 @@ if(NOT n EQUAL 2)
 else()
     string(JSON lap1 GET "${j}" lap_rms_m 0)
     string(JSON lap2 GET "${j}" lap_rms_m 1)
-    # CMake has no floating-point comparison: both values as whole micrometres.
-    foreach(v lap1 lap2)
-        string(FIND "${${v}}" "e" has_e)
-        if(NOT has_e EQUAL -1)
-            message(FATAL_ERROR "unexpected number format: ${${v}}")
-        endif()
-        string(REGEX MATCH "^([0-9]+)\\.?([0-9]*)" _ "${${v}}")
-        set(int "${CMAKE_MATCH_1}")
-        string(SUBSTRING "${CMAKE_MATCH_2}000000" 0 6 frac)
-        math(EXPR ${v}_um "${int} * 1000000 + 1${frac} - 1000000")
-    endforeach()
+    cdpr_json_um("${lap1}" lap1_um)
+    cdpr_json_um("${lap2}" lap2_um)
     if(lap2_um GREATER 500000)
         string(APPEND fail " lap 2 RMS ${lap2} m > 0.5 m;")
     endif()

@@ -36,6 +36,11 @@ fail() {
     echo "FAIL: $*"
     exit 1
 }
+# accepted and ignored: the plant's "received N accepted, M ignored" line of the report $1.
+counts() {
+    accepted=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\1/p' "$1")
+    ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p' "$1")
+}
 
 # 1. Lockstep.
 lcm-logger --lcm-url="$url" -c '^CDPR_CABLE_TENSIONS$' -f "$w/tensions.lcmlog" \
@@ -61,8 +66,7 @@ cat "$w/rt.txt" "$w/ctl.txt" "$w/sub.txt"
 grep -q "0 timeouts" "$w/rt.txt" || fail "lockstep timeouts"
 grep -q "100 periods with a new command, 0 on hold" "$w/rt.txt" ||
     fail "the plant did not step every period on a Python command"
-accepted=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\1/p' "$w/rt.txt")
-ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p' "$w/rt.txt")
+counts "$w/rt.txt"
 [ -n "$accepted" ] && [ "$accepted" -ge 100 ] && [ "$ignored" -eq 0 ] ||
     fail "lockstep: ${accepted:-?} commands accepted, ${ignored:-?} ignored"
 grep -q "answered 101 states (last state seq 100)" "$w/ctl.txt" || fail "controller count"
@@ -106,8 +110,7 @@ sleep 1
     > "$w/rt2.txt"
 wait "$ctl" || fail "controller.py exited with an error (free-running)"
 cat "$w/rt2.txt" "$w/ctl2.txt"
-accepted=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\1/p' "$w/rt2.txt")
-ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p' "$w/rt2.txt")
+counts "$w/rt2.txt"
 [ -n "$accepted" ] && [ "$accepted" -ge 1 ] || fail "free-running: ${accepted:-?} commands accepted"
 [ "$ignored" -eq 0 ] || fail "free-running: $ignored commands ignored"
 echo "PASS: free-running, $accepted Python commands accepted, none ignored"
@@ -125,8 +128,7 @@ cat "$w/rt3.txt" "$w/ctl3.txt"
 grep -q "0 timeouts" "$w/rt3.txt" || fail "eight cables: lockstep timeouts"
 grep -q "100 periods with a new command, 0 on hold" "$w/rt3.txt" ||
     fail "eight cables: the plant did not step every period on a Python command"
-accepted=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\1/p' "$w/rt3.txt")
-ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p' "$w/rt3.txt")
+counts "$w/rt3.txt"
 [ -n "$accepted" ] && [ "$accepted" -ge 100 ] && [ "$ignored" -eq 0 ] ||
     fail "eight cables: ${accepted:-?} commands accepted, ${ignored:-?} ignored"
 grep -q "answered 101 states (last state seq 100) of a 8-cable plant" "$w/ctl3.txt" ||
