@@ -471,6 +471,14 @@ class Runner:
         t0 = time.monotonic()
         with concurrent.futures.ThreadPoolExecutor(max_workers=self.jobs) as ex:
             futs = [ex.submit(self.run_case, cid, len(todo), t0) for cid in todo]
+            # Wait with a timeout, never in one untimed wait: the kernel may deliver SIGINT or
+            # SIGTERM to a worker thread (blocked in its cdpr-sim's wait), and Python runs the
+            # handler (interrupt) only in the main thread when that thread runs; an untimed
+            # wait here never woke for it, and the sweep hung with its cases running (seen
+            # once in sweep_local under load).
+            pending = set(futs)
+            while pending:
+                _, pending = concurrent.futures.wait(pending, timeout=0.1)
             for f in futs:
                 f.result()
 

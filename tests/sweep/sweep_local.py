@@ -197,8 +197,16 @@ for line in proc.stderr:
     if "] case 0001 " in line:
         proc.send_signal(signal.SIGINT)
         break
+# A guard against a hang, not a time assertion: the sweep answers a SIGINT at once (once, a
+# sweep whose main thread sat in an untimed wait ran the handler only when case 0002 ended,
+# i.e. never with this gate).
+try:
+    proc.wait(timeout=300)  # what it still writes (a few lines) fits the pipe
+except subprocess.TimeoutExpired:
+    proc.kill()
+    proc.wait()
+    check(False, "SIGINT: the sweep did not stop within 300 s (hung)")
 rest = proc.stderr.read()
-proc.wait()
 done = [c for c in sorted(before) if os.path.exists(os.path.join(out_i, "cases", c, "done.json"))]
 check(proc.returncode == 1 and "interrupted" in rest, "SIGINT: exit 1, 'interrupted' said")
 check(done == ["0001"], "SIGINT: case 0001 complete, 0002 (running) and 0003, 0004 not: %s" % done)
