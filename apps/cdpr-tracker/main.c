@@ -374,7 +374,8 @@ static cdpr_status_t replay_run(const options_t *o)
     return (*g_stop != 0) ? CDPR_E_INTERRUPTED : CDPR_E_MISMATCH;
 }
 
-static cdpr_plant_t g_model; /* the controller's own model: IK of the initial pose only */
+static cdpr_plant_t g_model;             /* the scenario's robot: IK of the initial pose only */
+static cdpr_robot_params_t g_ctl_params; /* the controller's model (controller.model) */
 static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_tracker_record_t g_record;
 static cdpr_summary_t g_sum;
@@ -457,10 +458,15 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
         fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
         return st;
     }
+    st = cdpr_host_controller_params(sc, &g_ctl_params, &err);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
+        return st;
+    }
     cdpr_tracker_gains_t g = sc->gains;
     g.wind_m_per_s = g_model.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
     cdpr_diag_t d;
-    st = cdpr_rt_tracker_init(&g_tracker, &g_model.params, g_model.pp.winch, &sc->traj, &g,
+    st = cdpr_rt_tracker_init(&g_tracker, &g_ctl_params, g_model.pp.winch, &sc->traj, &g,
                               sc->period_s, o->prefix, &d);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-tracker: controller: field '%s': %s\n", d.field, cdpr_status_str(st));

@@ -11,6 +11,7 @@
 /// every channel has the closed-form margins. And the failures: NaN in a matrix, an empty or
 /// mis-sized model, no feedback -> no check.
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -55,7 +56,7 @@ static void integrators_n(cdpr_design_model_t *m, double kl, double T, int nu)
     }
     m->n = nu;
     m->nu = nu;
-    m->nz = 24 + nu;
+    m->nz = 30 + nu;
     m->nm = 12 + nu;
     m->period_s = T;
     m->A = g_A;
@@ -245,9 +246,94 @@ static void test_feed_forward_is_not_checked(void)
     TEST_ASSERT_EQUAL_INT(0, warn);
 }
 
+/* A shipped scenario, loaded (TEST_ASSERT on failure). */
+static void load(const char *name, cdpr_scenario_t *sc)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/scenarios/%s", CDPR_SOURCE_DIR, name);
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_scenario_load(path, sc, &err), err.msg);
+}
+
+/* The robustness set's poses: a line's start, middle and end; a circle's 0, half and all of
+ * the run (it never stops); a hold's one pose, counted once. */
+static void test_robust_times(void)
+{
+    static cdpr_scenario_t sc;
+    double t[CDPR_DESIGN_ROBUST_POSES];
+    load("paper-line.yaml", &sc); /* a 10 s line */
+    TEST_ASSERT_EQUAL_INT(3, cdpr_design_robust_times(&sc, t));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, t[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(5.0, t[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(10.0, t[2]);
+    load("paper-circle-laps.yaml", &sc);
+    TEST_ASSERT_EQUAL_INT(3, cdpr_design_robust_times(&sc, t));
+    TEST_ASSERT_EQUAL_DOUBLE(0.5 * sc.duration_s, t[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(sc.duration_s, t[2]);
+    sc.traj.type = CDPR_TRAJ_HOLD;
+    TEST_ASSERT_EQUAL_INT(1, cdpr_design_robust_times(&sc, t));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, t[0]);
+}
+
+/* Sum of the cable forces on the settled cabin, world z [N]: at rest it carries the combined
+ * weight (cabin and the ropes' node-0 masses) -- Newton, independent of the variation. */
+static double settled_lift(cdpr_design_point_t *pt, double *weight)
+{
+    const cdpr_robot_t *r = &pt->plant.robot;
+    cdpr_robot_out_t out;
+    cdpr_robot_outputs(r, 0.0, pt->plant.y, &out);
+    *weight = r->cabin.mass_kg * r->p.g_m_per_s2;
+    return out.total_force_N.z;
+}
+
+/* A case's plant carries the variation, its controller the scenario's model: cabin mass +20 %
+ * in the plant (statics: the cables lift 1.2 times the cabin), the controller's model mass
+ * unchanged; EA +20 % in the plant's ropes only. */
+static void test_robust_variation_reaches_the_plant_only(void)
+{
+    static cdpr_scenario_t sc;
+    load("paper-line.yaml", &sc);
+    const cdpr_rig_scale_t heavy = {1.0, 1.2, 1.0};
+    cdpr_design_point_t *pt = NULL;
+    cdpr_design_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_design_point_new(&sc, 10.0, &heavy, &pt, &err),
+                                  err.msg);
+    TEST_ASSERT_EQUAL_DOUBLE(sc.rig.cabin_mass_kg, pt->tr0.model.p.cabin.mass_kg);
+    TEST_ASSERT_EQUAL_DOUBLE(1.2 * sc.rig.cabin_mass_kg, pt->plant.params.cabin.mass_kg);
+    TEST_ASSERT_EQUAL_DOUBLE(1.2 * sc.rig.cabin_inertia_kg_m2[2][2],
+                             pt->plant.params.cabin.inertia_com_kg_m2.m[2][2]);
+    TEST_ASSERT_EQUAL_DOUBLE(sc.rig.cable[0].rope.ea_N, pt->plant.params.cables[0].cable.ea_N);
+    double w_heavy = 0.0;
+    const double lift_heavy = settled_lift(pt, &w_heavy);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-3 * w_heavy, w_heavy, lift_heavy);
+    cdpr_design_point_free(pt);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_design_point_new(&sc, 10.0, NULL, &pt, &err),
+                                  err.msg);
+    double w = 0.0;
+    const double lift = settled_lift(pt, &w);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-3 * w, w, lift);
+    /* The cabin's share of the lift grew by 20 % (the ropes' node-0 masses did not). */
+    const double m0 = sc.rig.cabin_mass_kg * pt->plant.params.g_m_per_s2;
+    TEST_ASSERT_DOUBLE_WITHIN(2e-3 * m0, 0.2 * m0, lift_heavy - lift);
+    cdpr_design_point_free(pt);
+    const cdpr_rig_scale_t stiff = {1.2, 1.0, 1.0};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_design_point_new(&sc, 0.0, &stiff, &pt, &err),
+                                  err.msg);
+    for (int j = 0; j < sc.rig.n_cables; ++j) {
+        TEST_ASSERT_EQUAL_DOUBLE(sc.rig.cable[j].rope.ea_N, pt->tr0.model.p.cables[j].cable.ea_N);
+        TEST_ASSERT_EQUAL_DOUBLE(1.2 * sc.rig.cable[j].rope.ea_N,
+                                 pt->plant.params.cables[j].cable.ea_N);
+        TEST_ASSERT_EQUAL_DOUBLE(sc.rig.cable[j].rope.rho_kg_per_m,
+                                 pt->plant.params.cables[j].cable.rho_kg_per_m);
+    }
+    cdpr_design_point_free(pt);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
+    RUN_TEST(test_robust_times);
+    RUN_TEST(test_robust_variation_reaches_the_plant_only);
     RUN_TEST(test_zero_order_hold);
     RUN_TEST(test_length_loop_closed_forms);
     RUN_TEST(test_length_loops_of_every_winch);

@@ -15,6 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/host/sim.h"
 #include "cdpr/host/yaml.h"
@@ -78,6 +79,10 @@ static const char GOOD_LINE[] = "description: \"test: every key\"\n"
                                 "  inertial_ff: 0.5\n"
                                 "  damping_N_s_per_m: 30.0\n"
                                 "  damping_rot_N_m_s: 20.0\n"
+                                "  model:\n"
+                                "    ea_scale: 0.9\n"
+                                "    cabin_mass_scale: 1.1\n"
+                                "    rope_mass_scale: 1.05\n"
                                 "integrator:\n"
                                 "  rtol: 1.0e-7\n"
                                 "  atol_position_m: 2.0e-6\n"
@@ -196,6 +201,18 @@ static void test_every_key_resolves_to_the_value_written(void)
     TEST_ASSERT_EQUAL_DOUBLE(0.5, sc.gains.inertial_ff);
     TEST_ASSERT_EQUAL_DOUBLE(30.0, sc.gains.damping_N_s_per_m);
     TEST_ASSERT_EQUAL_DOUBLE(20.0, sc.gains.damping_rot_N_m_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.9, sc.controller_model.ea);
+    TEST_ASSERT_EQUAL_DOUBLE(1.1, sc.controller_model.cabin_mass);
+    TEST_ASSERT_EQUAL_DOUBLE(1.05, sc.controller_model.rope_mass);
+    /* The controller's model carries the factors, the plant's robot does not. */
+    static cdpr_robot_params_t model;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_host_controller_params(&sc, &model, &err), err.msg);
+    TEST_ASSERT_EQUAL_DOUBLE(41.0, g->cabin_mass_kg);
+    TEST_ASSERT_EQUAL_DOUBLE(41.0 * 1.1, model.cabin.mass_kg);
+    TEST_ASSERT_EQUAL_DOUBLE(91.0 * 1.1, model.cabin.inertia_com_kg_m2.m[2][2]);
+    TEST_ASSERT_EQUAL_DOUBLE(2.5e6, g->cable[3].rope.ea_N);
+    TEST_ASSERT_EQUAL_DOUBLE(2.5e6 * 0.9, model.cables[3].cable.ea_N);
+    TEST_ASSERT_EQUAL_DOUBLE(0.15 * 1.05, model.cables[5].cable.rho_kg_per_m);
     TEST_ASSERT_EQUAL_DOUBLE(1.0e-7, sc.integrator.rtol);
     TEST_ASSERT_EQUAL_DOUBLE(2.0e-6, sc.integrator.atol_position_m);
     TEST_ASSERT_EQUAL_DOUBLE(3.0e-5, sc.integrator.atol_velocity_m_per_s);
@@ -257,6 +274,9 @@ static void test_omitted_keys_take_the_preset(void)
     TEST_ASSERT_EQUAL_DOUBLE(1.0, sc.gains.inertial_ff);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.damping_N_s_per_m);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.damping_rot_N_m_s);
+    TEST_ASSERT_EQUAL_INT(1, cdpr_rig_scale_is_unit(&sc.controller_model));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.integral_per_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.05, sc.gains.integral_limit_m);
     TEST_ASSERT_EQUAL_DOUBLE(1e-6, sc.integrator.rtol);
     TEST_ASSERT_EQUAL_INT(2000, sc.integrator.max_trials);
     TEST_ASSERT_EQUAL_INT(1, (int)cdpr_scenario_output_every(&sc));
@@ -401,6 +421,16 @@ static const bad_case_t BAD[] = {
     {"nesting deeper than the limit", "  kp: 0.5\n",
      "  kp: [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]\n",
      "nested deeper than 32 levels", "", 0},
+    {"integral bound zero", "  damping_rot_N_m_s: 20.0\n",
+     "  damping_rot_N_m_s: 20.0\n  integral_limit_m: 0\n", "controller.integral_limit_m",
+     "integral_limit_m:", 0},
+    {"integral gain negative", "  damping_rot_N_m_s: 20.0\n",
+     "  damping_rot_N_m_s: 20.0\n  integral_per_s: -0.1\n", "controller.integral_per_s",
+     "integral_per_s:", 0},
+    {"model factor out of range", "ea_scale: 0.9", "ea_scale: 0.4", "controller.model.ea_scale",
+     "ea_scale:", 0},
+    {"model key unknown", "cabin_mass_scale: 1.1", "cabin_mass: 1.1", "controller.model.cabin_mass",
+     "cabin_mass:", 0},
     {"method key unknown", "  max_attempts: 2\n", "  max_attempts: 2\n  ros34pw2:\n    method: x\n",
      "integrator.ros34pw2.method", "    method: x", 0},
 };

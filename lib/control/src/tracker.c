@@ -14,7 +14,7 @@ int cdpr_tracker_has_feedback(const cdpr_tracker_gains_t *g)
     const cdpr_real_t zero = CDPR_R(0.0);
     return ((g->kp > zero) || (g->kd_s > zero) || (g->damping_N_s_per_m > zero) ||
             (g->damping_rot_N_m_s > zero) || (g->tension_gain_m_per_s_per_N > zero) ||
-            (g->learning_gain > zero))
+            (g->learning_gain > zero) || (g->integral_per_s > zero))
                ? 1
                : 0;
 }
@@ -78,6 +78,25 @@ static cdpr_status_t check_learning(const cdpr_tracker_gains_t *g, cdpr_diag_t *
     return CDPR_OK;
 }
 
+/* Step 2d's gains: finite, >= 0, and a bound when on. */
+static cdpr_status_t check_integral(const cdpr_tracker_gains_t *g, cdpr_diag_t *diag)
+{
+    cdpr_status_t st = CDPR_OK;
+    if (!isfinite(g->integral_per_s)) {
+        st = cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "integral_per_s", -1);
+    } else if (!isfinite(g->integral_limit_m)) {
+        st = cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "integral_limit_m", -1);
+    } else if (g->integral_per_s < CDPR_R(0.0)) {
+        st = cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "integral_per_s", -1);
+    } else if ((g->integral_limit_m < CDPR_R(0.0)) ||
+               ((g->integral_per_s > CDPR_R(0.0)) && !(g->integral_limit_m > CDPR_R(0.0)))) {
+        st = cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "integral_limit_m", -1);
+    } else {
+        /* valid */
+    }
+    return st;
+}
+
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t period_s,
                                  cdpr_diag_t *diag)
 {
@@ -118,7 +137,8 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t peri
             return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, names[i], -1);
         }
     }
-    return check_learning(g, diag);
+    const cdpr_status_t st = check_learning(g, diag);
+    return (st != CDPR_OK) ? st : check_integral(g, diag);
 }
 
 cdpr_status_t cdpr_tracker_set_wind(cdpr_tracker_t *tr, cdpr_vec3_t wind_m_per_s)
@@ -537,6 +557,33 @@ static void filter_errors(cdpr_tracker_t *tr, const cdpr_real_t raw[12], cdpr_re
     tr->filter_primed = 1;
 }
 
+/* Step 2d: the integral of the unfiltered pose error (raw[0..5]), each component of k_I I
+ * clamped to ±integral_limit_m (a period with a clamp counted). Only with k_I > 0. */
+static void integrate_errors(cdpr_tracker_t *tr, const cdpr_real_t raw[12], cdpr_real_t dt)
+{
+    const cdpr_real_t ki = tr->g.integral_per_s;
+    if (ki > CDPR_R(0.0)) {
+        const cdpr_real_t bound = tr->g.integral_limit_m / ki;
+        int clamped = 0;
+        for (int i = 0; i < 6; ++i) {
+            cdpr_real_t v = tr->integ[i] + (raw[i] * dt);
+            if (v > bound) {
+                v = bound;
+                clamped = 1;
+            } else if (v < -bound) {
+                v = -bound;
+                clamped = 1;
+            } else {
+                /* within the bound */
+            }
+            tr->integ[i] = v;
+        }
+        if (clamped != 0) {
+            tr->integral_saturations++;
+        }
+    }
+}
+
 /* Step 3: wrench-space damping: the lengths that make the cables add c ė_p and c_r ė_θ at the
  * desired pose of t, relative to L_ff(t) (same pose and feed-forward load), into dl_w (zero
  * when off or when its IK fails). */
@@ -581,7 +628,11 @@ static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
             u.x * f[0] + u.y * f[1] + u.z * f[2] + gj.x * f[3] + gj.y * f[4] + gj.z * f[5];
         const cdpr_real_t move_rate =
             u.x * f[6] + u.y * f[7] + u.z * f[8] + gj.x * f[9] + gj.y * f[10] + gj.z * f[11];
-        const cdpr_real_t dl = -(tr->g.kp * move + tr->g.kd_s * move_rate) + dl_w[j];
+        const cdpr_real_t *in = tr->integ;
+        const cdpr_real_t move_int = ((u.x * in[0]) + (u.y * in[1]) + (u.z * in[2])) +
+                                     ((gj.x * in[3]) + (gj.y * in[4]) + (gj.z * in[5]));
+        const cdpr_real_t dl = dl_w[j] - ((tr->g.kp * move) + (tr->g.kd_s * move_rate) +
+                                          (tr->g.integral_per_s * move_int));
         const cdpr_real_t u_ff = (l_next[j] - tr->l_ff_m[j]) / dt;
         cmd->l_ff_m[j] = tr->l_ff_m[j];
         cmd->u_ff_m_per_s[j] = u_ff;
@@ -651,6 +702,7 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
     pose_error(tr, m, t, cmd, raw);
     filter_tensions(tr, m, dt); /* before filter_errors: both prime on the same sample */
     filter_errors(tr, raw, dt);
+    integrate_errors(tr, raw, dt);
     cdpr_real_t dl_w[CDPR_MAX_CABLES];
     for (int j = 0; j < CDPR_MAX_CABLES; ++j) {
         dl_w[j] = CDPR_R(0.0);

@@ -53,7 +53,8 @@ void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR
 }
 
 /* One tracker step from the held tracker with filter state z at plant state y and payout
- * rates in force up: the six rate commands into u, the new filter state into zn. */
+ * rates in force up: the m rate commands into u, the new filter state into zn (z: err_f1,
+ * err_f, ten_f, integ). */
 static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, const double *up,
                     double *u, double *zn)
 {
@@ -77,6 +78,7 @@ static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, c
     memcpy(pt->tr.err_f1, z, sizeof(double) * 12);
     memcpy(pt->tr.err_f, z + 12, sizeof(double) * 12);
     memcpy(pt->tr.ten_f, z + 24, sizeof(double) * (size_t)nu);
+    memcpy(pt->tr.integ, z + 24 + nu, sizeof pt->tr.integ);
     pt->tr.filter_primed = 1;
     cdpr_tracker_cmd_t cmd;
     (void)cdpr_tracker_step(&pt->tr, &m, &cmd);
@@ -84,6 +86,7 @@ static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, c
     memcpy(zn, pt->tr.err_f1, sizeof(double) * 12);
     memcpy(zn + 12, pt->tr.err_f, sizeof(double) * 12);
     memcpy(zn + 24, pt->tr.ten_f, sizeof(double) * (size_t)nu);
+    memcpy(zn + 24 + nu, pt->tr.integ, sizeof pt->tr.integ);
 }
 
 /* A and B by central differences of cdpr_robot_rhs (payout rates zero at the settled state). */
@@ -124,7 +127,7 @@ static void ctrl_jacobians(cdpr_design_point_t *pt, double *y, const double *z0,
 {
     const int n = pt->plant.robot.dim;
     const int nu = nu_of(pt);
-    const int nz = 24 + nu;
+    const int nz = 30 + nu;
     const int nm = 12 + nu;
     memcpy(y, pt->plant.y, sizeof(double) * (size_t)n);
     double z[NZ_MAX];
@@ -166,7 +169,8 @@ static void ctrl_jacobians(cdpr_design_point_t *pt, double *y, const double *z0,
 }
 
 cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
-                                    cdpr_design_point_t **out, cdpr_design_error_t *err)
+                                    const cdpr_rig_scale_t *plant, cdpr_design_point_t **out,
+                                    cdpr_design_error_t *err)
 {
     *out = NULL;
     err->msg[0] = '\0';
@@ -195,7 +199,18 @@ cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
     pt->sc.gains.transfer_s = 0.0;
     cdpr_scenario_error_t se;
     se.msg[0] = '\0';
-    cdpr_status_t st = cdpr_host_plant_init(&pt->plant, &pt->sc, NULL, &se);
+    /* The controller's model: the scenario's robot with controller.model's factors, whatever
+     * the plant's variation. */
+    cdpr_status_t st = cdpr_host_controller_params(&pt->sc, &pt->model, &se);
+    if (st != CDPR_OK) {
+        snprintf(err->msg, sizeof err->msg, "design: the controller's model: %s (%.400s)",
+                 cdpr_status_str(st), se.msg);
+        free(pt);
+        return st;
+    }
+    pt->plant_scale = (plant != NULL) ? *plant : cdpr_rig_scale_unit();
+    cdpr_rig_scale(&pt->sc.rig, &pt->plant_scale);
+    st = cdpr_host_plant_init(&pt->plant, &pt->sc, NULL, &se);
     if (st != CDPR_OK) {
         snprintf(err->msg, sizeof err->msg, "design: plant at the held pose: %s (%.400s)",
                  cdpr_status_str(st), se.msg);
@@ -205,7 +220,7 @@ cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
     cdpr_tracker_gains_t g = pt->sc.gains;
     g.wind_m_per_s = pt->plant.pp.wind_m_per_s;
     cdpr_diag_t d;
-    st = cdpr_tracker_init(&pt->tr0, &pt->plant.params, &pt->sc.traj, &g, pt->sc.period_s, 0.0, &d);
+    st = cdpr_tracker_init(&pt->tr0, &pt->model, &pt->sc.traj, &g, pt->sc.period_s, 0.0, &d);
     if (st != CDPR_OK) {
         snprintf(err->msg, sizeof err->msg, "design: controller: field '%.100s': %s", d.field,
                  cdpr_status_str(st));
@@ -235,6 +250,7 @@ static void operating_filter(cdpr_design_point_t *pt, double *z0)
     memcpy(z0, pt->tr.err_f1, sizeof(double) * 12);
     memcpy(z0 + 12, pt->tr.err_f, sizeof(double) * 12);
     memcpy(z0 + 24, pt->tr.ten_f, sizeof(double) * (size_t)nu_of(pt));
+    memcpy(z0 + 24 + nu_of(pt), pt->tr.integ, sizeof pt->tr.integ);
 }
 
 /* J: the straight-cable length Jacobian at the settled pose (rows u_j, (R b_j) x u_j). */
@@ -272,7 +288,7 @@ cdpr_status_t cdpr_design_linearise(cdpr_design_point_t *pt, cdpr_design_model_t
     const int n = pt->plant.robot.dim;
     const size_t nn = (size_t)n;
     const size_t nu = (size_t)nu_of(pt);
-    const size_t nz = 24u + nu;
+    const size_t nz = 30u + nu;
     const size_t nm = 12u + nu;
     m->n = n;
     m->nu = (int)nu;

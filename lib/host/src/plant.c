@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cdpr/host/clock.h"
@@ -249,6 +250,28 @@ cdpr_status_t cdpr_host_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc,
                                     cdpr_scenario_error_t *err)
 {
     return build(p, sc, 0, NULL, err);
+}
+
+cdpr_status_t cdpr_host_controller_params(const cdpr_scenario_t *sc, cdpr_robot_params_t *model,
+                                          cdpr_scenario_error_t *err)
+{
+    cdpr_scenario_t *scaled = malloc(sizeof *scaled);
+    cdpr_plant_t *p = malloc(sizeof *p);
+    cdpr_status_t st = CDPR_E_CAPACITY;
+    if (scaled == NULL || p == NULL) {
+        cdpr_scenario_error(sc, "controller.model", "out of memory for the controller's model",
+                            err);
+    } else {
+        *scaled = *sc;
+        cdpr_rig_scale(&scaled->rig, &sc->controller_model);
+        st = build(p, scaled, 0, NULL, err);
+        if (st == CDPR_OK) {
+            *model = p->params;
+        }
+    }
+    free(p);
+    free(scaled);
+    return st;
 }
 
 cdpr_status_t cdpr_host_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, double *wall_s,

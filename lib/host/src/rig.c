@@ -731,3 +731,32 @@ cdpr_status_t cdpr_rig_load(const char *path, cdpr_rig_t *rig, cdpr_rig_error_t 
     cdpr_yaml_free(&file_schema, data);
     return st;
 }
+
+cdpr_rig_scale_t cdpr_rig_scale_unit(void)
+{
+    const cdpr_rig_scale_t s = {1.0, 1.0, 1.0};
+    return s;
+}
+
+int cdpr_rig_scale_is_unit(const cdpr_rig_scale_t *s)
+{
+    /* Exact comparisons on purpose: "unchanged" means the factors as written, 1. */
+    const int ea = (s->ea >= 1.0 && s->ea <= 1.0) ? 1 : 0;
+    const int cabin = (s->cabin_mass >= 1.0 && s->cabin_mass <= 1.0) ? 1 : 0;
+    const int rope = (s->rope_mass >= 1.0 && s->rope_mass <= 1.0) ? 1 : 0;
+    return ea & cabin & rope;
+}
+
+void cdpr_rig_scale(cdpr_rig_t *rig, const cdpr_rig_scale_t *s)
+{
+    for (int j = 0; j < rig->n_cables; ++j) {
+        rig->cable[j].rope.ea_N *= s->ea;
+        rig->cable[j].rope.rho_kg_per_m *= s->rope_mass;
+    }
+    rig->cabin_mass_kg *= s->cabin_mass;
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+            rig->cabin_inertia_kg_m2[r][c] *= s->cabin_mass;
+        }
+    }
+}

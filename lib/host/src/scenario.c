@@ -20,6 +20,7 @@
 /* Defaults of the learning keys (docs/scenarios.md; used only with learning_gain > 0). */
 #define CDPR_SCENARIO_LEARNING_CUTOFF_HZ 1.0
 #define CDPR_SCENARIO_LEARNING_LIMIT_M   0.5
+#define CDPR_SCENARIO_INTEGRAL_LIMIT_M   0.05
 
 /* ---------------------------------------------------------------- raw (file) structs */
 
@@ -69,6 +70,12 @@ typedef struct {
 } raw_traj_t;
 
 typedef struct {
+    double *ea_scale; /* controller.model: the controller's model error (issue 22 item 4) */
+    double *cabin_mass_scale;
+    double *rope_mass_scale;
+} raw_model_t;
+
+typedef struct {
     double *period_s; /* not a controller key any more: reported as moved to run.period_s */
     double kp;
     double *kd_s;
@@ -87,6 +94,9 @@ typedef struct {
     double *learning_cutoff_hz;
     double *learning_limit_m;
     double *learning_settle_laps; /* whole number, see segments */
+    double *integral_per_s;       /* issue 22 item 3: integral action */
+    double *integral_limit_m;
+    raw_model_t *model;
 } raw_controller_t;
 
 typedef struct raw_integrator {
@@ -226,6 +236,12 @@ static const cyaml_schema_field_t traj_fields[] = {
     CYAML_FIELD_MAPPING_PTR("cyclic", OPT, raw_traj_t, cyclic, cyclic_fields),
     CYAML_FIELD_END,
 };
+static const cyaml_schema_field_t model_fields[] = {
+    OPT_NUMP("ea_scale", raw_model_t, ea_scale),
+    OPT_NUMP("cabin_mass_scale", raw_model_t, cabin_mass_scale),
+    OPT_NUMP("rope_mass_scale", raw_model_t, rope_mass_scale),
+    CYAML_FIELD_END,
+};
 static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("period_s", raw_controller_t, period_s),
     CYAML_FIELD_FLOAT("kp", REQ_NUM, raw_controller_t, kp),
@@ -245,6 +261,9 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("learning_cutoff_hz", raw_controller_t, learning_cutoff_hz),
     OPT_NUMP("learning_limit_m", raw_controller_t, learning_limit_m),
     OPT_NUMP("learning_settle_laps", raw_controller_t, learning_settle_laps),
+    OPT_NUMP("integral_per_s", raw_controller_t, integral_per_s),
+    OPT_NUMP("integral_limit_m", raw_controller_t, integral_limit_m),
+    CYAML_FIELD_MAPPING_PTR("model", OPT, raw_controller_t, model, model_fields),
     CYAML_FIELD_END,
 };
 static const cyaml_strval_t method_names[] = {
@@ -363,6 +382,8 @@ static void defaults_common(cdpr_scenario_t *sc)
     sc->gains.learning_cutoff_hz = CDPR_SCENARIO_LEARNING_CUTOFF_HZ; /* used only when on */
     sc->gains.learning_limit_m = CDPR_SCENARIO_LEARNING_LIMIT_M;
     sc->gains.learning_settle_laps = 1;
+    sc->gains.integral_limit_m = CDPR_SCENARIO_INTEGRAL_LIMIT_M; /* used only when on */
+    sc->controller_model = cdpr_rig_scale_unit();
     sc->integrator.rtol = 1e-6;
     sc->integrator.atol_position_m = 1e-6;
     sc->integrator.atol_velocity_m_per_s = 1e-5;
@@ -487,6 +508,14 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.learning_limit_m, r->controller.learning_limit_m, 1);
     if (r->controller.learning_settle_laps != NULL) {
         sc->gains.learning_settle_laps = (long)*r->controller.learning_settle_laps; /* whole */
+    }
+    take(&sc->gains.integral_per_s, r->controller.integral_per_s, 1); /* default 0: off */
+    take(&sc->gains.integral_limit_m, r->controller.integral_limit_m, 1);
+    if (r->controller.model != NULL) {
+        const raw_model_t *md = r->controller.model;
+        take(&sc->controller_model.ea, md->ea_scale, 1);
+        take(&sc->controller_model.cabin_mass, md->cabin_mass_scale, 1);
+        take(&sc->controller_model.rope_mass, md->rope_mass_scale, 1);
     }
     if (r->integrator != NULL) {
         const raw_integrator_t *in = r->integrator;
@@ -1159,6 +1188,14 @@ static void check_run(vctx_t *vp)
           0.0, 1.0, 0);
     range(&v, "controller.tension_filter_s", &sc->gains.tension_filter_s, 1, 0.0, 1e3, 0);
     check_learning(&v);
+    range(&v, "controller.integral_per_s", &sc->gains.integral_per_s, 1, 0.0, 1e3, 0);
+    range(&v, "controller.integral_limit_m", &sc->gains.integral_limit_m, 1, 0.0, 10.0, 1);
+    const cdpr_rig_scale_t *md = &sc->controller_model;
+    range(&v, "controller.model.ea_scale", &md->ea, 1, CDPR_RIG_SCALE_MIN, CDPR_RIG_SCALE_MAX, 0);
+    range(&v, "controller.model.cabin_mass_scale", &md->cabin_mass, 1, CDPR_RIG_SCALE_MIN,
+          CDPR_RIG_SCALE_MAX, 0);
+    range(&v, "controller.model.rope_mass_scale", &md->rope_mass, 1, CDPR_RIG_SCALE_MIN,
+          CDPR_RIG_SCALE_MAX, 0);
     check_integrator(&v, &sc->integrator);
     range(&v, "run.duration_s", &sc->duration_s, 1, 0.0, 1e6, 1);
     range(&v, "run.period_s", &sc->period_s, 1, 0.0, 10.0, 1);

@@ -126,12 +126,17 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
     if (ps != CDPR_OK) {
         return ps;
     }
-    /* The controller, with its own model built from the same values. */
+    /* The controller, with its own model: the robot with controller.model's factors. */
+    cdpr_robot_params_t model;
+    const cdpr_status_t ms = cdpr_host_controller_params(sc, &model, err);
+    if (ms != CDPR_OK) {
+        return ms;
+    }
     cdpr_diag_t d;
     cdpr_tracker_gains_t g = sc->gains;
     g.wind_m_per_s = s->plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
     const cdpr_status_t st =
-        cdpr_tracker_init(&s->tracker, &s->plant.params, &sc->traj, &g, sc->period_s, 0.0, &d);
+        cdpr_tracker_init(&s->tracker, &model, &sc->traj, &g, sc->period_s, 0.0, &d);
     if (st != CDPR_OK) {
         char what[512];
         snprintf(what, sizeof what, "controller: field '%s': %s", d.field, cdpr_status_str(st));

@@ -66,12 +66,15 @@ CDPR_PY_EXPORT cdpr_py_t *cdpr_py_open(const char *scenario, int *status, char *
     if (st == CDPR_OK) {
         st = cdpr_host_plant_init(&h->plant, &h->sc, NULL, &err);
     }
+    cdpr_robot_params_t model;
+    if (st == CDPR_OK) {
+        st = cdpr_host_controller_params(&h->sc, &model, &err);
+    }
     if (st == CDPR_OK) {
         cdpr_tracker_gains_t g = h->sc.gains;
         g.wind_m_per_s = h->plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
         cdpr_diag_t d;
-        st = cdpr_tracker_init(&h->tracker, &h->plant.params, &h->sc.traj, &g, h->sc.period_s, 0.0,
-                               &d);
+        st = cdpr_tracker_init(&h->tracker, &model, &h->sc.traj, &g, h->sc.period_s, 0.0, &d);
         if (st != CDPR_OK) {
             snprintf(err.msg, sizeof err.msg, "%s: controller: field '%s': %s", scenario, d.field,
                      cdpr_status_str(st));

@@ -27,6 +27,16 @@
 ///     the loop away from the lightly damped fast axial cable/cabin modes (8-10 Hz for the
 ///     50 m model): unfiltered, kp = 1 with k_L = 5 1/s makes them grow
 ///     (docs/validation.md §8).
+///  2d. integral action (optional, integral_per_s = k_I > 0): the unfiltered pose error is
+///     summed over the periods, I ← I + e Δt_c (e = (e_p, e_θ) of this period), each
+///     component of k_I I clamped to ±integral_limit_m (by clamping I; a period with any
+///     clamp counts in `integral_saturations`), and mapped like kp's term:
+///       δL_j += -k_I (u_j·I_p + ((R b_j) x u_j)·I_θ)
+///     It removes a steady pose error that the feed-forward leaves (a model error: the cabin
+///     heavier or the ropes stiffer than the controller's model believes, the discrete
+///     chain's offset from the catenary IK): on a quasi-static robot the error decays as
+///     e^(-k_I t) (the length loop's k_L much faster than k_I). I starts at 0 at every
+///     cdpr_tracker_init (a plant restart over LCM starts it again).
 ///  3. wrench-space damping (optional, damping_N_s_per_m / damping_rot_N_m_s > 0): the
 ///     cables are asked for an extra force c ė_p and torque c_r ė_θ (the filtered rates
 ///     above, world axes; about the CoM) on top of the feed-forward load: a second
@@ -151,6 +161,10 @@ typedef struct {
     long learning_settle_laps;      ///< whole laps after the transfer before recording (>= 0)
     cdpr_real_t transfer_from_rest; ///< 1: the transfer starts the trajectory's clock at rest and
                                     ///< takes over the measured velocity (cdpr_transfer_t); 0: off
+    cdpr_real_t integral_per_s;     ///< integral action k_I on the pose error [1/s] (>= 0; 0 = off;
+                                    ///< step 2d)
+    cdpr_real_t integral_limit_m;   ///< bound of each component of k_I ∫e [m, rad] (> 0 when
+                                    ///< integral_per_s > 0)
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,
@@ -212,6 +226,9 @@ typedef struct {
     unsigned long learning_updates;     ///< laps learned (updates of c) (output)
     unsigned long learning_saturations; ///< knot values clamped to ±learning_limit_m
                                         ///< (summed over updates and cables) (output)
+    /* integral action (step 2d) */
+    cdpr_real_t integ[6];               ///< ∫e_p dt [m s], ∫e_θ dt [rad s], world (internal)
+    unsigned long integral_saturations; ///< periods with a component of k_I ∫e clamped (output)
 } cdpr_tracker_t;
 
 /// Validate and initialise for control period `period_s` (> 0): builds the model from
@@ -264,9 +281,10 @@ cdpr_status_t cdpr_tracker_set_wind(cdpr_tracker_t *tr, cdpr_vec3_t wind_m_per_s
 void cdpr_tracker_reference(const cdpr_tracker_t *tr, cdpr_real_t t_s, cdpr_traj_sample_t *out);
 
 /// 1 when the gains close a loop around the feed-forward (pose feedback kp or kd_s, wrench
-/// damping, winch tension feedback, or learning over laps: any of kp, kd_s, damping_N_s_per_m,
-/// damping_rot_N_m_s, tension_gain_m_per_s_per_N, learning_gain > 0), else 0 (feed-forward
-/// only: the length loop k_L alone). What the design check of such a controller analyses.
+/// damping, winch tension feedback, learning over laps or integral action: any of kp, kd_s,
+/// damping_N_s_per_m, damping_rot_N_m_s, tension_gain_m_per_s_per_N, learning_gain,
+/// integral_per_s > 0), else 0 (feed-forward only: the length loop k_L alone). What the design
+/// check of such a controller analyses.
 int cdpr_tracker_has_feedback(const cdpr_tracker_gains_t *g);
 
 /// Straight-cable length Jacobian row of cable j at motion m: dL_j = -(u·dp + g·dθ) with

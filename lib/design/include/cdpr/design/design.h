@@ -23,10 +23,10 @@
 #include "cdpr/control/tracker.h"
 
 /// Sizes of the model of a robot of m cables (cdpr_design_model_t.nu, .nz, .nm): m rate commands
-/// (payout rates), 24 + m filter states of the tracker (err_f1, err_f: 12 each; ten_f: one per
-/// cable), 12 + m linearised outputs (p, θ, v, ω, the m lengths). The most a build holds:
+/// (payout rates), 30 + m states of the tracker (err_f1, err_f: 12 each; ten_f: one per cable;
+/// integ: 6), 12 + m linearised outputs (p, θ, v, ω, the m lengths). The most a build holds:
 #define CDPR_DESIGN_NU_MAX        CDPR_MAX_CABLES
-#define CDPR_DESIGN_NZ_MAX        (24 + CDPR_MAX_CABLES)
+#define CDPR_DESIGN_NZ_MAX        (30 + CDPR_MAX_CABLES)
 #define CDPR_DESIGN_NM_MAX        (12 + CDPR_MAX_CABLES)
 #define CDPR_DESIGN_GOAL_GM_DB    6.0  ///< goal: loop-at-a-time gain margin [dB]
 #define CDPR_DESIGN_GOAL_PM_DEG   30.0 ///< goal: loop-at-a-time phase margin [deg]
@@ -41,20 +41,23 @@ typedef struct {
 /// The operating point: the scenario with its trajectory replaced by a hold at the
 /// trajectory's pose, the plant settled there and the controller built to hold it.
 typedef struct {
-    cdpr_scenario_t sc; ///< the scenario as held (trajectory: hold; no transfer)
-    cdpr_plant_t plant; ///< settled at the held pose
-    cdpr_tracker_t tr0; ///< the tracker holding it, before its first step
-    cdpr_tracker_t tr;  ///< scratch copy (internal)
-    double pose[6];     ///< the held pose (x, y, z, roll, pitch, yaw as the trajectory's)
-    double lap_s;       ///< lap of the scenario's own trajectory (0: not periodic)
-    double learn_knots; ///< the tracker's knots for that lap
+    cdpr_scenario_t sc; ///< the scenario as held (trajectory: hold; no transfer), its robot
+                        ///< the plant's (scaled by plant_scale)
+    cdpr_rig_scale_t plant_scale; ///< the plant's variation from the scenario's robot
+    cdpr_robot_params_t model;    ///< the controller's model (cdpr_host_controller_params)
+    cdpr_plant_t plant;           ///< settled at the held pose
+    cdpr_tracker_t tr0;           ///< the tracker holding it, before its first step
+    cdpr_tracker_t tr;            ///< scratch copy (internal)
+    double pose[6];               ///< the held pose (x, y, z, roll, pitch, yaw as the trajectory's)
+    double lap_s;                 ///< lap of the scenario's own trajectory (0: not periodic)
+    double learn_knots;           ///< the tracker's knots for that lap
 } cdpr_design_point_t;
 
 /// The linear model (row-major doubles, as cdpr-design's .bin files; see apps/cdpr-design).
 typedef struct {
     int n;           ///< plant states
     int nu;          ///< rate commands: the robot's cables m (1..CDPR_DESIGN_NU_MAX)
-    int nz;          ///< filter states: 24 + nu
+    int nz;          ///< the tracker's states: 30 + nu
     int nm;          ///< outputs: 12 + nu
     double period_s; ///< control period T
     double *A;       ///< n x n    ∂f/∂y of cdpr_robot_rhs
@@ -109,10 +112,14 @@ typedef struct {
 } cdpr_design_report_t;
 
 /// Settle scenario `sc` at its trajectory's pose at `at_s` (NaN: where it stops, or its start
-/// when it never stops) held, and build the controller holding it. Allocates *pt (free with
+/// when it never stops) held, and build the controller holding it. The plant is the scenario's
+/// robot scaled by `plant` (NULL: as written; the robustness set's variations); the
+/// controller's model is the robot scaled by the scenario's own controller.model, whatever
+/// `plant` says (a controller that does not know the variation). Allocates *pt (free with
 /// cdpr_design_point_free). CDPR_OK, or the status of the plant / tracker init (err: why).
 cdpr_status_t cdpr_design_point_new(const cdpr_scenario_t *sc, double at_s,
-                                    cdpr_design_point_t **pt, cdpr_design_error_t *err);
+                                    const cdpr_rig_scale_t *plant, cdpr_design_point_t **pt,
+                                    cdpr_design_error_t *err);
 void cdpr_design_point_free(cdpr_design_point_t *pt);
 
 /// The 12 + m outputs (p, rotation vector of q q0^-1, v, ω world, the m measured lengths) of
@@ -135,14 +142,68 @@ cdpr_status_t cdpr_design_discretise(const cdpr_design_model_t *m, double *Phi, 
 cdpr_status_t cdpr_design_analyse(const cdpr_design_model_t *m, int learn, cdpr_design_report_t *r,
                                   cdpr_design_error_t *err);
 
+/// The robustness set (docs/validation.md §8, "The robustness set"): the loop linearised with
+/// the trajectory's pose held at its start, middle and end (poses that coincide, as a hold's,
+/// count once), each with the plant as the scenario gives it and with one of EA, cabin mass
+/// (with its inertia) and rope mass CDPR_DESIGN_ROBUST_STEP higher and lower; the
+/// controller's model is the scenario's (controller.model) in every case.
+#define CDPR_DESIGN_ROBUST_POSES    3
+#define CDPR_DESIGN_ROBUST_VARIANTS 7
+#define CDPR_DESIGN_ROBUST_CASES    (CDPR_DESIGN_ROBUST_POSES * CDPR_DESIGN_ROBUST_VARIANTS)
+#define CDPR_DESIGN_ROBUST_STEP     0.2 ///< the plant variation: ±20 %
+
+/// One case of the set and its analysis (a cdpr_design_report_t's summary).
+typedef struct {
+    char name[96];          ///< e.g. "middle (t = 5 s), cabin mass +20 %"
+    double at_s;            ///< the held pose's trajectory time [s]
+    cdpr_rig_scale_t plant; ///< the plant's factors
+    double growth_per_s;    ///< as cdpr_design_report_t
+    double growth_hz;
+    int grows;
+    int active;
+    double gm_min_db;
+    double pm_min_deg;
+    double alpha;
+    int learning;
+    double max_rho;
+    int worst_harmonic;
+    int first_diverging;
+} cdpr_design_case_t;
+
+/// The set's results.
+typedef struct {
+    int n_cases;                                    ///< cases analysed
+    cdpr_design_case_t c[CDPR_DESIGN_ROBUST_CASES]; ///< in order: pose, then variation
+    int refused;     ///< first case that grows or whose learning diverges (-1: none)
+    int n_grow;      ///< cases whose closed loop grows
+    int n_diverge;   ///< cases whose learning has ρ >= 1 at a lap harmonic
+    int worst_gm;    ///< case of the smallest gain margin (-1: no active loop)
+    int worst_pm;    ///< case of the smallest phase margin
+    int worst_alpha; ///< case of the smallest α
+    int worst_rho;   ///< case of the largest ρ (-1: no learning)
+} cdpr_design_robust_t;
+
+/// The held poses' times of the set for `sc`: 0, the middle and the end of its trajectory
+/// (where it stops; run.duration_s for one that never stops). Returns how many distinct
+/// poses (1..3) went into t.
+int cdpr_design_robust_times(const cdpr_scenario_t *sc, double t[CDPR_DESIGN_ROBUST_POSES]);
+
+/// Linearise and analyse the cases of the set in order (pose, then variation): all of them, or
+/// with `stop_at_refusal` != 0 up to the first that grows or whose learning diverges (out->
+/// n_cases then counts the cases analysed). CDPR_OK, or the status of the first case that
+/// could not be built or analysed (err names it).
+cdpr_status_t cdpr_design_robust(const cdpr_scenario_t *sc, int stop_at_refusal,
+                                 cdpr_design_robust_t *out, cdpr_design_error_t *err);
+
 /// The check at load: when sc's controller has feedback or learning (cdpr_tracker_has_feedback),
-/// linearise it at the pose cdpr-design uses by default and analyse it. Returns CDPR_OK when
-/// accepted (*warn set when below the goal margins: err->msg says which), CDPR_E_OUT_OF_RANGE
-/// when refused (the closed loop grows, or ρ(M) >= 1 at a lap harmonic; err->msg names the
-/// keys and the margin, prefixed by `path`), another status when the check itself failed. No
-/// feedback: CDPR_OK at once (*checked 0). `r` (may be NULL) receives the report.
+/// run the robustness set (cdpr_design_robust), stopping at the first refused case. Returns
+/// CDPR_OK when accepted (*warn set when a case is below the goal margins: err->msg names the
+/// cases and the margins), CDPR_E_OUT_OF_RANGE when refused (a case's closed loop grows, or
+/// its ρ(M) >= 1 at a lap harmonic; err->msg names the keys, the case and the margin, prefixed
+/// by `path`), another status when the check itself failed. No feedback: CDPR_OK at once
+/// (*checked 0). `robust` (may be NULL) receives the set's results (the cases analysed).
 cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *path, int *checked,
-                                         int *warn, cdpr_design_report_t *r,
+                                         int *warn, cdpr_design_robust_t *robust,
                                          cdpr_design_error_t *err);
 
 #endif /* CDPR_DESIGN_DESIGN_H */

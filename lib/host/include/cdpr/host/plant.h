@@ -39,6 +39,15 @@ cdpr_status_t cdpr_host_plant_init(cdpr_plant_t *p, const cdpr_scenario_t *sc, d
 cdpr_status_t cdpr_host_plant_model(cdpr_plant_t *p, const cdpr_scenario_t *sc,
                                     cdpr_scenario_error_t *err);
 
+/// The controller's own model of scenario `sc`: the robot scaled by sc->controller_model
+/// (cdpr_rig_scale; the scenario's controller.model), built as cdpr_host_plant_model builds
+/// the plant's (the initial pose's IK lengths), its parameters into *model -- what
+/// cdpr_tracker_init takes. With factors 1 it equals cdpr_host_plant_model's p->params. The
+/// plant never sees the factors. Host only: allocates a plant for the build and frees it.
+/// Errors as cdpr_host_plant_model (the scaled robot's), CDPR_E_CAPACITY without memory.
+cdpr_status_t cdpr_host_controller_params(const cdpr_scenario_t *sc, cdpr_robot_params_t *model,
+                                          cdpr_scenario_error_t *err);
+
 /// The world positions of cable j's nodes (0: the cabin attachment, 1..n-1 the free nodes, n:
 /// the exit point; n the cable's segments now) at the plant's current state, into xyz[3 k + i]
 /// for k = 0..n. Returns the node count n + 1, or -1 (nothing written) for a cable outside the

@@ -99,4 +99,29 @@ cdpr_status_t cdpr_rig_inertia_plausible(const double I[3][3], char *what, size_
 /// Principal moments of a symmetric 3x3 matrix, ascending (closed form). O(1).
 void cdpr_rig_principal_moments(const double m[3][3], double eig[3]);
 
+/// Factors on a rig's mass and stiffness (inputs): the model error between a controller's
+/// model and the robot (a scenario's controller.model), or the plant variations of the
+/// design check's robustness set. 1 = unchanged.
+typedef struct {
+    double ea;         ///< every rope's axial stiffness EA [-]
+    double cabin_mass; ///< the cabin's mass and inertia (a heavier cabin of the same shape) [-]
+    double rope_mass;  ///< every rope's mass per length [-]
+} cdpr_rig_scale_t;
+
+/// Lowest and highest factor a rig scale may hold (cdpr_rig_scale_check).
+#define CDPR_RIG_SCALE_MIN 0.5
+#define CDPR_RIG_SCALE_MAX 2.0
+
+/// No change: every factor 1.
+cdpr_rig_scale_t cdpr_rig_scale_unit(void);
+
+/// 1 when every factor of `s` is exactly 1.
+int cdpr_rig_scale_is_unit(const cdpr_rig_scale_t *s);
+
+/// Multiply the rig's every rope EA by s->ea and mass per length by s->rope_mass, the cabin's
+/// mass and inertia matrix by s->cabin_mass. A rope's damping keeps its form: a damping ratio
+/// stays the ratio (its c follows EA), a strain-rate damping c stays c. Factors 1 leave the
+/// values bit for bit. O(cables); cannot fail (the factors are checked where they are read).
+void cdpr_rig_scale(cdpr_rig_t *rig, const cdpr_rig_scale_t *s);
+
 #endif /* CDPR_HOST_RIG_H */

@@ -86,16 +86,19 @@ const char *cdpr_wind_profile_name(cdpr_wind_profile_t profile);
 /// A resolved scenario: every default applied, every value checked (plain data, no
 /// pointers; nothing to free).
 typedef struct {
-    char path[512];                        ///< file it came from ("" if built in code)
-    char description[256];                 ///< optional free text
-    cdpr_robot_source_t robot_source;      ///< where the robot came from
-    cdpr_preset_t preset;                  ///< the base preset (robot_source PRESET only)
-    cdpr_rig_t rig;                        ///< the robot: the one host record of it
-    int has_initial_pose;                  ///< 1 if initial.pose was given
-    double initial_pose[6];                ///< initial.pose (else the trajectory at t = 0)
-    double initial_offset[6];              ///< added to the initial pose (m, rad)
-    cdpr_traj_t traj;                      ///< desired trajectory
-    cdpr_tracker_gains_t gains;            ///< controller gains
+    char path[512];                   ///< file it came from ("" if built in code)
+    char description[256];            ///< optional free text
+    cdpr_robot_source_t robot_source; ///< where the robot came from
+    cdpr_preset_t preset;             ///< the base preset (robot_source PRESET only)
+    cdpr_rig_t rig;                   ///< the robot: the one host record of it
+    int has_initial_pose;             ///< 1 if initial.pose was given
+    double initial_pose[6];           ///< initial.pose (else the trajectory at t = 0)
+    double initial_offset[6];         ///< added to the initial pose (m, rad)
+    cdpr_traj_t traj;                 ///< desired trajectory
+    cdpr_tracker_gains_t gains;       ///< controller gains
+    /// The controller's own model (controller.model): the robot with these factors (default
+    /// 1: the controller knows the robot exactly). The plant is always the robot as written.
+    cdpr_rig_scale_t controller_model;
     cdpr_scenario_integrator_t integrator; ///< integrator settings and work bound in use: those
                                            ///< of integrator.method (integrator_for[method])
     /// The settings each method gets, indexed by cdpr_plant_integrator_t: the section's own
