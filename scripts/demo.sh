@@ -74,7 +74,8 @@ if [[ $multicast -eq 1 ]]; then
     echo "two processes over $url; lcm-logger records to $out/circle.lcmlog"
     # Start the plant only once the tracker listens, so that it sees state 0. (The
     # controller's design is checked by the tests' design_gate_paper-circle-laps, not here:
-    # cdpr-design scenarios/paper-circle-laps.yaml --verdict, ~12 s.)
+    # cdpr-design scenarios/paper-circle-laps.yaml --verdict, its 21-case robustness set,
+    # ~25 s.)
     "$bin/cdpr-tracker" "$scenario" --rate 1000 --integrator ros34pw2-fixed --lcm-url "$url" --out "$out" \
         2> >(tee "$out/tracker.stderr" >&2) &
     tracker=$!
