@@ -6,14 +6,15 @@
 /// The scenario's robot is settled at the trajectory's pose at time T (default: the time the
 /// trajectory stops, or 0) and the scenario's controller is built to hold that pose. Written
 /// to OUT (raw little-endian doubles, row-major, dimensions in OUT/meta.txt; m = the robot's
-/// cables, nu = m, nz = 30 + m, nm = 12 + m):
+/// cables, nu = m, nz = 33 + 3 m, nm = 12 + m):
 ///   A.bin  n x n   ∂f/∂y of cdpr_robot_rhs at the settled state (central differences)
 ///   B.bin  n x m   ∂f/∂u for the m payout rates
 ///   Kx.bin m x n, Kz.bin m x nz, Zx.bin nz x n, Zz.bin nz x nz: one cdpr_tracker_step
 ///          linearised (central differences of the real step on copies of the tracker):
 ///          u_k = Kx x_k + Kz z_k, z_{k+1} = Zx x_k + Zz z_k, with x the plant state at t_k
 ///          (measured by cdpr_plant_measure) and z the nz states of the tracker (err_f1,
-///          err_f, ten_f, integ)
+///          err_f, ten_f, integ, mass_est_kg, l_ff_m, t_ff_N, the weight residual's
+///          two filter stages)
 ///   Ku.bin m x m, Zu.bin nz x m: the same step's dependence on the payout rates in force
 ///          at t_k (the previous period's command: the measured winch-end tensions carry
 ///          the rope's damping of the payout), u_k += Ku u_{k-1}, z_{k+1} += Zu u_{k-1}

@@ -14,7 +14,8 @@ int cdpr_tracker_has_feedback(const cdpr_tracker_gains_t *g)
     const cdpr_real_t zero = CDPR_R(0.0);
     return ((g->kp > zero) || (g->kd_s > zero) || (g->damping_N_s_per_m > zero) ||
             (g->damping_rot_N_m_s > zero) || (g->tension_gain_m_per_s_per_N > zero) ||
-            (g->learning_gain > zero) || (g->integral_per_s > zero))
+            (g->learning_gain > zero) || (g->integral_per_s > zero) ||
+            (g->weight_estimate_s > zero))
                ? 1
                : 0;
 }
@@ -88,6 +89,10 @@ static cdpr_status_t check_integral(const cdpr_tracker_gains_t *g, cdpr_diag_t *
         st = cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "integral_limit_m", -1);
     } else if (g->integral_per_s < CDPR_R(0.0)) {
         st = cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "integral_per_s", -1);
+    } else if (!isfinite(g->weight_estimate_s)) {
+        st = cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "weight_estimate_s", -1);
+    } else if (g->weight_estimate_s < CDPR_R(0.0)) {
+        st = cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "weight_estimate_s", -1);
     } else if ((g->integral_limit_m < CDPR_R(0.0)) ||
                ((g->integral_per_s > CDPR_R(0.0)) && !(g->integral_limit_m > CDPR_R(0.0)))) {
         st = cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "integral_limit_m", -1);
@@ -200,6 +205,14 @@ static void load_at(const cdpr_tracker_t *tr, cdpr_real_t t, cdpr_vec3_t f_add, 
         cdpr_tracker_inertial_wrench(&tr->model, d, f, tau);
         *f = cdpr_v3_scale(*f, tr->g.inertial_ff);
         *tau = cdpr_v3_scale(*tau, tr->g.inertial_ff);
+    }
+    if (tr->g.weight_estimate_s > CDPR_R(0.0)) {
+        /* Step 1c: a heavier cabin of the model's shape: its d'Alembert load scaled, its extra
+         * weight at the CoM. */
+        const cdpr_real_t k = CDPR_R(1.0) + (tr->mass_est_kg / tr->model.p.cabin.mass_kg);
+        *f = cdpr_v3_scale(*f, k);
+        *tau = cdpr_v3_scale(*tau, k);
+        f->z -= tr->mass_est_kg * tr->model.p.g_m_per_s2;
     }
     if (tr->g.wind_ff > CDPR_R(0.0)) {
         cdpr_vec3_t fw;
@@ -482,7 +495,10 @@ static int meas_finite(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
                      ? 1
                      : 0;
     /* the tensions are read only with tension feedback on */
-    const int tensions = (tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0)) ? 1 : 0;
+    const int tensions = ((tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0)) ||
+                          (tr->g.weight_estimate_s > CDPR_R(0.0)))
+                             ? 1
+                             : 0;
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
         if (!isfinite(m->length_m[j]) || (tensions != 0 && !isfinite(m->tension_winch_N[j]))) {
             finite = 0;
@@ -581,6 +597,44 @@ static void integrate_errors(cdpr_tracker_t *tr, const cdpr_real_t raw[12], cdpr
         if (clamped != 0) {
             tr->integral_saturations++;
         }
+    }
+}
+
+/* Step 1c: the weight estimate from the winch tensions at t against the feed-forward's at t
+ * (before this period's feed-forward, which then carries it). Only with τ_W > 0. */
+static void estimate_weight(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, cdpr_real_t dt)
+{
+    const cdpr_real_t tau = tr->g.weight_estimate_s;
+    if (tau > CDPR_R(0.0)) {
+        cdpr_real_t fz = CDPR_R(0.0);
+        for (int j = 0; j < tr->model.p.n_cables; ++j) {
+            cdpr_vec3_t u;
+            cdpr_vec3_t gj;
+            cdpr_tracker_jacobian(&tr->model, j, &m->cabin, &u, &gj);
+            fz += (m->tension_winch_N[j] - tr->t_ff_N[j]) * u.z;
+        }
+        const cdpr_real_t r = fz / tr->model.p.g_m_per_s2;
+        if (tr->filter_primed == 0) {
+            tr->mass_res_f1 = r;
+            tr->mass_res_f = r;
+        } else {
+            const cdpr_real_t a =
+                CDPR_R(1.0) - CDPR_EXP(-(dt * CDPR_TRACKER_WEIGHT_FILTER_RATIO) / tau);
+            tr->mass_res_f1 += a * (r - tr->mass_res_f1);
+            tr->mass_res_f += a * (tr->mass_res_f1 - tr->mass_res_f);
+        }
+        const cdpr_real_t bound = CDPR_TRACKER_WEIGHT_LIMIT * tr->model.p.cabin.mass_kg;
+        cdpr_real_t v = tr->mass_est_kg + ((dt / tau) * tr->mass_res_f);
+        if (v > bound) {
+            v = bound;
+            tr->weight_saturations++;
+        } else if (v < -bound) {
+            v = -bound;
+            tr->weight_saturations++;
+        } else {
+            /* within the bound */
+        }
+        tr->mass_est_kg = v;
     }
 }
 
@@ -697,6 +751,7 @@ cdpr_status_t cdpr_tracker_step(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
         learn_first_step(tr, t);
     }
     start_transfer(tr, m);
+    estimate_weight(tr, m, dt);
     feedforward_step(tr, t, dt, l_next, t_next, cmd);
     cdpr_real_t raw[12];
     pose_error(tr, m, t, cmd, raw);

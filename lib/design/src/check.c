@@ -36,6 +36,7 @@ static void feedback_keys(const cdpr_tracker_gains_t *g, char *buf, size_t len)
         key(buf, len, "filter_s", g->filter_s, 1);
     }
     key(buf, len, "integral_per_s", g->integral_per_s, 0);
+    key(buf, len, "weight_estimate_s", g->weight_estimate_s, 0);
     key(buf, len, "tension_gain_m_per_s_per_N", g->tension_gain_m_per_s_per_N, 0);
     if (g->tension_gain_m_per_s_per_N > 0.0) {
         key(buf, len, "tension_filter_s", g->tension_filter_s, 1);

@@ -52,9 +52,40 @@ void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR
     }
 }
 
+/* The tracker's states z of the linear model (nz = 33 + 3 nu), in this order: err_f1 (12),
+ * err_f (12), ten_f (nu), integ (6), mass_est_kg, l_ff_m (nu), t_ff_N (nu), mass_res_f1,
+ * mass_res_f. */
+static void z_of_tracker(const cdpr_tracker_t *tr, int nu, double *z)
+{
+    const size_t m = (size_t)nu;
+    memcpy(z, tr->err_f1, sizeof(double) * 12);
+    memcpy(z + 12, tr->err_f, sizeof(double) * 12);
+    memcpy(z + 24, tr->ten_f, sizeof(double) * m);
+    memcpy(z + 24 + m, tr->integ, sizeof tr->integ);
+    z[30 + m] = tr->mass_est_kg;
+    memcpy(z + 31 + m, tr->l_ff_m, sizeof(double) * m);
+    memcpy(z + 31 + 2 * m, tr->t_ff_N, sizeof(double) * m);
+    z[31 + 3 * m] = tr->mass_res_f1;
+    z[32 + 3 * m] = tr->mass_res_f;
+}
+
+static void z_to_tracker(const double *z, int nu, cdpr_tracker_t *tr)
+{
+    const size_t m = (size_t)nu;
+    memcpy(tr->err_f1, z, sizeof(double) * 12);
+    memcpy(tr->err_f, z + 12, sizeof(double) * 12);
+    memcpy(tr->ten_f, z + 24, sizeof(double) * m);
+    memcpy(tr->integ, z + 24 + m, sizeof tr->integ);
+    tr->mass_est_kg = z[30 + m];
+    memcpy(tr->l_ff_m, z + 31 + m, sizeof(double) * m);
+    memcpy(tr->t_ff_N, z + 31 + 2 * m, sizeof(double) * m);
+    tr->mass_res_f1 = z[31 + 3 * m];
+    tr->mass_res_f = z[32 + 3 * m];
+}
+
 /* One tracker step from the held tracker with filter state z at plant state y and payout
  * rates in force up: the m rate commands into u, the new filter state into zn (z: err_f1,
- * err_f, ten_f, integ). */
+ * err_f, ten_f, integ, mass_est_kg, l_ff_m, t_ff_N, mass_res_f1, mass_res_f). */
 static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, const double *up,
                     double *u, double *zn)
 {
@@ -75,18 +106,12 @@ static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, c
     memcpy(pl->y, save, sizeof(double) * (size_t)n);
     m.t_s = pt->tr0.t_next_s;
     pt->tr = pt->tr0;
-    memcpy(pt->tr.err_f1, z, sizeof(double) * 12);
-    memcpy(pt->tr.err_f, z + 12, sizeof(double) * 12);
-    memcpy(pt->tr.ten_f, z + 24, sizeof(double) * (size_t)nu);
-    memcpy(pt->tr.integ, z + 24 + nu, sizeof pt->tr.integ);
+    z_to_tracker(z, nu, &pt->tr);
     pt->tr.filter_primed = 1;
     cdpr_tracker_cmd_t cmd;
     (void)cdpr_tracker_step(&pt->tr, &m, &cmd);
     memcpy(u, cmd.rate_m_per_s, sizeof(double) * (size_t)nu);
-    memcpy(zn, pt->tr.err_f1, sizeof(double) * 12);
-    memcpy(zn + 12, pt->tr.err_f, sizeof(double) * 12);
-    memcpy(zn + 24, pt->tr.ten_f, sizeof(double) * (size_t)nu);
-    memcpy(zn + 24 + nu, pt->tr.integ, sizeof pt->tr.integ);
+    z_of_tracker(&pt->tr, nu, zn);
 }
 
 /* A and B by central differences of cdpr_robot_rhs (payout rates zero at the settled state). */
@@ -127,7 +152,7 @@ static void ctrl_jacobians(cdpr_design_point_t *pt, double *y, const double *z0,
 {
     const int n = pt->plant.robot.dim;
     const int nu = nu_of(pt);
-    const int nz = 30 + nu;
+    const int nz = 33 + 3 * nu;
     const int nm = 12 + nu;
     memcpy(y, pt->plant.y, sizeof(double) * (size_t)n);
     double z[NZ_MAX];
@@ -247,10 +272,7 @@ static void operating_filter(cdpr_design_point_t *pt, double *z0)
     pt->tr.filter_primed = 0;
     cdpr_tracker_cmd_t cmd;
     (void)cdpr_tracker_step(&pt->tr, &m, &cmd);
-    memcpy(z0, pt->tr.err_f1, sizeof(double) * 12);
-    memcpy(z0 + 12, pt->tr.err_f, sizeof(double) * 12);
-    memcpy(z0 + 24, pt->tr.ten_f, sizeof(double) * (size_t)nu_of(pt));
-    memcpy(z0 + 24 + nu_of(pt), pt->tr.integ, sizeof pt->tr.integ);
+    z_of_tracker(&pt->tr, nu_of(pt), z0);
 }
 
 /* J: the straight-cable length Jacobian at the settled pose (rows u_j, (R b_j) x u_j). */
@@ -288,7 +310,7 @@ cdpr_status_t cdpr_design_linearise(cdpr_design_point_t *pt, cdpr_design_model_t
     const int n = pt->plant.robot.dim;
     const size_t nn = (size_t)n;
     const size_t nu = (size_t)nu_of(pt);
-    const size_t nz = 30u + nu;
+    const size_t nz = 33u + 3u * nu;
     const size_t nm = 12u + nu;
     m->n = n;
     m->nu = (int)nu;

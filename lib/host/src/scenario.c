@@ -96,6 +96,7 @@ typedef struct {
     double *learning_settle_laps; /* whole number, see segments */
     double *integral_per_s;       /* issue 22 item 3: integral action */
     double *integral_limit_m;
+    double *weight_estimate_s; /* issue 22 item 3: the cabin's weight from the tensions */
     raw_model_t *model;
 } raw_controller_t;
 
@@ -263,6 +264,7 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("learning_settle_laps", raw_controller_t, learning_settle_laps),
     OPT_NUMP("integral_per_s", raw_controller_t, integral_per_s),
     OPT_NUMP("integral_limit_m", raw_controller_t, integral_limit_m),
+    OPT_NUMP("weight_estimate_s", raw_controller_t, weight_estimate_s),
     CYAML_FIELD_MAPPING_PTR("model", OPT, raw_controller_t, model, model_fields),
     CYAML_FIELD_END,
 };
@@ -511,6 +513,7 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     }
     take(&sc->gains.integral_per_s, r->controller.integral_per_s, 1); /* default 0: off */
     take(&sc->gains.integral_limit_m, r->controller.integral_limit_m, 1);
+    take(&sc->gains.weight_estimate_s, r->controller.weight_estimate_s, 1); /* default 0: off */
     if (r->controller.model != NULL) {
         const raw_model_t *md = r->controller.model;
         take(&sc->controller_model.ea, md->ea_scale, 1);
@@ -1190,6 +1193,7 @@ static void check_run(vctx_t *vp)
     check_learning(&v);
     range(&v, "controller.integral_per_s", &sc->gains.integral_per_s, 1, 0.0, 1e3, 0);
     range(&v, "controller.integral_limit_m", &sc->gains.integral_limit_m, 1, 0.0, 10.0, 1);
+    range(&v, "controller.weight_estimate_s", &sc->gains.weight_estimate_s, 1, 0.0, 1e4, 0);
     const cdpr_rig_scale_t *md = &sc->controller_model;
     range(&v, "controller.model.ea_scale", &md->ea, 1, CDPR_RIG_SCALE_MIN, CDPR_RIG_SCALE_MAX, 0);
     range(&v, "controller.model.cabin_mass_scale", &md->cabin_mass, 1, CDPR_RIG_SCALE_MIN,

@@ -15,6 +15,22 @@
 ///     (unstretched length above CDPR_TRACKER_MAX_LENGTH_PER_CHORD times the chord: statics.h
 ///     explains why the catenary equations have such solutions), the last good L_ff is held
 ///     (u_ff = 0) and `ik_failures` counts it.
+///  1c. the cabin's weight estimated from the winch tensions (optional, weight_estimate_s =
+///     τ_W > 0): the measured winch-end tensions T_j against the feed-forward's T_ff,j(t) give
+///     the vertical force the cables hold beyond what the model expects, through the straight
+///     chords at the measured pose (u_j as in step 2; internal forces cancel in the sum):
+///       r = Σ_j (T_j - T_ff,j) u_j,z / g,   r_f = low-pass(r),
+///       ΔM ← ΔM + (Δt_c / τ_W) r_f,   |ΔM| <= CDPR_TRACKER_WEIGHT_LIMIT M
+///     (M the model's cabin mass; a clamped period counts in `weight_saturations`; the low-pass
+///     two first-order stages of time constant τ_W / CDPR_TRACKER_WEIGHT_FILTER_RATIO, primed
+///     by the first sample: without it the estimate, through L_ff, drives the 8 Hz axial
+///     cabin-cable modes of the 50 m model, which the winch tensions see first). The
+///     feed-forward load of step 1 then carries the estimate: the weight ΔM g at the CoM and
+///     the d'Alembert load scaled by 1 + ΔM/M (a heavier cabin of the model's shape), so T_ff
+///     follows the measured tensions and the residual, hence ΔM, settles where the model's
+///     weight matches the cabin's: at rest the cables carry the true weight whatever their
+///     lengths, so ΔM converges as e^(-t/τ_W) to the mass error, without the pose loop. ΔM
+///     starts at 0 at every cdpr_tracker_init. Cost: O(cables).
 ///  2. feedback on the pose error e_p = p_d - p and e_θ = rotation vector of q_d q^-1 (world
 ///     axes), and on their rates ė_p = v_d - v, ė_θ = ω_d - ω (world), each low-pass filtered
 ///     by two first-order stages of time constant filter_s (exact for a signal held over
@@ -128,6 +144,12 @@
 /// within a few per cent of their chords). 1.5 chords is a sag of about 40 % of the chord.
 #define CDPR_TRACKER_MAX_LENGTH_PER_CHORD CDPR_STATICS_MAX_LENGTH_PER_CHORD
 
+/// Bound of the weight estimate (step 1c): |ΔM| <= this fraction of the model's cabin mass.
+#define CDPR_TRACKER_WEIGHT_LIMIT CDPR_R(0.5)
+
+/// The weight estimate's residual filter (step 1c): time constant τ_W / this.
+#define CDPR_TRACKER_WEIGHT_FILTER_RATIO CDPR_R(10.0)
+
 /// Capacity of the learned correction (step 8): knots per lap and cable. A lap longer than
 /// this many control periods is stored decimated (6.28 s at 100 Hz: 512 knots 12.3 ms apart;
 /// at 1 kHz the same). The learning arrays (correction, lap accumulator, weights) take
@@ -165,6 +187,8 @@ typedef struct {
                                     ///< step 2d)
     cdpr_real_t integral_limit_m;   ///< bound of each component of k_I ∫e [m, rad] (> 0 when
                                     ///< integral_per_s > 0)
+    cdpr_real_t weight_estimate_s;  ///< time constant τ_W of the cabin's weight estimate [s]
+                                    ///< (>= 0; 0 = off; step 1c)
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,
@@ -229,6 +253,11 @@ typedef struct {
     /* integral action (step 2d) */
     cdpr_real_t integ[6];               ///< ∫e_p dt [m s], ∫e_θ dt [rad s], world (internal)
     unsigned long integral_saturations; ///< periods with a component of k_I ∫e clamped (output)
+    /* weight estimate (step 1c) */
+    cdpr_real_t mass_est_kg;          ///< ΔM: the cabin's mass beyond the model's [kg] (output)
+    cdpr_real_t mass_res_f1;          ///< the residual's first filter stage [kg] (internal)
+    cdpr_real_t mass_res_f;           ///< the filtered residual r_f [kg] (internal)
+    unsigned long weight_saturations; ///< periods with ΔM clamped (output)
 } cdpr_tracker_t;
 
 /// Validate and initialise for control period `period_s` (> 0): builds the model from
