@@ -79,8 +79,8 @@ static cdpr_status_t check_learning(const cdpr_tracker_gains_t *g, cdpr_diag_t *
     return CDPR_OK;
 }
 
-/* Step 2d's gains: finite, >= 0, and a bound when on. */
-static cdpr_status_t check_integral(const cdpr_tracker_gains_t *g, cdpr_diag_t *diag)
+/* Steps 2d and 1c: finite, >= 0, and the integral's bound when it is on. */
+static cdpr_status_t check_integral_weight(const cdpr_tracker_gains_t *g, cdpr_diag_t *diag)
 {
     cdpr_status_t st = CDPR_OK;
     if (!isfinite(g->integral_per_s)) {
@@ -143,7 +143,7 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t peri
         }
     }
     const cdpr_status_t st = check_learning(g, diag);
-    return (st != CDPR_OK) ? st : check_integral(g, diag);
+    return (st != CDPR_OK) ? st : check_integral_weight(g, diag);
 }
 
 cdpr_status_t cdpr_tracker_set_wind(cdpr_tracker_t *tr, cdpr_vec3_t wind_m_per_s)
@@ -494,7 +494,7 @@ static int meas_finite(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m)
                   isfinite(m->cabin.q.x) && isfinite(m->cabin.q.y) && isfinite(m->cabin.q.z))
                      ? 1
                      : 0;
-    /* the tensions are read only with tension feedback on */
+    /* the tensions are read only with tension feedback or the weight estimate on */
     const int tensions = ((tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0)) ||
                           (tr->g.weight_estimate_s > CDPR_R(0.0)))
                              ? 1

@@ -310,10 +310,10 @@ cdpr_status_t cdpr_tracker_set_wind(cdpr_tracker_t *tr, cdpr_vec3_t wind_m_per_s
 void cdpr_tracker_reference(const cdpr_tracker_t *tr, cdpr_real_t t_s, cdpr_traj_sample_t *out);
 
 /// 1 when the gains close a loop around the feed-forward (pose feedback kp or kd_s, wrench
-/// damping, winch tension feedback, learning over laps or integral action: any of kp, kd_s,
-/// damping_N_s_per_m, damping_rot_N_m_s, tension_gain_m_per_s_per_N, learning_gain,
-/// integral_per_s > 0), else 0 (feed-forward only: the length loop k_L alone). What the design
-/// check of such a controller analyses.
+/// damping, winch tension feedback, learning over laps, integral action or the weight
+/// estimate: any of kp, kd_s, damping_N_s_per_m, damping_rot_N_m_s, tension_gain_m_per_s_per_N,
+/// learning_gain, integral_per_s, weight_estimate_s > 0), else 0 (feed-forward only: the length
+/// loop k_L alone). What the design check of such a controller analyses.
 int cdpr_tracker_has_feedback(const cdpr_tracker_gains_t *g);
 
 /// Straight-cable length Jacobian row of cable j at motion m: dL_j = -(u·dp + g·dθ) with
