@@ -423,6 +423,22 @@ static void test_closed_loop_holds_the_cabin_at_rest(void)
     TEST_ASSERT_TRUE(b.max_m <= a.initial_m * (1.0 + 1e-9));
 }
 
+/* The hold of run_hold: the circle's start (0, 0, home z), level. */
+static cdpr_traj_t home_hold(void)
+{
+    const double pose[6] = {0.0, 0.0, TEST_HOME_Z_M, 0.0, 0.0, 0.0};
+    return hold_at(pose);
+}
+
+/* The length loop alone (k_L 5 1/s, filter 1 s, full d'Alembert load), nothing else on. */
+static void length_loop_gains(cdpr_tracker_gains_t *g)
+{
+    memset(g, 0, sizeof *g);
+    g->k_length_per_s = 5.0;
+    g->filter_s = 1.0;
+    g->inertial_ff = 1.0;
+}
+
 /* Integral action (step 2d) on the same hold: the discrete chain's O(Δ^2) offset e0 from the
  * catenary IK is a steady model error the feed-forward leaves. With k_I alone the loop's
  * static gain is ~1 (as for kp above) and k_L = 5 1/s is 5x faster than k_I = 1 1/s, so the
@@ -445,13 +461,9 @@ static void test_integral_action_removes_the_steady_error(void)
     /* The bound: k_I I clamped to 1e-4 m per component leaves most of e0 (> 1e-3 m). */
     cdpr_plant_params_t pp;
     test_paper_plant_params(&pp, 8);
-    const double pose[6] = {0.0, 0.0, TEST_HOME_Z_M, 0.0, 0.0, 0.0};
-    const cdpr_traj_t tr = hold_at(pose);
+    const cdpr_traj_t tr = home_hold();
     cdpr_tracker_gains_t g;
-    memset(&g, 0, sizeof g);
-    g.k_length_per_s = 5.0;
-    g.filter_s = 1.0;
-    g.inertial_ff = 1.0;
+    length_loop_gains(&g);
     g.integral_per_s = 1.0;
     g.integral_limit_m = 0.0;
     cdpr_diag_t d;
@@ -497,13 +509,9 @@ static void run_heavy_hold(double heavier, double tau_w, int periods, hold_run_t
             pp.robot.cabin.inertia_com_kg_m2.m[r][c] *= heavier;
         }
     }
-    const double pose[6] = {0.0, 0.0, TEST_HOME_Z_M, 0.0, 0.0, 0.0};
-    const cdpr_traj_t tr = hold_at(pose);
+    const cdpr_traj_t tr = home_hold();
     cdpr_tracker_gains_t g;
-    memset(&g, 0, sizeof g);
-    g.k_length_per_s = 5.0;
-    g.filter_s = 1.0;
-    g.inertial_ff = 1.0;
+    length_loop_gains(&g);
     g.weight_estimate_s = tau_w;
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_plant_init(&plant, &pp, &d), d.field);
