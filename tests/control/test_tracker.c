@@ -481,7 +481,7 @@ static void test_integral_action_removes_the_steady_error(void)
     TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE,
                           cdpr_tracker_init(&tracker, &pp.robot, &tr, &g, PERIOD_S, 0.0, &d));
     TEST_ASSERT_EQUAL_STRING("integral_limit_m", d.field);
-    g.integral_per_s = NAN;
+    g.integral_per_s = (cdpr_real_t)NAN;
     TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE,
                           cdpr_tracker_init(&tracker, &pp.robot, &tr, &g, PERIOD_S, 0.0, &d));
     TEST_ASSERT_EQUAL_STRING("integral_per_s", d.field);
