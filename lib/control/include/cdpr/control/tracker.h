@@ -125,11 +125,12 @@
 ///     it converges where the spectral radius of that matrix is below 1 in Q's band.
 ///     Cost: O(cables) per period; at each lap's end O(cables M) (a few 10 µs for M = 512).
 ///
-/// The controller keeps its own robot model (for the IK), built from the same parameters as
-/// the plant, so it needs nothing from the plant but measurements: the real-time loop moves it
-/// into a separate process unchanged. Memory: caller-owned object, no allocation. Work per
-/// step: one cdpr_statics_ik_dist (bounded iterations), a second one when wrench-space
-/// damping is on, plus O(cables).
+/// The controller keeps its own robot model (for the IK), the `model_params` it is given (the
+/// host apps give it the scenario's robot scaled by controller.model: cdpr_host_controller_params;
+/// exactly the plant's by default), so it needs nothing from the plant but measurements: the
+/// real-time loop moves it into a separate process unchanged. Memory: caller-owned object, no
+/// allocation. Work per step: one cdpr_statics_ik_dist (bounded iterations), a second one when
+/// wrench-space damping is on, plus O(cables).
 #ifndef CDPR_CONTROL_TRACKER_H
 #define CDPR_CONTROL_TRACKER_H
 
