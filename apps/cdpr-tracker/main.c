@@ -34,6 +34,7 @@
 #include "app_cli.h"
 #include "app_run.h"
 #include "app_status.h"
+#include "cdpr/host/correction.h"
 #include "cdpr/host/cli.h"
 #include "cdpr/host/clock.h"
 #include "cdpr/host/plant.h"
@@ -376,6 +377,7 @@ static cdpr_status_t replay_run(const options_t *o)
 
 static cdpr_plant_t g_model;             /* the scenario's robot: IK of the initial pose only */
 static cdpr_robot_params_t g_ctl_params; /* the controller's model (controller.model) */
+static cdpr_host_correction_t g_corr;    /* controller.precompensation (correction.h) */
 static cdpr_rt_tracker_t g_tracker;
 static cdpr_rt_tracker_record_t g_record;
 static cdpr_summary_t g_sum;
@@ -465,6 +467,11 @@ static cdpr_status_t setup(const options_t *o, cdpr_scenario_t *sc)
     }
     cdpr_tracker_gains_t g = sc->gains;
     g.wind_m_per_s = g_model.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
+    st = cdpr_correction_for_scenario(sc, &g_corr, &g.correction, &err);
+    if (st != CDPR_OK) {
+        fprintf(stderr, "cdpr-tracker: %s\n", err.msg);
+        return st;
+    }
     cdpr_diag_t d;
     st = cdpr_rt_tracker_init(&g_tracker, &g_ctl_params, g_model.pp.winch, &sc->traj, &g,
                               sc->period_s, o->prefix, &d);

@@ -128,7 +128,7 @@ static void test_command_law(void)
     const cdpr_traj_t tr = hold_at(pose);
     cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                               0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                              0.0};
+                              0.0, NULL};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     /* Feed-forward lengths computed here independently of the tracker. */
     cdpr_statics_opts_t o;
@@ -219,7 +219,7 @@ static void test_tension_feedback_law(void)
     const double tau = 0.05;
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     kt,  tau, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                                    0.0};
+                                    0.0, NULL};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
@@ -272,7 +272,7 @@ static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
     const cdpr_traj_t tr = test_line(from, to, 1.0);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                                    0.0};
+                                    0.0, NULL};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     int failed_at = -1;
     cdpr_real_t l_before[CDPR_MAX_CABLES] = {0};
@@ -315,7 +315,7 @@ static void test_step_makes_no_heap_allocation(void)
     const cdpr_traj_t tr = test_paper_circle();
     const cdpr_tracker_gains_t g = {0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0,  0.0, 0.0, 0.0, 0.0,  0,    0.0, 0.0, 0.0,
-                                    0.0};
+                                    0.0, NULL};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_alloc_reset();
     for (int k = 0; k < 100; ++k) {
@@ -572,7 +572,7 @@ static void test_redundant_robot_closed_loop_holds_at_rest(void)
     const cdpr_traj_t tr = hold_at(pose);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                                    0.0};
+                                    0.0, NULL};
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT(CDPR_E_CAPACITY,
                           cdpr_tracker_init(&tracker, &pp.robot, &tr, &g, PERIOD_S, 0.0, &d));
@@ -717,7 +717,7 @@ static void test_feedforward_carries_the_centripetal_load(void)
     tr.direction = 1.0;
     cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                               0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                              0.0};
+                              0.0, NULL};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_cabin_motion_t m0 = motion_at(pose);
@@ -756,7 +756,7 @@ static void test_wrench_damping_command(void)
     const cdpr_traj_t tr = hold_at(pose);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 80.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0, 0.0, 0.0, 0.0, 0.0,  0,    0.0, 0.0, 0.0,
-                                    0.0};
+                                    0.0, NULL};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_tracker_meas_t meas;
     memset(&meas, 0, sizeof meas);
@@ -807,11 +807,162 @@ static void test_loop_solutions_are_not_commanded(void)
     const cdpr_traj_t tr = hold_at(pose);
     const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                                    0.0};
+                                    0.0, NULL};
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT(CDPR_E_INFEASIBLE,
                           cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
     TEST_ASSERT_EQUAL_STRING("trajectory", d.field);
+}
+
+/* The cubic B-spline on [0, 4] in closed form (the textbook pieces, written here apart from
+ * the tracker's own evaluation). */
+static double bspline(double x)
+{
+    if (x <= 0.0 || x >= 4.0) {
+        return 0.0;
+    }
+    if (x < 1.0) {
+        return x * x * x / 6.0;
+    }
+    if (x < 2.0) {
+        const double u = x - 1.0;
+        return (1.0 + 3.0 * u + 3.0 * u * u - 3.0 * u * u * u) / 6.0;
+    }
+    if (x < 3.0) {
+        const double u = 3.0 - x;
+        return (1.0 + 3.0 * u + 3.0 * u * u - 3.0 * u * u * u) / 6.0;
+    }
+    const double u = 4.0 - x;
+    return u * u * u / 6.0;
+}
+
+static void test_correction_spline(void)
+{
+    /* One coefficient: the basis function itself, shifted by t_s and scaled by h. */
+    const cdpr_real_t one[1] = {2.5};
+    const cdpr_tracker_correction_t c1 = {
+        1, 1, (cdpr_real_t)0.7, (cdpr_real_t)0.3, (cdpr_real_t)PERIOD_S, one};
+    for (int i = -3; i <= 45; ++i) {
+        const double t = 0.6 + 0.03 * (double)i;
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-15, 2e-6), 2.5 * bspline((t - 0.7) / 0.3),
+                                  cdpr_tracker_correction_at(&c1, 0, (cdpr_real_t)t));
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-15, 2e-6), 2.5 * 2.0 / 3.0,
+                              cdpr_tracker_correction_at(&c1, 0, (cdpr_real_t)1.3));
+    /* Coefficients a_i = 1 + 0.5 i reproduce the line 1 + 0.5 (x - 2), x = (t - t_s) / h,
+     * where four basis functions overlap: [3 h, n h] (cubic B-splines reproduce lines). Per
+     * cable: the second cable's coefficients follow the first's. */
+    enum { N = 12 };
+    cdpr_real_t a[2 * N];
+    for (int i = 0; i < N; ++i) {
+        a[i] = (cdpr_real_t)(1.0 + 0.5 * (double)i);
+        a[N + i] = -3.0;
+    }
+    const cdpr_tracker_correction_t c = {2, N, 0.0, (cdpr_real_t)0.1, (cdpr_real_t)PERIOD_S, a};
+    for (int i = 0; i <= 90; ++i) {
+        const double t = 0.3 + 0.01 * (double)i;
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-13, 1e-5), 1.0 + 0.5 * (t / 0.1 - 2.0),
+                                  cdpr_tracker_correction_at(&c, 0, (cdpr_real_t)t));
+        TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-13, 1e-5), -3.0,
+                                  cdpr_tracker_correction_at(&c, 1, (cdpr_real_t)t));
+    }
+    /* Zero outside the support [t_s, t_s + (n + 3) h]. */
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_tracker_correction_at(&c, 0, (cdpr_real_t)-0.01));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_tracker_correction_at(&c, 0, (cdpr_real_t)1.5));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, cdpr_tracker_correction_at(&c, 0, (cdpr_real_t)2.0));
+}
+
+static void test_correction_joins_the_command(void)
+{
+    /* Hold, no feedback: the rate command with a correction minus the one without is exactly
+     * (c(t + Δ) - c(t)) / Δ + k_L c(t) (step 4c), c from the closed form above. */
+    cdpr_robot_params_t p;
+    model_params(&p);
+    const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
+    const cdpr_traj_t tr = hold_at(pose);
+    enum { N = 20 };
+    static cdpr_real_t a[6 * N];
+    for (int j = 0; j < 6; ++j) {
+        for (int i = 0; i < N; ++i) {
+            a[j * N + i] = (cdpr_real_t)(1e-3 * (double)(j + 1) * sin(0.7 * (double)i + (double)j));
+        }
+    }
+    const cdpr_tracker_correction_t corr = {
+        6, N, (cdpr_real_t)0.05, (cdpr_real_t)0.1, (cdpr_real_t)PERIOD_S, a};
+    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                              0.0, NULL};
+    static cdpr_tracker_t plain;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&plain, &p, &tr, &g, PERIOD_S, 0.0, NULL));
+    g.correction = &corr;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.cabin = motion_at(pose);
+    for (int j = 0; j < 6; ++j) {
+        meas.length_m[j] = plain.l_ff_m[j] + (cdpr_real_t)0.01;
+        meas.tension_winch_N[j] = 100.0;
+    }
+    for (int k = 0; k < 150; ++k) {
+        meas.t_s = (cdpr_real_t)(PERIOD_S * (double)k);
+        cdpr_tracker_cmd_t c0;
+        cdpr_tracker_cmd_t c1;
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&plain, &meas, &c0));
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &meas, &c1));
+        for (int j = 0; j < 6; ++j) {
+            double now = 0.0;
+            double next = 0.0;
+            for (int i = 0; i < N; ++i) {
+                const double t = (double)meas.t_s;
+                now += (double)a[j * N + i] * bspline((t - 0.05) / 0.1 - (double)i);
+                next += (double)a[j * N + i] * bspline((t + PERIOD_S - 0.05) / 0.1 - (double)i);
+            }
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-15, 2e-9), now, c1.corr_m[j]);
+            TEST_ASSERT_EQUAL_DOUBLE(0.0, c0.corr_m[j]);
+            TEST_ASSERT_DOUBLE_WITHIN(TOL(1e-12, 2e-6), (next - now) / PERIOD_S + 5.0 * now,
+                                      c1.rate_m_per_s[j] - c0.rate_m_per_s[j]);
+            TEST_ASSERT_EQUAL_DOUBLE(c0.l_ff_m[j], c1.l_ff_m[j]); /* L_ff is the IK's */
+        }
+    }
+}
+
+static void test_correction_refused_at_init(void)
+{
+    cdpr_robot_params_t p;
+    model_params(&p);
+    const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
+    const cdpr_traj_t tr = hold_at(pose);
+    cdpr_real_t a[12] = {0.0};
+    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                              0.0, NULL};
+    cdpr_tracker_correction_t c = {5, 2, 0.0, (cdpr_real_t)0.1, (cdpr_real_t)PERIOD_S, a};
+    /* five cables: another robot */
+    g.correction = &c;
+    cdpr_diag_t d;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
+    TEST_ASSERT_EQUAL_STRING("correction (n_cables)", d.field);
+    c.n_cables = 6;
+    c.period_s = (cdpr_real_t)0.001; /* another period */
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
+    TEST_ASSERT_EQUAL_STRING("correction (spacing_s or period_s)", d.field);
+    c.period_s = (cdpr_real_t)PERIOD_S;
+    a[7] = (cdpr_real_t)NAN;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
+    TEST_ASSERT_EQUAL_INT(7, d.index);
+    a[7] = 0.0;
+    c.coef_m = NULL;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_INVALID_ARG,
+                          cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
+    c.coef_m = a;
+    c.spacing_s = 0.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
+    c.spacing_s = (cdpr_real_t)0.1;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
 }
 
 int main(void)
@@ -819,6 +970,9 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_jacobian_matches_finite_differences);
     RUN_TEST(test_command_law);
+    RUN_TEST(test_correction_spline);
+    RUN_TEST(test_correction_joins_the_command);
+    RUN_TEST(test_correction_refused_at_init);
     RUN_TEST(test_inertial_wrench_is_minus_the_momentum_rates);
     RUN_TEST(test_feedforward_carries_the_centripetal_load);
     RUN_TEST(test_wrench_damping_command);

@@ -102,6 +102,61 @@ static cdpr_status_t check_integral_weight(const cdpr_tracker_gains_t *g, cdpr_d
     return st;
 }
 
+cdpr_real_t cdpr_tracker_correction_at(const cdpr_tracker_correction_t *c, int j, cdpr_real_t t_s)
+{
+    const cdpr_real_t x = (t_s - c->start_s) / c->spacing_s;
+    if (!(x > CDPR_R(0.0)) || !(x < (cdpr_real_t)(c->n_coef + 3))) {
+        return CDPR_R(0.0); /* outside every basis function's support (and NaN) */
+    }
+    const long k = (long)CDPR_FLOOR(x); /* 0 .. n_coef + 2 */
+    const cdpr_real_t u = x - (cdpr_real_t)k;
+    const cdpr_real_t v = CDPR_R(1.0) - u;
+    /* β(x - i) for i = k, k - 1, k - 2, k - 3: the four pieces of the cubic B-spline. */
+    const cdpr_real_t w[4] = {
+        u * u * u / CDPR_R(6.0),
+        ((((CDPR_R(-3.0) * u) + CDPR_R(3.0)) * u + CDPR_R(3.0)) * u + CDPR_R(1.0)) / CDPR_R(6.0),
+        (((CDPR_R(3.0) * u) - CDPR_R(6.0)) * u * u + CDPR_R(4.0)) / CDPR_R(6.0),
+        v * v * v / CDPR_R(6.0)};
+    const cdpr_real_t *a = &c->coef_m[(long)j * (long)c->n_coef];
+    cdpr_real_t sum = CDPR_R(0.0);
+    for (long q = 0; q < 4; ++q) {
+        const long i = k - q;
+        if (i >= 0 && i < (long)c->n_coef) {
+            sum += a[i] * w[q];
+        }
+    }
+    return sum;
+}
+
+/* gains.correction: made for this robot's cable count and this period, every value finite. */
+static cdpr_status_t check_correction(const cdpr_tracker_correction_t *c, int n_cables,
+                                      cdpr_real_t period_s, cdpr_diag_t *diag)
+{
+    if (c == NULL) {
+        return CDPR_OK;
+    }
+    if (c->coef_m == NULL || c->n_coef < 1) {
+        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "correction", c->n_coef);
+    }
+    if (c->n_cables != n_cables) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "correction (n_cables)", c->n_cables);
+    }
+    if (!isfinite(c->start_s) || !isfinite(c->spacing_s) || !isfinite(c->period_s)) {
+        return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "correction", -1);
+    }
+    if (!(c->spacing_s > CDPR_R(0.0)) ||
+        !(CDPR_FABS(c->period_s - period_s) <= CDPR_R(1e-9) * period_s)) {
+        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "correction (spacing_s or period_s)", -1);
+    }
+    const long n = (long)c->n_cables * (long)c->n_coef;
+    for (long i = 0; i < n; ++i) {
+        if (!isfinite(c->coef_m[i])) {
+            return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "correction", (int)i);
+        }
+    }
+    return CDPR_OK;
+}
+
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t period_s,
                                  cdpr_diag_t *diag)
 {
@@ -461,7 +516,10 @@ cdpr_status_t cdpr_tracker_init(cdpr_tracker_t *tr, const cdpr_robot_params_t *m
                              "tension distribution)",
                              model_params->n_cables);
     }
-    const cdpr_status_t gs = check_gains(g, period_s, diag);
+    cdpr_status_t gs = check_gains(g, period_s, diag);
+    if (gs == CDPR_OK) {
+        gs = check_correction(g->correction, model_params->n_cables, period_s, diag);
+    }
     if (gs != CDPR_OK) {
         return gs;
     }
@@ -692,6 +750,13 @@ static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
         cmd->u_ff_m_per_s[j] = u_ff;
         cmd->dl_m[j] = dl;
         cmd->rate_m_per_s[j] = u_ff + tr->g.k_length_per_s * (tr->l_ff_m[j] + dl - m->length_m[j]);
+        const cdpr_tracker_correction_t *c = tr->g.correction;
+        if (c != NULL) { /* step 4c */
+            const cdpr_real_t c0 = cdpr_tracker_correction_at(c, j, m->t_s);
+            const cdpr_real_t c1 = cdpr_tracker_correction_at(c, j, m->t_s + dt);
+            cmd->corr_m[j] = c0;
+            cmd->rate_m_per_s[j] += ((c1 - c0) / dt) + (tr->g.k_length_per_s * c0);
+        }
         if (tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0)) {
             cmd->rate_m_per_s[j] += tr->g.tension_gain_m_per_s_per_N * tr->ten_f[j];
         }

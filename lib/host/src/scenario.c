@@ -98,6 +98,7 @@ typedef struct {
     double *integral_limit_m;
     double *weight_estimate_s; /* issue 22 item 3: the cabin's weight from the tensions */
     raw_model_t *model;
+    char *precompensation; /* issue 22 item 1: a correction file (correction.h) */
 } raw_controller_t;
 
 typedef struct raw_integrator {
@@ -266,6 +267,7 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("integral_limit_m", raw_controller_t, integral_limit_m),
     OPT_NUMP("weight_estimate_s", raw_controller_t, weight_estimate_s),
     CYAML_FIELD_MAPPING_PTR("model", OPT, raw_controller_t, model, model_fields),
+    CYAML_FIELD_STRING_PTR("precompensation", OPT, raw_controller_t, precompensation, 1, 4095),
     CYAML_FIELD_END,
 };
 static const cyaml_strval_t method_names[] = {
@@ -564,6 +566,32 @@ static void resolve_wind(const raw_t *r, cdpr_scenario_t *sc)
     take(&o->rise_s, w->rise_s, 1);
     take(&o->gust_m_per_s, w->gust_m_per_s, 1);
     cdpr_scenario_wind_at(sc, 0.0, sc->rig.wind_m_per_s);
+}
+
+/* controller.precompensation: the file's path, relative to the scenario's folder unless
+ * absolute (as robot.file). */
+static cdpr_status_t resolve_precompensation(const raw_t *r, cdpr_scenario_t *sc,
+                                             cdpr_scenario_error_t *err)
+{
+    sc->precompensation[0] = '\0';
+    if (r->controller.precompensation == NULL) {
+        return CDPR_OK;
+    }
+    const char *f = r->controller.precompensation;
+    const char *slash = strrchr(sc->path, '/');
+    const int n = (f[0] == '/' || slash == NULL)
+                      ? snprintf(sc->precompensation, sizeof sc->precompensation, "%s", f)
+                      : snprintf(sc->precompensation, sizeof sc->precompensation, "%.*s/%s",
+                                 (int)(slash - sc->path), sc->path, f);
+    if (n < 0 || (size_t)n >= sizeof sc->precompensation) {
+        char what[160];
+        snprintf(what, sizeof what,
+                 "path too long (%d characters with the scenario's folder; at most %zu)", n,
+                 sizeof sc->precompensation - 1U);
+        cdpr_scenario_error(sc, "controller.precompensation", what, err);
+        return CDPR_E_INVALID_ARG;
+    }
+    return CDPR_OK;
 }
 
 static void resolve(const raw_t *r, cdpr_scenario_t *sc)
@@ -966,6 +994,9 @@ cdpr_status_t cdpr_scenario_load(const char *path, cdpr_scenario_t *sc, cdpr_sce
     if (st == CDPR_OK) {
         defaults_common(sc);
         resolve(raw, sc);
+        st = resolve_precompensation(raw, sc, err);
+    }
+    if (st == CDPR_OK) {
         st = check_all(sc, (sc->robot_source == CDPR_ROBOT_FROM_FILE) ? 1 : 0, err);
     }
     if (st == CDPR_OK) {

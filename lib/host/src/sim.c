@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cdpr/host/clock.h"
+#include "cdpr/host/correction.h"
 #include "cdpr/host/feasibility.h"
 #include "cdpr/host/fs.h"
 #include "cdpr/host/plant.h"
@@ -24,6 +25,7 @@ typedef struct {
     int shapes_open;
     long shapes_every;                            /* periods between snapshots */
     double node_xyz[3 * (CDPR_MAX_SEGMENTS + 1)]; /* one cable's nodes (write_shapes) */
+    cdpr_host_correction_t corr; /* controller.precompensation's file (correction.h) */
 } sim_t;
 
 void cdpr_sim_opts_default(cdpr_sim_opts_t *o)
@@ -112,8 +114,8 @@ static void progress(const cdpr_sim_opts_t *o, double t, double total, double wa
 
 /* The trajectory's feasibility, the plant (IK lengths -> robot -> catenary placement ->
  * settle) and the controller. Returns CDPR_OK or the error with err filled. */
-static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double duration,
-                                cdpr_summary_t *sum, cdpr_scenario_error_t *err)
+static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o,
+                                double duration, cdpr_summary_t *sum, cdpr_scenario_error_t *err)
 {
     /* The trajectory first (feasible, lengths within the limits; its error names the time and
      * pose): a statics check per 0.1 s, cheap next to the settle that follows. */
@@ -135,6 +137,14 @@ static cdpr_status_t initialise(sim_t *s, const cdpr_scenario_t *sc, double dura
     cdpr_diag_t d;
     cdpr_tracker_gains_t g = sc->gains;
     g.wind_m_per_s = s->plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
+    if (o->correction != NULL) {
+        g.correction = o->correction; /* the caller's (cdpr-precomp's iterates) */
+    } else {
+        const cdpr_status_t cs = cdpr_correction_for_scenario(sc, &s->corr, &g.correction, err);
+        if (cs != CDPR_OK) {
+            return cs;
+        }
+    }
     const cdpr_status_t st =
         cdpr_tracker_init(&s->tracker, &model, &sc->traj, &g, sc->period_s, 0.0, &d);
     if (st != CDPR_OK) {
@@ -248,6 +258,9 @@ static cdpr_status_t loop(sim_t *s, const cdpr_scenario_t *sc, const cdpr_sim_op
                 rc = CDPR_E_IO;
                 break;
             }
+        }
+        if (o->on_period != NULL) {
+            o->on_period(o->on_period_ctx, k, &row, (last == 0) ? &cmd : NULL);
         }
         if (cdpr_record_period(&s->rec, k, last, &row) != CDPR_OK) {
             snprintf(sum->message, sizeof sum->message,
@@ -424,7 +437,7 @@ cdpr_status_t cdpr_sim_run(const cdpr_scenario_t *sc, const cdpr_sim_opts_t *o, 
         snprintf(err->msg, sizeof err->msg, "out of memory");
         return CDPR_E_IO;
     }
-    cdpr_status_t rc = initialise(s, sc, duration, sum, err);
+    cdpr_status_t rc = initialise(s, sc, o, duration, sum, err);
     if (rc == CDPR_OK) {
         rc = cdpr_record_open(&s->rec, sc, &s->plant.pp, o->out_dir, s->plant.robot.p.n_cables, sum,
                               err);

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "cdpr/catenary.h"
+#include "cdpr/host/correction.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/host/rig.h"
 #include "cdpr/host/scenario.h"
@@ -27,6 +28,7 @@ struct cdpr_py {
     cdpr_scenario_t sc;
     cdpr_plant_t plant;
     cdpr_tracker_t tracker;
+    cdpr_host_correction_t corr; /* controller.precompensation (correction.h) */
 };
 
 /* msg[cap] = text (cut to fit). */
@@ -74,10 +76,13 @@ CDPR_PY_EXPORT cdpr_py_t *cdpr_py_open(const char *scenario, int *status, char *
         cdpr_tracker_gains_t g = h->sc.gains;
         g.wind_m_per_s = h->plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
         cdpr_diag_t d;
-        st = cdpr_tracker_init(&h->tracker, &model, &h->sc.traj, &g, h->sc.period_s, 0.0, &d);
-        if (st != CDPR_OK) {
-            snprintf(err.msg, sizeof err.msg, "%s: controller: field '%s': %s", scenario, d.field,
-                     cdpr_status_str(st));
+        st = cdpr_correction_for_scenario(&h->sc, &h->corr, &g.correction, &err);
+        if (st == CDPR_OK) {
+            st = cdpr_tracker_init(&h->tracker, &model, &h->sc.traj, &g, h->sc.period_s, 0.0, &d);
+            if (st != CDPR_OK) {
+                snprintf(err.msg, sizeof err.msg, "%s: controller: field '%s': %s", scenario,
+                         d.field, cdpr_status_str(st));
+            }
         }
     }
     if (st != CDPR_OK) {

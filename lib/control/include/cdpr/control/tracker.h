@@ -76,6 +76,14 @@
 ///     it). Rate in, force out at the same winch: a collocated admittance (a damper 1/k_T in
 ///     series with each cable, against the length loop's spring k_L/k_T), which damps the
 ///     cabin-cable modes without the pose loop's phase problem (docs/validation.md §8).
+///  4c. pre-compensation (optional, gains.correction, cdpr_tracker_correction_t): a length
+///     correction computed offline for this trajectory joins the feed-forward,
+///       u_j += (c_j(t + Δt_c) - c_j(t)) / Δt_c + k_L c_j(t),
+///     the rate as the feed-forward's own (a forward difference over the period) and the
+///     length as a correction of L_ff: the winch follows L_ff + c. cmd->corr_m reports c_j(t).
+///     Nothing else sees it (the tension feedback's T_ff, the weight estimate and the pose
+///     errors keep to the feed-forward's model: the offline iteration ran against that closed
+///     loop). Cost: O(cables), eight coefficients per cable.
 ///  5. (before step 1) the reference: the desired trajectory, or with transfer_s = T > 0 the
 ///     planned transfer (trajectory.h, cdpr_transfer_t) from the first measurement (the pose
 ///     at the first step: in process and over LCM, where a plant restart re-inits the
@@ -157,6 +165,27 @@
 /// (2 CDPR_MAX_CABLES + 1) · 512 · 8 = 53 248 bytes of cdpr_tracker_t.
 #define CDPR_TRACKER_LEARN_KNOTS 512
 
+/// A length pre-compensation for a known trajectory (step 4c; issue 22 item 1): per cable a
+/// smooth correction c_j(t), a uniform cubic B-spline with knot spacing h from t_s,
+///   c_j(t) = Σ_i a_j,i β((t - t_s) / h - i),
+/// β the cubic B-spline on [0, 4] (C², β(2) = 2/3), so c_j = 0 before t_s and after
+/// t_s + (n_coef + 3) h. Computed offline against a model of the plant (cdpr-precomp,
+/// cdpr_design_precompensate: the lengths that make the modelled closed loop follow the
+/// trajectory) for one trajectory, robot, controller and period; the host loads it from a
+/// file tied to those by their hashes (cdpr/host/correction.h). The coefficients are the
+/// caller's (a table in flash on a target): they must outlive every tracker given them.
+typedef struct {
+    int n_cables;              ///< cables (= the tracker's model's)
+    int n_coef;                ///< coefficients per cable (>= 1)
+    cdpr_real_t start_s;       ///< t_s: where the first basis function starts [s] (finite)
+    cdpr_real_t spacing_s;     ///< h [s] (> 0)
+    cdpr_real_t period_s;      ///< the control period it was computed for [s] (= the tracker's)
+    const cdpr_real_t *coef_m; ///< a_j,i at coef_m[j n_coef + i] [m] (finite)
+} cdpr_tracker_correction_t;
+
+/// c_j(t) [m] of correction `c` (cable j in range; O(1): four coefficients).
+cdpr_real_t cdpr_tracker_correction_at(const cdpr_tracker_correction_t *c, int j, cdpr_real_t t_s);
+
 /// Gains (inputs).
 typedef struct {
     cdpr_real_t kp;             ///< pose-error gain [-] (>= 0)
@@ -190,6 +219,8 @@ typedef struct {
                                     ///< integral_per_s > 0)
     cdpr_real_t weight_estimate_s;  ///< time constant τ_W of the cabin's weight estimate [s]
                                     ///< (>= 0; 0 = off; step 1c)
+    const cdpr_tracker_correction_t *correction; ///< length pre-compensation (NULL: none;
+                                                 ///< step 4c); the caller's, see its type
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,
@@ -202,6 +233,7 @@ typedef struct {
     cdpr_real_t l_ff_m[CDPR_MAX_CABLES];       ///< feed-forward lengths L_ff(t) [m]
     cdpr_real_t u_ff_m_per_s[CDPR_MAX_CABLES]; ///< feed-forward rates [m/s]
     cdpr_real_t dl_m[CDPR_MAX_CABLES];         ///< feedback length corrections δL [m]
+    cdpr_real_t corr_m[CDPR_MAX_CABLES];       ///< pre-compensation c_j(t) [m] (0: none)
     cdpr_traj_sample_t desired;                ///< desired state at t
     cdpr_real_t err_pos_m[3];                  ///< e_p = p_d - p, world [m]
     cdpr_real_t err_rot_rad[3];                ///< e_θ, world [rad]
@@ -263,7 +295,10 @@ typedef struct {
 
 /// Validate and initialise for control period `period_s` (> 0): builds the model from
 /// `model_params` (6 cables, or more with the robot's tension distribution, robot.h: other
-/// counts are CDPR_E_CAPACITY, diag "n_cables ...") and
+/// counts are CDPR_E_CAPACITY, diag "n_cables ...") and checks gains.correction when given
+/// (diag "correction": another cable count or period, CDPR_E_OUT_OF_RANGE; no coefficients,
+/// CDPR_E_INVALID_ARG; a spacing <= 0 or a coefficient NaN/Inf, CDPR_E_NOT_FINITE /
+/// CDPR_E_OUT_OF_RANGE), and
 /// computes L_ff(t0). Errors: CDPR_E_INVALID_ARG /
 /// CDPR_E_NOT_FINITE / CDPR_E_OUT_OF_RANGE for gains and period (`diag` names the field), the
 /// model's init errors, or the IK status of the desired pose at t0 (e.g. CDPR_E_INFEASIBLE: the

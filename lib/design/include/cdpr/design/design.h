@@ -16,8 +16,11 @@
 #define CDPR_DESIGN_DESIGN_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "cdpr/status.h"
+
+#include "cdpr/host/correction.h"
 #include "cdpr/host/plant.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/control/tracker.h"
@@ -207,5 +210,52 @@ cdpr_status_t cdpr_design_robust(const cdpr_scenario_t *sc, int stop_at_refusal,
 cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *path, int *checked,
                                          int *warn, cdpr_design_robust_t *robust,
                                          cdpr_design_error_t *err);
+
+/// Offline pre-compensation of a known trajectory (issue 22 item 1; docs/validation.md §8,
+/// "Pre-compensation"; cdpr-precomp). The correction c_j(t) of the tracker's step 4c, a cubic
+/// B-spline with knot spacing h from t = 0 (cdpr_tracker_correction_t), iterated against the
+/// nonlinear model of the scenario (cdpr_sim_run: the plant as written, the controller with
+/// its own model and gains) so the cabin follows the trajectory:
+///  1. the lift: the closed loop linearised with the trajectory's pose held at `poses` times
+///     evenly along its motion (cdpr_design_point_new, cdpr_design_linearise, zero-order
+///     hold), each driven by one basis function on each cable in turn (the input the tracker
+///     adds, (c(t + Δ) - c(t)) / Δ + k_L c(t)); the pose response of basis i is the response at
+///     the pose nearest its centre, delayed to its start (the held loop is time-invariant),
+///     which gives the matrix G from the m n coefficients to the pose error over the run (6
+///     rows per period: position [m] and attitude [rad] times rot_weight_m);
+///  2. run 0: the model without correction, its pose error e_0 over the run;
+///  3. each later run: the regularised Gauss-Newton step
+///       Δa = (G^T G + λ' I)^-1 G^T e_k,  λ' = lambda · tr(G^T G) / (m n),
+///     a_{k+1} = a_k + α Δa, the model run with it; kept when its pose error's sum of squares
+///     is below the best's and its smallest cable-end tension (either end, every period) is at
+///     least floor_N, else α halved (at most twice) and run again; the iteration stops at
+///     max_runs model runs or when no step is kept, with the best iterate.
+/// Deterministic (same binary, scenario and options: the same coefficients). Work: `poses`
+/// linearisations (a design check's case each), `poses` m closed-loop simulations of the run's
+/// periods at the linearised size, one Cholesky factorisation of an m n square matrix, up to
+/// max_runs nonlinear runs of the scenario. Memory: G, 6 K m n doubles (K periods); refused
+/// above CDPR_PRECOMP_MAX_LIFT_BYTES.
+typedef struct {
+    int poses;           ///< linearisation poses along the motion (>= 1; default 5)
+    double spacing_s;    ///< knot spacing h [s] (a whole number of control periods; default 0.1)
+    int max_runs;        ///< most model runs, the first without correction (>= 1; default 8)
+    double floor_N;      ///< smallest cable-end tension an iterate may reach [N] (default 20)
+    double lambda;       ///< regularisation, relative to G^T G's mean diagonal (> 0; 1e-4)
+    double rot_weight_m; ///< weight of the attitude error in the pose error [m/rad] (default 1)
+    FILE *log;           ///< a line per model run (NULL: none)
+} cdpr_precomp_opts_t;
+
+#define CDPR_PRECOMP_MAX_LIFT_BYTES (768.0 * 1024.0 * 1024.0) ///< largest G [bytes]
+
+/// The defaults above.
+void cdpr_precomp_opts_default(cdpr_precomp_opts_t *o);
+
+/// Iterate the pre-compensation of scenario `sc` (its own controller.precompensation is not
+/// used) into `hc` (cdpr_correction_init for sc: hashes, period; coefficients; report). CDPR_OK,
+/// or: CDPR_E_OUT_OF_RANGE (options; a trajectory that does not move; the lift too large),
+/// the first run's status when the scenario cannot run (err says why), a linearisation's or
+/// LAPACK's status.
+cdpr_status_t cdpr_design_precompensate(const cdpr_scenario_t *sc, const cdpr_precomp_opts_t *o,
+                                        cdpr_host_correction_t *hc, cdpr_design_error_t *err);
 
 #endif /* CDPR_DESIGN_DESIGN_H */

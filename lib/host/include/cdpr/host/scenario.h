@@ -99,6 +99,10 @@ typedef struct {
     /// The controller's own model (controller.model): the robot with these factors (default
     /// 1: the controller knows the robot exactly). The plant is always the robot as written.
     cdpr_rig_scale_t controller_model;
+    /// controller.precompensation: the correction file's path as the loader resolved it
+    /// (relative to the scenario's folder unless absolute; "" = none): read and checked where
+    /// the controller is built (cdpr_correction_for_scenario, correction.h).
+    char precompensation[512];
     cdpr_scenario_integrator_t integrator; ///< integrator settings and work bound in use: those
                                            ///< of integrator.method (integrator_for[method])
     /// The settings each method gets, indexed by cdpr_plant_integrator_t: the section's own

@@ -46,6 +46,15 @@ typedef struct {
     /// cable's exit point), sag_m (height of the straight chord exit point -> attachment above
     /// the node, at its horizontal distance); a blank line after each cable's nodes.
     double shapes_rate_hz;
+    /// The controller's pre-compensation (NULL: the scenario's controller.precompensation file,
+    /// if any, read and checked: correction.h). The caller's, for the run.
+    const cdpr_tracker_correction_t *correction;
+    /// Called once per period with the row of t_k (before it is recorded) and the controller's
+    /// command of the period that starts there (NULL for the last row, which has none); NULL:
+    /// not called. What a caller needs that the CSV would hold, without a file.
+    void (*on_period)(void *ctx, long k, const cdpr_record_row_t *row,
+                      const cdpr_tracker_cmd_t *cmd);
+    void *on_period_ctx; ///< on_period's first argument
 } cdpr_sim_opts_t;
 
 /// Defaults: no output directory, no progress, 2 s before progress, no stop flag.
