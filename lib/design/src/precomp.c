@@ -10,6 +10,7 @@
 
 #include "cdpr/design/design.h"
 #include "cdpr/host/sim.h"
+#include "cdpr/vec3.h"
 
 /* The Fortran routines (reference LAPACK 3.x / any BLAS), with gfortran's hidden lengths of
  * the character arguments. */
@@ -68,24 +69,27 @@ static void on_period(void *ctx, long k, const cdpr_record_row_t *row,
     for (int j = 0; j < r->nc; ++j) {
         r->min_T = fmin(r->min_T, fmin(row->tension_cabin_N[j], row->tension_winch_N[j]));
     }
+    /* The figures as timeseries.csv has them: every row, the last (no command) included. */
+    if (row->t_s >= RMS_AFTER_S - 1e-9) {
+        const cdpr_vec3_t d = cdpr_v3_sub(row->des->motion.p_m, row->meas->cabin.p_m);
+        const double p2 = (double)cdpr_v3_dot(d, d);
+        r->sum2_pos += p2;
+        r->n_after++;
+        r->max_pos = fmax(r->max_pos, sqrt(p2));
+    }
     if (cmd == NULL || k >= r->K) {
         return;
     }
     double *e = &r->e[6 * k];
-    double p2 = 0.0;
     double r2 = 0.0;
     for (int c = 0; c < 3; ++c) {
         e[c] = cmd->err_pos_m[c];
         e[3 + c] = r->w_rot * cmd->err_rot_rad[c];
-        p2 += e[c] * e[c];
         r2 += (double)cmd->err_rot_rad[c] * (double)cmd->err_rot_rad[c];
         r->sum2 += e[c] * e[c] + e[3 + c] * e[3 + c];
     }
     if (row->t_s >= RMS_AFTER_S - 1e-9) {
-        r->sum2_pos += p2;
-        r->n_after++;
-        r->max_pos = fmax(r->max_pos, sqrt(p2));
-        r->max_rot = fmax(r->max_rot, sqrt(r2));
+        r->max_rot = fmax(r->max_rot, sqrt(r2)); /* the periods with a command */
     }
 }
 
