@@ -15,7 +15,12 @@
 #     Writes out/paper-circle-rt/ (timeseries.csv, summary.json, figure4, errors, tensions,
 #     cables and laps as .png and .pdf, laps.csv, circle.lcmlog) and prints the tracking summary (with
 #     the RMS error of every lap) and the plant telemetry; about 65 s;
-#  3. the paper's line scenario as a batch run (cdpr-sim; out/paper-line/);
+#  3. the paper's line (scenarios/paper-line.yaml, feed-forward alone, batch run: out/paper-line/)
+#     next to the same line with the length pre-compensation (scenarios/paper-line-precomp.yaml
+#     and its correction, made offline by cdpr-precomp) through the real-time loop, cdpr-rt +
+#     cdpr-tracker over the same URL as 2 (or memq://) at the scenario's 100 Hz
+#     (out/paper-line-precomp-rt/); a table of the two (error after 2 s, tension) and their
+#     errors in one figure, out/paper-line-compare.png/.pdf (scripts/compare_runs.py); 15 s;
 #  4. a redundant robot: the paper's line on eight cables (robots/eight-50m.yaml,
 #     scenarios/eight-line.yaml: the redundancy resolved by the robot's tension distribution)
 #     through the real-time loop, cdpr-rt + cdpr-tracker over the same URL as 2 (or memq://)
@@ -100,27 +105,36 @@ else
 fi
 echo "figures: $out/figure4.png, $out/errors.png, $out/tensions.png (one panel per cable), $out/cables.png, $out/laps.png (error per lap); each also as .pdf"
 
+# The closed loop of scenario $1 over LCM at its own rate (cdpr-tracker + cdpr-rt on $url, or
+# one process over memq:// without multicast), outputs in $2.
+rt_loop() {
+    local scen=$1 dir=$2 status=0
+    rm -rf "$dir"
+    mkdir -p "$dir"
+    if [[ $multicast -eq 1 ]]; then
+        "$bin/cdpr-tracker" "$scen" --lcm-url "$url" --out "$dir" \
+            2> >(tee "$dir/tracker.stderr" >&2) &
+        local tracker=$!
+        wait_for_tracker "$tracker" "$dir/tracker.stderr" ||
+            { echo "demo: cdpr-tracker did not come up (see $dir/tracker.stderr)"; exit 1; }
+        "$bin/cdpr-rt" "$scen" --lcm-url "$url" --start-delay 0.5 --realtime || status=$?
+        wait "$tracker" || status=$?
+        [[ $status -eq 0 ]] || { echo "demo: the loop of $scen failed (exit $status)"; exit "$status"; }
+    else
+        "$bin/cdpr-rt" "$scen" --lcm-url memq:// --realtime --with-tracker --tracker-out "$dir"
+    fi
+}
+
 echo
-echo "==== scenarios/paper-line.yaml (batch run)"
+echo "==== the paper's line: feed-forward alone (scenarios/paper-line.yaml, batch run) and with"
+echo "     the length pre-compensation (scenarios/paper-line-precomp.yaml) over LCM at 100 Hz"
 "$bin/cdpr-sim" scenarios/paper-line.yaml --out out/paper-line
+rt_loop scenarios/paper-line-precomp.yaml out/paper-line-precomp-rt
+/usr/bin/python3 scripts/compare_runs.py --after 2 --out out/paper-line-compare \
+    "feed-forward alone=out/paper-line" \
+    "with the pre-compensation (real-time loop)=out/paper-line-precomp-rt"
 
 echo
 echo "==== scenarios/eight-line.yaml: eight cables, closed loop over LCM at 100 Hz"
-out=out/eight-line-rt
-rm -rf "$out"
-mkdir -p "$out"
-if [[ $multicast -eq 1 ]]; then
-    "$bin/cdpr-tracker" scenarios/eight-line.yaml --lcm-url "$url" --out "$out" \
-        2> >(tee "$out/tracker.stderr" >&2) &
-    tracker=$!
-    wait_for_tracker "$tracker" "$out/tracker.stderr" ||
-        { echo "demo: cdpr-tracker did not come up (see $out/tracker.stderr)"; exit 1; }
-    status=0
-    "$bin/cdpr-rt" scenarios/eight-line.yaml --lcm-url "$url" --start-delay 0.5 --realtime || status=$?
-    wait "$tracker" || status=$?
-    [[ $status -eq 0 ]] || { echo "demo: the eight-cable loop failed (exit $status)"; exit "$status"; }
-else
-    "$bin/cdpr-rt" scenarios/eight-line.yaml --lcm-url memq:// --realtime --with-tracker \
-        --tracker-out "$out"
-fi
-echo "figures: $out/errors.png, $out/tensions.png (eight panels), $out/cables.png; each also as .pdf"
+rt_loop scenarios/eight-line.yaml out/eight-line-rt
+echo "figures: out/eight-line-rt/errors.png, out/eight-line-rt/tensions.png (eight panels), out/eight-line-rt/cables.png; each also as .pdf"

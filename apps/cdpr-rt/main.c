@@ -23,6 +23,7 @@
 #include "app_run.h"
 #include "app_status.h"
 #include "cdpr/host/correction.h"
+#include "cdpr/host/plant.h"
 #include "cdpr/host/cli.h"
 #include "cdpr/host/scenario.h"
 #include "cdpr/rt/plant_node.h"
@@ -249,16 +250,20 @@ static cdpr_status_t tracker_setup(const options_t *o, const cdpr_scenario_t *sc
     g.wind_m_per_s = g_rt.plant.pp.wind_m_per_s; /* the wind feed-forward's steady wind */
     const double period_s = g_rt.plant.pp.period_s;
     static cdpr_host_correction_t corr; /* controller.precompensation (correction.h) */
+    static cdpr_robot_params_t model;   /* the controller's own (controller.model) */
     cdpr_scenario_error_t cerr;
-    const cdpr_status_t cs = cdpr_correction_for_scenario(sc, &corr, &g.correction, &cerr);
+    cdpr_status_t cs = cdpr_host_controller_params(sc, &model, &cerr);
+    if (cs == CDPR_OK) {
+        cs = cdpr_correction_for_scenario(sc, &corr, &g.correction, &cerr);
+    }
     if (cs != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: %s\n", cerr.msg);
         return cs;
     }
     cdpr_diag_t d;
     const cdpr_status_t st =
-        cdpr_rt_tracker_init(&g_tracker, &g_rt.plant.params, g_rt.plant.pp.winch, &sc->traj, &g,
-                             period_s, o->rt.lcm.channel_prefix, &d);
+        cdpr_rt_tracker_init(&g_tracker, &model, g_rt.plant.pp.winch, &sc->traj, &g, period_s,
+                             o->rt.lcm.channel_prefix, &d);
     if (st != CDPR_OK) {
         fprintf(stderr, "cdpr-rt: tracker: field '%s': %s\n", d.field, cdpr_status_str(st));
         return st;

@@ -105,24 +105,27 @@ static cdpr_status_t check_integral_weight(const cdpr_tracker_gains_t *g, cdpr_d
 cdpr_real_t cdpr_tracker_correction_at(const cdpr_tracker_correction_t *c, int j, cdpr_real_t t_s)
 {
     const cdpr_real_t x = (t_s - c->start_s) / c->spacing_s;
-    if (!(x > CDPR_R(0.0)) || !(x < (cdpr_real_t)(c->n_coef + 3))) {
-        return CDPR_R(0.0); /* outside every basis function's support (and NaN) */
-    }
-    const long k = (long)CDPR_FLOOR(x); /* 0 .. n_coef + 2 */
-    const cdpr_real_t u = x - (cdpr_real_t)k;
-    const cdpr_real_t v = CDPR_R(1.0) - u;
-    /* β(x - i) for i = k, k - 1, k - 2, k - 3: the four pieces of the cubic B-spline. */
-    const cdpr_real_t w[4] = {
-        u * u * u / CDPR_R(6.0),
-        ((((CDPR_R(-3.0) * u) + CDPR_R(3.0)) * u + CDPR_R(3.0)) * u + CDPR_R(1.0)) / CDPR_R(6.0),
-        (((CDPR_R(3.0) * u) - CDPR_R(6.0)) * u * u + CDPR_R(4.0)) / CDPR_R(6.0),
-        v * v * v / CDPR_R(6.0)};
-    const cdpr_real_t *a = &c->coef_m[(long)j * (long)c->n_coef];
     cdpr_real_t sum = CDPR_R(0.0);
-    for (long q = 0; q < 4; ++q) {
-        const long i = k - q;
-        if (i >= 0 && i < (long)c->n_coef) {
-            sum += a[i] * w[q];
+    /* Outside every basis function's support (and NaN): 0. */
+    if ((x > CDPR_R(0.0)) && (x < ((cdpr_real_t)c->n_coef + CDPR_R(3.0)))) {
+        const long k = (long)CDPR_FLOOR(x); /* 0 .. n_coef + 2 */
+        const cdpr_real_t u = x - (cdpr_real_t)k;
+        const cdpr_real_t v = CDPR_R(1.0) - u;
+        const cdpr_real_t u2 = u * u;
+        const cdpr_real_t u3 = u2 * u;
+        /* β(x - i) for i = k, k - 1, k - 2, k - 3: the four pieces of the cubic B-spline. */
+        const cdpr_real_t w[4] = {
+            u3 / CDPR_R(6.0),
+            ((((CDPR_R(-3.0) * u3) + (CDPR_R(3.0) * u2)) + (CDPR_R(3.0) * u)) + CDPR_R(1.0)) /
+                CDPR_R(6.0),
+            (((CDPR_R(3.0) * u3) - (CDPR_R(6.0) * u2)) + CDPR_R(4.0)) / CDPR_R(6.0),
+            ((v * v) * v) / CDPR_R(6.0)};
+        const cdpr_real_t *a = &c->coef_m[(long)j * (long)c->n_coef];
+        for (long q = 0; q < 4; ++q) {
+            const long i = k - q;
+            if ((i >= 0) && (i < (long)c->n_coef)) {
+                sum += a[i] * w[q];
+            }
         }
     }
     return sum;
@@ -132,29 +135,27 @@ cdpr_real_t cdpr_tracker_correction_at(const cdpr_tracker_correction_t *c, int j
 static cdpr_status_t check_correction(const cdpr_tracker_correction_t *c, int n_cables,
                                       cdpr_real_t period_s, cdpr_diag_t *diag)
 {
+    cdpr_status_t st = CDPR_OK;
     if (c == NULL) {
-        return CDPR_OK;
-    }
-    if (c->coef_m == NULL || c->n_coef < 1) {
-        return cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "correction", c->n_coef);
-    }
-    if (c->n_cables != n_cables) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "correction (n_cables)", c->n_cables);
-    }
-    if (!isfinite(c->start_s) || !isfinite(c->spacing_s) || !isfinite(c->period_s)) {
-        return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "correction", -1);
-    }
-    if (!(c->spacing_s > CDPR_R(0.0)) ||
-        !(CDPR_FABS(c->period_s - period_s) <= CDPR_R(1e-9) * period_s)) {
-        return cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "correction (spacing_s or period_s)", -1);
-    }
-    const long n = (long)c->n_cables * (long)c->n_coef;
-    for (long i = 0; i < n; ++i) {
-        if (!isfinite(c->coef_m[i])) {
-            return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "correction", (int)i);
+        /* none: valid */
+    } else if ((c->coef_m == NULL) || (c->n_coef < 1)) {
+        st = cdpr_diag_set(diag, CDPR_E_INVALID_ARG, "correction", c->n_coef);
+    } else if (c->n_cables != n_cables) {
+        st = cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "correction (n_cables)", c->n_cables);
+    } else if (!isfinite(c->start_s) || !isfinite(c->spacing_s) || !isfinite(c->period_s)) {
+        st = cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "correction", -1);
+    } else if (!(c->spacing_s > CDPR_R(0.0)) ||
+               !(CDPR_FABS(c->period_s - period_s) <= (CDPR_R(1e-9) * period_s))) {
+        st = cdpr_diag_set(diag, CDPR_E_OUT_OF_RANGE, "correction (spacing_s or period_s)", -1);
+    } else {
+        const long n = (long)c->n_cables * (long)c->n_coef;
+        for (long i = 0; (i < n) && (st == CDPR_OK); ++i) {
+            if (!isfinite(c->coef_m[i])) {
+                st = cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "correction", (int)i);
+            }
         }
     }
-    return CDPR_OK;
+    return st;
 }
 
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t period_s,

@@ -253,13 +253,13 @@ static cdpr_status_t build_lift(const cdpr_scenario_t *sc, const cdpr_precomp_op
     const double t_end = fmin(cdpr_traj_end_time(&sc->traj), sc->duration_s);
     const int np = o->poses;
     const size_t rsize = (size_t)L->K * 6U * (size_t)L->nc;
-    double *R = malloc(sizeof(double) * rsize * (size_t)np);
+    double *R = calloc(rsize * (size_t)np, sizeof(double));
     if (R == NULL) {
         fail(err, "%sout of memory for the responses (%g poses)", "", (double)np);
         return CDPR_E_CAPACITY;
     }
     cdpr_status_t st = CDPR_OK;
-    double at[64];
+    double at[64] = {0.0};
     for (int p = 0; st == CDPR_OK && p < np; ++p) {
         at[p] = (np == 1) ? 0.5 * t_end : t_end * (double)p / (double)(np - 1);
         if (o->log != NULL) {

@@ -6,7 +6,6 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -172,16 +171,13 @@ cdpr_status_t cdpr_correction_init(cdpr_host_correction_t *hc, const cdpr_scenar
 
 /* ---------------------------------------------------------------- write */
 
-static void set_err(cdpr_scenario_error_t *err, const char *fmt, ...)
-{
-    if (err == NULL) {
-        return;
-    }
-    va_list ap;
-    va_start(ap, fmt);
-    (void)vsnprintf(err->msg, sizeof err->msg, fmt, ap);
-    va_end(ap);
-}
+/* The error's text, when the caller wants it. */
+#define SET_ERR(err, ...)                                                                          \
+    do {                                                                                           \
+        if ((err) != NULL) {                                                                       \
+            (void)snprintf((err)->msg, sizeof(err)->msg, __VA_ARGS__);                             \
+        }                                                                                          \
+    } while (0)
 
 static void write_body(FILE *f, const cdpr_host_correction_t *hc, const char *note)
 {
@@ -229,12 +225,12 @@ cdpr_status_t cdpr_correction_write(const char *path, const cdpr_host_correction
     char tmp[1100];
     const int n = snprintf(tmp, sizeof tmp, "%s.tmp", path);
     if (n < 0 || (size_t)n >= sizeof tmp) {
-        set_err(err, "%s: path too long", path);
+        SET_ERR(err, "%s: path too long", path);
         return CDPR_E_IO;
     }
     FILE *f = fopen(tmp, "w");
     if (f == NULL) {
-        set_err(err, "%s: cannot write: %s", tmp, strerror(errno));
+        SET_ERR(err, "%s: cannot write: %s", tmp, strerror(errno));
         return CDPR_E_IO;
     }
     write_body(f, hc, note);
@@ -250,7 +246,7 @@ cdpr_status_t cdpr_correction_write(const char *path, const cdpr_host_correction
     }
     if (e != 0) {
         (void)unlink(tmp);
-        set_err(err, "%s: write failed: %s (the old file, if any, is unchanged)", path,
+        SET_ERR(err, "%s: write failed: %s (the old file, if any, is unchanged)", path,
                 strerror(e));
         return CDPR_E_IO;
     }
@@ -423,7 +419,7 @@ cdpr_status_t cdpr_correction_read(const char *path, cdpr_host_correction_t *hc,
     const cdpr_status_t st = cdpr_yaml_load_reported(path, path, &corr_schema, "correction file",
                                                      &data, msg, sizeof msg);
     if (st != CDPR_OK) {
-        set_err(err, "%s", msg);
+        SET_ERR(err, "%s", msg);
         return st;
     }
     const cdpr_status_t ts = take_raw((const raw_corr_t *)data, path, hc, err);
@@ -449,7 +445,7 @@ static cdpr_status_t check_slack(const cdpr_scenario_t *sc, const cdpr_host_corr
         g.correction = NULL;
         st = cdpr_tracker_init(tr, model, &sc->traj, &g, sc->period_s, 0.0, &d);
         if (st != CDPR_OK) {
-            set_err(err, "%s: the controller's model: %s (%s)", path, cdpr_status_str(st), d.field);
+            SET_ERR(err, "%s: the controller's model: %s (%s)", path, cdpr_status_str(st), d.field);
         }
     }
     const cdpr_tracker_correction_t *c = &hc->c;
@@ -473,7 +469,7 @@ static cdpr_status_t check_slack(const cdpr_scenario_t *sc, const cdpr_host_corr
             st = cdpr_statics_forward(&tr->model, len, &s.motion, &tr->ik_opts, &fw);
         }
         if (st != CDPR_OK) {
-            set_err(err,
+            SET_ERR(err,
                     "%s: the corrected lengths at t = %.6g s have no static equilibrium on the "
                     "controller's model (%s): a correction for another run, or one that pulls "
                     "the cabin out of the workspace",
@@ -484,7 +480,7 @@ static cdpr_status_t check_slack(const cdpr_scenario_t *sc, const cdpr_host_corr
         for (int j = 0; j < c->n_cables; ++j) {
             const double lo = fmin(fw.cable[j].tension_cabin_N, fw.cable[j].tension_winch_N);
             if (!(lo >= hc->floor_N) || !(lo > 0.0)) {
-                set_err(err,
+                SET_ERR(err,
                         "%s: the correction demands a slack cable: cable %d at t = %.6g s "
                         "(c = %.4g m; cable-end tension %.4g N held statically, below the "
                         "file's floor_N %.4g N)",
@@ -512,7 +508,7 @@ cdpr_status_t cdpr_correction_check(const cdpr_scenario_t *sc, const cdpr_host_c
                                         "controller gains"};
     for (int i = 0; i < 3; ++i) {
         if (strcmp(mine[i], theirs[i]) != 0) {
-            set_err(err,
+            SET_ERR(err,
                     "%s: made for another %s (its hash %.12s..., the scenario's %.12s...): "
                     "regenerate it with cdpr-precomp",
                     path, what[i], mine[i], theirs[i]);
@@ -520,12 +516,12 @@ cdpr_status_t cdpr_correction_check(const cdpr_scenario_t *sc, const cdpr_host_c
         }
     }
     if (!(fabs((double)hc->c.period_s - sc->period_s) <= 1e-9 * sc->period_s)) {
-        set_err(err, "%s: made for a control period of %g s, the scenario's is %g s", path,
+        SET_ERR(err, "%s: made for a control period of %g s, the scenario's is %g s", path,
                 (double)hc->c.period_s, sc->period_s);
         return CDPR_E_OUT_OF_RANGE;
     }
     if (hc->c.n_cables != sc->rig.n_cables) {
-        set_err(err, "%s: %d cables, the robot has %d", path, hc->c.n_cables, sc->rig.n_cables);
+        SET_ERR(err, "%s: %d cables, the robot has %d", path, hc->c.n_cables, sc->rig.n_cables);
         return CDPR_E_OUT_OF_RANGE;
     }
     return check_slack(sc, hc, path, err);
