@@ -160,11 +160,11 @@ cdpr_status_t cdpr_correction_init(cdpr_host_correction_t *hc, const cdpr_scenar
     hc->c.spacing_s = spacing_s;
     hc->c.period_s = sc->period_s;
     hc->c.coef_m = hc->coef_m;
-    hc->report.rms_before_m = NAN;
-    hc->report.rms_after_m = NAN;
-    hc->report.max_after_m = NAN;
-    hc->report.max_after_rad = NAN;
-    hc->report.min_tension_N = NAN;
+    hc->report.rms_before_m = (double)NAN;
+    hc->report.rms_after_m = (double)NAN;
+    hc->report.max_after_m = (double)NAN;
+    hc->report.max_after_rad = (double)NAN;
+    hc->report.min_tension_N = (double)NAN;
     hc->floor_N = CDPR_CORRECTION_FLOOR_N;
     return CDPR_OK;
 }
@@ -402,11 +402,11 @@ static cdpr_status_t take_raw(const raw_corr_t *r, const char *path, cdpr_host_c
         hc->report.max_after_rad = opt(rp->max_after_rad);
         hc->report.min_tension_N = opt(rp->min_tension_N);
     } else {
-        hc->report.rms_before_m = NAN;
-        hc->report.rms_after_m = NAN;
-        hc->report.max_after_m = NAN;
-        hc->report.max_after_rad = NAN;
-        hc->report.min_tension_N = NAN;
+        hc->report.rms_before_m = (double)NAN;
+        hc->report.rms_after_m = (double)NAN;
+        hc->report.max_after_m = (double)NAN;
+        hc->report.max_after_rad = (double)NAN;
+        hc->report.min_tension_N = (double)NAN;
     }
     return CDPR_OK;
 }
