@@ -109,6 +109,15 @@ static void hash_robot(const cdpr_scenario_t *sc, char hex[CDPR_SHA256_HEX + 1])
     finish(&h, hex);
 }
 
+/* Every gain below, but wind_m_per_s (the steady wind is the robot's: hash_robot) and the
+ * correction itself. A gain added to cdpr_tracker_gains_t breaks this build until it is hashed
+ * here (and counted in the check). */
+typedef char cdpr_every_gain_hashed[(sizeof(cdpr_tracker_gains_t) ==
+                                     (19U * sizeof(cdpr_real_t)) + sizeof(cdpr_vec3_t) +
+                                         sizeof(long) + sizeof(const cdpr_tracker_correction_t *))
+                                        ? 1
+                                        : -1];
+
 static void hash_controller(const cdpr_tracker_gains_t *g, char hex[CDPR_SHA256_HEX + 1])
 {
     const double v[] = {g->kp,
