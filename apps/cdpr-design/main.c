@@ -6,7 +6,7 @@
 /// The scenario's robot is settled at the trajectory's pose at time T (default: the time the
 /// trajectory stops, or 0) and the scenario's controller is built to hold that pose. Written
 /// to OUT (raw little-endian doubles, row-major, dimensions in OUT/meta.txt; m = the robot's
-/// cables, nu = m, nz = 33 + 3 m, nm = 12 + m):
+/// cables, nu = m, nz = 33 + 4 m, nm = 12 + m):
 ///   A.bin  n x n   ∂f/∂y of cdpr_robot_rhs at the settled state (central differences)
 ///   B.bin  n x m   ∂f/∂u for the m payout rates
 ///   Kx.bin m x n, Kz.bin m x nz, Zx.bin nz x n, Zz.bin nz x nz: one cdpr_tracker_step

@@ -126,9 +126,9 @@ static void test_command_law(void)
     model_params(&p);
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
-    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                              0.0, NULL};
+    cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                              0.0, 0.0,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                              0.0, NULL, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     /* Feed-forward lengths computed here independently of the tracker. */
     cdpr_statics_opts_t o;
@@ -217,9 +217,9 @@ static void test_tension_feedback_law(void)
     const cdpr_traj_t tr = hold_at(pose);
     const double kt = 2e-3;
     const double tau = 0.05;
-    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    kt,  tau, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                                    0.0, NULL};
+    const cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    kt,  tau,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                                    0.0, NULL, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_statics_opts_t o;
     cdpr_statics_opts_default(&o);
@@ -262,6 +262,59 @@ static void test_tension_feedback_law(void)
     TEST_ASSERT_EQUAL_STRING("tension_filter_s", d.field);
 }
 
+/* The washout on the tension error (step 4b, tension_washout_s = τ_wo) against its closed
+ * form: with no tension filter (e_T = T_j - T_ff,j exactly), a standing 7 N error on every
+ * cable from the first sample (a steady model error) commands nothing, ever; a 10 N step on
+ * cable 2 from period 1 commands k_T 10 N exp(-k T / τ_wo) at period k >= 1, the washout's
+ * first-order decay (exact for a held input), where without it the command stays k_T 17 N. */
+static void test_tension_washout_law(void)
+{
+    cdpr_robot_params_t p;
+    model_params(&p);
+    const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
+    const cdpr_traj_t tr = hold_at(pose);
+    const double kt = 2e-3;
+    const double tau_wo = 0.1;
+    const cdpr_tracker_gains_t g = {0.0, 0.0,  5.0,   0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    kt,  0.0,  0.0,   0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                                    0.0, NULL, tau_wo};
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    cdpr_statics_result_t ik;
+    const cdpr_cabin_motion_t m0 = motion_at(pose);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &ik));
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.cabin = m0;
+    cdpr_tracker_cmd_t cmd;
+    for (int k = 0; k <= 30; ++k) {
+        meas.t_s = (double)k * PERIOD_S;
+        for (int j = 0; j < 6; ++j) {
+            meas.length_m[j] = ik.cable[j].length_m;
+            meas.tension_winch_N[j] =
+                ik.cable[j].tension_winch_N + 7.0 + ((j == 2 && k > 0) ? 10.0 : 0.0);
+        }
+        TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &meas, &cmd));
+        const double hp = (k > 0) ? 10.0 * exp(-(double)k * PERIOD_S / tau_wo) : 0.0;
+        for (int j = 0; j < 6; ++j) {
+            /* the tolerance as in test_tension_feedback_law */
+            TEST_ASSERT_DOUBLE_WITHIN(kt * TOL(1e-6, 2e-2), (j == 2) ? kt * hp : 0.0,
+                                      cmd.rate_m_per_s[j]);
+        }
+    }
+    cdpr_diag_t d;
+    cdpr_tracker_gains_t bad = g;
+    bad.tension_washout_s = -1.0;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_OUT_OF_RANGE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &bad, PERIOD_S, 0.0, &d));
+    TEST_ASSERT_EQUAL_STRING("tension_washout_s", d.field);
+    bad.tension_washout_s = NAN_D;
+    TEST_ASSERT_EQUAL_INT(CDPR_E_NOT_FINITE,
+                          cdpr_tracker_init(&tracker, &p, &tr, &bad, PERIOD_S, 0.0, &d));
+    TEST_ASSERT_EQUAL_STRING("tension_washout_s", d.field);
+}
+
 static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
 {
     cdpr_robot_params_t p;
@@ -270,9 +323,9 @@ static void test_infeasible_desired_pose_holds_the_last_feedforward(void)
     const double from[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const double to[6] = {0.0, 0.0, 40.0, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = test_line(from, to, 1.0);
-    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                                    0.0, NULL};
+    const cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                                    0.0, NULL, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     int failed_at = -1;
     cdpr_real_t l_before[CDPR_MAX_CABLES] = {0};
@@ -315,7 +368,7 @@ static void test_step_makes_no_heap_allocation(void)
     const cdpr_traj_t tr = test_paper_circle();
     const cdpr_tracker_gains_t g = {0.5, 0.05, 5.0, 0.1, 1.0, 40.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
                                     0.0, 0.0,  0.0, 0.0, 0.0, 0.0,  0,    0.0, 0.0, 0.0,
-                                    0.0, NULL};
+                                    0.0, NULL, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_alloc_reset();
     for (int k = 0; k < 100; ++k) {
@@ -570,9 +623,9 @@ static void test_redundant_robot_closed_loop_holds_at_rest(void)
     pp.max_trials = 1000;
     const double pose[6] = {0.0, 0.0, 13.0, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
-    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                                    0.0, NULL};
+    const cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                                    0.0, NULL, 0.0};
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT(CDPR_E_CAPACITY,
                           cdpr_tracker_init(&tracker, &pp.robot, &tr, &g, PERIOD_S, 0.0, &d));
@@ -715,9 +768,9 @@ static void test_feedforward_carries_the_centripetal_load(void)
     tr.speed_m_per_s = 2.0;
     tr.start_angle_rad = 1.5707963267948966;
     tr.direction = 1.0;
-    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                              0.0, NULL};
+    cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                              0.0, 0.0,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                              0.0, NULL, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_cabin_motion_t m0 = motion_at(pose);
@@ -754,9 +807,9 @@ static void test_wrench_damping_command(void)
     model_params(&p);
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
-    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 80.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0,  0,    0.0, 0.0, 0.0,
-                                    0.0, NULL};
+    const cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 80.0, 40.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0,  0.0, 0.0, 0.0, 0.0,  0,    0.0, 0.0, 0.0,
+                                    0.0, NULL, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     cdpr_tracker_meas_t meas;
     memset(&meas, 0, sizeof meas);
@@ -805,9 +858,9 @@ static void test_loop_solutions_are_not_commanded(void)
     TEST_ASSERT_TRUE(why.value > 1.5);
     TEST_ASSERT_EQUAL_DOUBLE(1.5, why.limit);
     const cdpr_traj_t tr = hold_at(pose);
-    const cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                                    0.0, NULL};
+    const cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                                    0.0, 0.0,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                                    0.0, NULL, 0.0};
     cdpr_diag_t d;
     TEST_ASSERT_EQUAL_INT(CDPR_E_INFEASIBLE,
                           cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, &d));
@@ -889,9 +942,9 @@ static void test_correction_joins_the_command(void)
     }
     const cdpr_tracker_correction_t corr = {
         6, N, (cdpr_real_t)0.05, (cdpr_real_t)0.1, (cdpr_real_t)PERIOD_S, a};
-    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                              0.0, NULL};
+    cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                              0.0, 0.0,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                              0.0, NULL, 0.0};
     static cdpr_tracker_t plain;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&plain, &p, &tr, &g, PERIOD_S, 0.0, NULL));
     g.correction = &corr;
@@ -936,9 +989,9 @@ static void test_correction_refused_at_init(void)
     const double pose[6] = {0.0, 0.0, 9.135, 0.0, 0.0, 0.0};
     const cdpr_traj_t tr = hold_at(pose);
     cdpr_real_t a[12] = {0.0};
-    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
-                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                              0.0, NULL};
+    cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {0.0, 0.0, 0.0},
+                              0.0, 0.0,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                              0.0, NULL, 0.0};
     cdpr_tracker_correction_t c = {5, 2, 0.0, (cdpr_real_t)0.1, (cdpr_real_t)PERIOD_S, a};
     /* five cables: another robot */
     g.correction = &c;
@@ -983,6 +1036,7 @@ int main(void)
     RUN_TEST(test_loop_solutions_are_not_commanded);
     RUN_TEST(test_step_makes_no_heap_allocation);
     RUN_TEST(test_tension_feedback_law);
+    RUN_TEST(test_tension_washout_law);
     RUN_TEST(test_closed_loop_holds_the_cabin_at_rest);
     RUN_TEST(test_integral_action_removes_the_steady_error);
     RUN_TEST(test_weight_estimate_finds_the_mass_error);

@@ -56,7 +56,7 @@ static void integrators_n(cdpr_design_model_t *m, double kl, double T, int nu)
     }
     m->n = nu;
     m->nu = nu;
-    m->nz = 33 + 3 * nu;
+    m->nz = CDPR_DESIGN_NZ(nu);
     m->nm = 12 + nu;
     m->period_s = T;
     m->A = g_A;

@@ -278,6 +278,7 @@ static void test_omitted_keys_take_the_preset(void)
     TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.integral_per_s);
     TEST_ASSERT_EQUAL_DOUBLE(0.05, sc.gains.integral_limit_m);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.weight_estimate_s);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, sc.gains.tension_washout_s);
     TEST_ASSERT_EQUAL_DOUBLE(1e-6, sc.integrator.rtol);
     TEST_ASSERT_EQUAL_INT(2000, sc.integrator.max_trials);
     TEST_ASSERT_EQUAL_INT(1, (int)cdpr_scenario_output_every(&sc));
@@ -431,6 +432,9 @@ static const bad_case_t BAD[] = {
     {"weight estimate negative", "  damping_rot_N_m_s: 20.0\n",
      "  damping_rot_N_m_s: 20.0\n  weight_estimate_s: -1\n", "controller.weight_estimate_s",
      "weight_estimate_s:", 0},
+    {"tension washout negative", "  damping_rot_N_m_s: 20.0\n",
+     "  damping_rot_N_m_s: 20.0\n  tension_washout_s: -0.5\n", "controller.tension_washout_s",
+     "tension_washout_s:", 0},
     {"model factor out of range", "ea_scale: 0.9", "ea_scale: 0.4", "controller.model.ea_scale",
      "ea_scale:", 0},
     {"model key unknown", "cabin_mass_scale: 1.1", "cabin_mass: 1.1", "controller.model.cabin_mass",

@@ -311,9 +311,9 @@ static void test_slack_demand_counted(void)
     memset(&tr, 0, sizeof tr);
     tr.type = CDPR_TRAJ_HOLD;
     tr.hold_pose[2] = 9.135;
-    cdpr_tracker_gains_t g = {0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {60.0, 0.0, 0.0},
-                              0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
-                              0.0, NULL};
+    cdpr_tracker_gains_t g = {0.0, 0.0,  5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, {60.0, 0.0, 0.0},
+                              0.0, 0.0,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
+                              0.0, NULL, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, 0.01, 0.0, NULL));
     TEST_ASSERT_EQUAL_INT(-1, tracker.first_slack_cable);
     tracker.g.wind_ff = 1.0; /* the wind load from the first step on */

@@ -161,7 +161,7 @@ static cdpr_status_t check_correction(const cdpr_tracker_correction_t *c, int n_
 static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t period_s,
                                  cdpr_diag_t *diag)
 {
-    const cdpr_real_t v[13] = {period_s,
+    const cdpr_real_t v[14] = {period_s,
                                g->kp,
                                g->kd_s,
                                g->k_length_per_s,
@@ -173,8 +173,9 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t peri
                                g->wind_ff,
                                g->tension_gain_m_per_s_per_N,
                                g->tension_filter_s,
-                               g->transfer_from_rest};
-    static const char *const names[13] = {"period_s",
+                               g->transfer_from_rest,
+                               g->tension_washout_s};
+    static const char *const names[14] = {"period_s",
                                           "kp",
                                           "kd_s",
                                           "k_length_per_s",
@@ -186,11 +187,12 @@ static cdpr_status_t check_gains(const cdpr_tracker_gains_t *g, cdpr_real_t peri
                                           "wind_ff",
                                           "tension_gain_m_per_s_per_N",
                                           "tension_filter_s",
-                                          "transfer_from_rest"};
+                                          "transfer_from_rest",
+                                          "tension_washout_s"};
     if (!cdpr_v3_isfinite(g->wind_m_per_s)) {
         return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, "wind_m_per_s", -1);
     }
-    for (int i = 0; i < 13; ++i) {
+    for (int i = 0; i < 14; ++i) {
         if (!isfinite(v[i])) {
             return cdpr_diag_set(diag, CDPR_E_NOT_FINITE, names[i], -1);
         }
@@ -759,13 +761,15 @@ static void rate_commands(const cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m
             cmd->rate_m_per_s[j] += ((c1 - c0) / dt) + (tr->g.k_length_per_s * c0);
         }
         if (tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0)) {
-            cmd->rate_m_per_s[j] += tr->g.tension_gain_m_per_s_per_N * tr->ten_f[j];
+            cmd->rate_m_per_s[j] +=
+                tr->g.tension_gain_m_per_s_per_N * (tr->ten_f[j] - tr->ten_w[j]);
         }
     }
 }
 
 /* Step 4b: the tension errors T_j - T_ff,j(t) through one first-order stage into tr->ten_f
- * (primed by the first sample with the pose filter). Only with tension feedback on. */
+ * and, with the washout on, ten_f through another into tr->ten_w (both primed by the first
+ * sample with the pose filter; ten_w 0 without the washout). Only with tension feedback on. */
 static void filter_tensions(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, cdpr_real_t dt)
 {
     if (!(tr->g.tension_gain_m_per_s_per_N > CDPR_R(0.0))) {
@@ -774,9 +778,21 @@ static void filter_tensions(cdpr_tracker_t *tr, const cdpr_tracker_meas_t *m, cd
     const cdpr_real_t a = (tr->g.tension_filter_s > CDPR_R(0.0))
                               ? CDPR_R(1.0) - CDPR_EXP(-dt / tr->g.tension_filter_s)
                               : CDPR_R(1.0);
+    const cdpr_real_t a_w = (tr->g.tension_washout_s > CDPR_R(0.0))
+                                ? CDPR_R(1.0) - CDPR_EXP(-dt / tr->g.tension_washout_s)
+                                : CDPR_R(0.0);
     for (int j = 0; j < tr->model.p.n_cables; ++j) {
         const cdpr_real_t e = m->tension_winch_N[j] - tr->t_ff_N[j];
-        tr->ten_f[j] = (tr->filter_primed == 0) ? e : tr->ten_f[j] + a * (e - tr->ten_f[j]);
+        if (tr->filter_primed == 0) {
+            tr->ten_f[j] = e;
+            tr->ten_w[j] = e;
+        } else {
+            tr->ten_f[j] += a * (e - tr->ten_f[j]);
+            tr->ten_w[j] += a_w * (tr->ten_f[j] - tr->ten_w[j]);
+        }
+        if (!(a_w > CDPR_R(0.0))) {
+            tr->ten_w[j] = CDPR_R(0.0); /* no washout: w stays 0 */
+        }
     }
 }
 

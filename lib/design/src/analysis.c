@@ -272,9 +272,9 @@ static cdpr_status_t check_model(const cdpr_design_model_t *m, cdpr_design_error
         snprintf(err->msg, sizeof err->msg, "design: incomplete model");
         return CDPR_E_INVALID_ARG;
     }
-    if (m->nu < 1 || m->nu > NU_MAX || m->nz != 33 + 3 * m->nu || m->nm != 12 + m->nu) {
+    if (m->nu < 1 || m->nu > NU_MAX || m->nz != CDPR_DESIGN_NZ(m->nu) || m->nm != 12 + m->nu) {
         snprintf(err->msg, sizeof err->msg,
-                 "design: model sizes nu %d, nz %d, nm %d (nu 1..%d, nz = 33 + 3 nu, nm = 12 + nu)",
+                 "design: model sizes nu %d, nz %d, nm %d (nu 1..%d, nz = 33 + 4 nu, nm = 12 + nu)",
                  m->nu, m->nz, m->nm, NU_MAX);
         return CDPR_E_INVALID_ARG;
     }

@@ -40,6 +40,7 @@ static void feedback_keys(const cdpr_tracker_gains_t *g, char *buf, size_t len)
     key(buf, len, "tension_gain_m_per_s_per_N", g->tension_gain_m_per_s_per_N, 0);
     if (g->tension_gain_m_per_s_per_N > 0.0) {
         key(buf, len, "tension_filter_s", g->tension_filter_s, 1);
+        key(buf, len, "tension_washout_s", g->tension_washout_s, 0);
     }
     if (buf[0] == '\0') {
         snprintf(buf, len, "feed-forward, k_length_per_s %g", g->k_length_per_s);

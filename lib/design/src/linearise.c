@@ -52,9 +52,9 @@ void cdpr_design_outputs(cdpr_design_point_t *pt, const double *y, double o[CDPR
     }
 }
 
-/* The tracker's states z of the linear model (nz = 33 + 3 nu), in this order: err_f1 (12),
+/* The tracker's states z of the linear model (nz = 33 + 4 nu), in this order: err_f1 (12),
  * err_f (12), ten_f (nu), integ (6), mass_est_kg, l_ff_m (nu), t_ff_N (nu), mass_res_f1,
- * mass_res_f. */
+ * mass_res_f, ten_w (nu). */
 static void z_of_tracker(const cdpr_tracker_t *tr, int nu, double *z)
 {
     const size_t m = (size_t)nu;
@@ -67,6 +67,7 @@ static void z_of_tracker(const cdpr_tracker_t *tr, int nu, double *z)
     memcpy(z + 31 + 2 * m, tr->t_ff_N, sizeof(double) * m);
     z[31 + 3 * m] = tr->mass_res_f1;
     z[32 + 3 * m] = tr->mass_res_f;
+    memcpy(z + 33 + 3 * m, tr->ten_w, sizeof(double) * m);
 }
 
 static void z_to_tracker(const double *z, int nu, cdpr_tracker_t *tr)
@@ -81,11 +82,12 @@ static void z_to_tracker(const double *z, int nu, cdpr_tracker_t *tr)
     memcpy(tr->t_ff_N, z + 31 + 2 * m, sizeof(double) * m);
     tr->mass_res_f1 = z[31 + 3 * m];
     tr->mass_res_f = z[32 + 3 * m];
+    memcpy(tr->ten_w, z + 33 + 3 * m, sizeof(double) * m);
 }
 
 /* One tracker step from the held tracker with filter state z at plant state y and payout
  * rates in force up: the m rate commands into u, the new filter state into zn (z: err_f1,
- * err_f, ten_f, integ, mass_est_kg, l_ff_m, t_ff_N, mass_res_f1, mass_res_f). */
+ * err_f, ten_f, integ, mass_est_kg, l_ff_m, t_ff_N, mass_res_f1, mass_res_f, ten_w). */
 static void ctrl_at(cdpr_design_point_t *pt, const double *y, const double *z, const double *up,
                     double *u, double *zn)
 {
@@ -152,7 +154,7 @@ static void ctrl_jacobians(cdpr_design_point_t *pt, double *y, const double *z0,
 {
     const int n = pt->plant.robot.dim;
     const int nu = nu_of(pt);
-    const int nz = 33 + 3 * nu;
+    const int nz = CDPR_DESIGN_NZ(nu);
     const int nm = 12 + nu;
     memcpy(y, pt->plant.y, sizeof(double) * (size_t)n);
     double z[NZ_MAX];
@@ -310,7 +312,7 @@ cdpr_status_t cdpr_design_linearise(cdpr_design_point_t *pt, cdpr_design_model_t
     const int n = pt->plant.robot.dim;
     const size_t nn = (size_t)n;
     const size_t nu = (size_t)nu_of(pt);
-    const size_t nz = 33u + 3u * nu;
+    const size_t nz = (size_t)CDPR_DESIGN_NZ(nu);
     const size_t nm = 12u + nu;
     m->n = n;
     m->nu = (int)nu;

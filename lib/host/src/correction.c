@@ -111,9 +111,11 @@ static void hash_robot(const cdpr_scenario_t *sc, char hex[CDPR_SHA256_HEX + 1])
 
 /* Every gain below, but wind_m_per_s (the steady wind is the robot's: hash_robot) and the
  * correction itself. A gain added to cdpr_tracker_gains_t breaks this build until it is hashed
- * here (and counted in the check). */
+ * here (and counted in the check). Gains added after the file format's first release join the
+ * hash only when set (> 0), so a correction made before they existed stays valid for a
+ * controller that does not use them. */
 typedef char cdpr_every_gain_hashed[(sizeof(cdpr_tracker_gains_t) ==
-                                     (19U * sizeof(cdpr_real_t)) + sizeof(cdpr_vec3_t) +
+                                     (20U * sizeof(cdpr_real_t)) + sizeof(cdpr_vec3_t) +
                                          sizeof(long) + sizeof(const cdpr_tracker_correction_t *))
                                         ? 1
                                         : -1];
@@ -143,6 +145,9 @@ static void hash_controller(const cdpr_tracker_gains_t *g, char hex[CDPR_SHA256_
     cdpr_sha256_t h;
     cdpr_sha256_init(&h);
     put(&h, "gains", v, (int)(sizeof v / sizeof v[0]));
+    if (g->tension_washout_s > 0.0) {
+        put1(&h, "tension_washout_s", g->tension_washout_s);
+    }
     finish(&h, hex);
 }
 

@@ -97,6 +97,7 @@ typedef struct {
     double *integral_per_s;       /* issue 22 item 3: integral action */
     double *integral_limit_m;
     double *weight_estimate_s; /* issue 22 item 3: the cabin's weight from the tensions */
+    double *tension_washout_s; /* issue 22 item 2: washout on the tension error */
     raw_model_t *model;
     char *precompensation; /* issue 22 item 1: a correction file (correction.h) */
 } raw_controller_t;
@@ -258,6 +259,7 @@ static const cyaml_schema_field_t controller_fields[] = {
     OPT_NUMP("wind_ff", raw_controller_t, wind_ff),
     OPT_NUMP("tension_gain_m_per_s_per_N", raw_controller_t, tension_gain_m_per_s_per_N),
     OPT_NUMP("tension_filter_s", raw_controller_t, tension_filter_s),
+    OPT_NUMP("tension_washout_s", raw_controller_t, tension_washout_s),
     OPT_NUMP("learning_gain", raw_controller_t, learning_gain),
     OPT_NUMP("learning_lead_s", raw_controller_t, learning_lead_s),
     OPT_NUMP("learning_cutoff_hz", raw_controller_t, learning_cutoff_hz),
@@ -505,8 +507,9 @@ static void resolve_run(const raw_t *r, cdpr_scenario_t *sc)
     take(&sc->gains.transfer_from_rest, r->controller.transfer_from_rest, 1); /* 0 or 1 */
     take(&sc->gains.wind_ff, r->controller.wind_ff, 1);                       /* default 0: none */
     take(&sc->gains.tension_gain_m_per_s_per_N, r->controller.tension_gain_m_per_s_per_N, 1);
-    take(&sc->gains.tension_filter_s, r->controller.tension_filter_s, 1); /* default 0: off */
-    take(&sc->gains.learning_gain, r->controller.learning_gain, 1);       /* default 0: off */
+    take(&sc->gains.tension_filter_s, r->controller.tension_filter_s, 1);   /* default 0: off */
+    take(&sc->gains.tension_washout_s, r->controller.tension_washout_s, 1); /* default 0: none */
+    take(&sc->gains.learning_gain, r->controller.learning_gain, 1);         /* default 0: off */
     take(&sc->gains.learning_lead_s, r->controller.learning_lead_s, 1);
     take(&sc->gains.learning_cutoff_hz, r->controller.learning_cutoff_hz, 1);
     take(&sc->gains.learning_limit_m, r->controller.learning_limit_m, 1);
@@ -1221,6 +1224,7 @@ static void check_run(vctx_t *vp)
     range(&v, "controller.tension_gain_m_per_s_per_N", &sc->gains.tension_gain_m_per_s_per_N, 1,
           0.0, 1.0, 0);
     range(&v, "controller.tension_filter_s", &sc->gains.tension_filter_s, 1, 0.0, 1e3, 0);
+    range(&v, "controller.tension_washout_s", &sc->gains.tension_washout_s, 1, 0.0, 1e4, 0);
     check_learning(&v);
     range(&v, "controller.integral_per_s", &sc->gains.integral_per_s, 1, 0.0, 1e3, 0);
     range(&v, "controller.integral_limit_m", &sc->gains.integral_limit_m, 1, 0.0, 10.0, 1);

@@ -76,6 +76,14 @@
 ///     it). Rate in, force out at the same winch: a collocated admittance (a damper 1/k_T in
 ///     series with each cable, against the length loop's spring k_L/k_T), which damps the
 ///     cabin-cable modes without the pose loop's phase problem (docs/validation.md §8).
+///     With tension_washout_s = τ_wo > 0 the loop sees only the error's changes: a first-order
+///     washout (high-pass) of the filtered error,
+///       w_j ← w_j + a_w (e_T,j - w_j),   u_j += k_T (e_T,j - w_j),   a_w = 1 - e^(-Δt_c/τ_wo)
+///     (w primed with e_T at the first sample), so a steady tension error (a cabin heavier
+///     than the model, a wind load, the discrete chain's offset from the catenary) pays out
+///     nothing in steady state, where without it it holds the length k_T e_T / k_L off L_ff
+///     and moves the cabin: the damping stays, the static offset goes. A step E in e_T gives
+///     k_T E e^(-(k - k_0 + 1) Δt_c/τ_wo) at period k >= k_0.
 ///  4c. pre-compensation (optional, gains.correction, cdpr_tracker_correction_t): a length
 ///     correction computed offline for this trajectory joins the feed-forward,
 ///       u_j += (c_j(t + Δt_c) - c_j(t)) / Δt_c + k_L c_j(t),
@@ -221,6 +229,8 @@ typedef struct {
                                     ///< (>= 0; 0 = off; step 1c)
     const cdpr_tracker_correction_t *correction; ///< length pre-compensation (NULL: none;
                                                  ///< step 4c); the caller's, see its type
+    cdpr_real_t tension_washout_s; ///< time constant τ_wo of the washout on the filtered tension
+                                   ///< error [s] (>= 0; 0 = none; step 4b)
 } cdpr_tracker_gains_t;
 
 /// Measurements at the start of a period (inputs): time, measured pose and velocities,
@@ -255,6 +265,7 @@ typedef struct {
     cdpr_real_t err_f1[12];              ///< first filter stage (internal)
     cdpr_real_t err_f[12];               ///< filtered e_p, e_θ, ė_p, ė_θ (internal)
     cdpr_real_t ten_f[CDPR_MAX_CABLES];  ///< filtered tension errors T_j - T_ff,j [N] (internal)
+    cdpr_real_t ten_w[CDPR_MAX_CABLES];  ///< their washout's low-pass w_j [N] (internal)
     cdpr_real_t t_ff_N[CDPR_MAX_CABLES]; ///< feed-forward winch-end tensions at t_next_s (internal)
     int filter_primed;                   ///< err_f holds a value (internal)
     cdpr_real_t t_next_s;                ///< time L_ff refers to (internal)

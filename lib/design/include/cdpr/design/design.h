@@ -26,12 +26,14 @@
 #include "cdpr/control/tracker.h"
 
 /// Sizes of the model of a robot of m cables (cdpr_design_model_t.nu, .nz, .nm): m rate commands
-/// (payout rates), 33 + 3 m states of the tracker (err_f1, err_f: 12 each; ten_f: one per
+/// (payout rates), 33 + 4 m states of the tracker (err_f1, err_f: 12 each; ten_f: one per
 /// cable; integ: 6; mass_est_kg: 1; the feed-forward's l_ff_m and t_ff_N it keeps from one
-/// period to the next: m each; the weight residual's two filter stages), 12 + m linearised outputs
+/// period to the next: m each; the weight residual's two filter stages; the tension washout's
+/// ten_w: one per cable), 12 + m linearised outputs
 /// (p, θ, v, ω, the m lengths). The most a build holds:
 #define CDPR_DESIGN_NU_MAX        CDPR_MAX_CABLES
-#define CDPR_DESIGN_NZ_MAX        (33 + 3 * CDPR_MAX_CABLES)
+#define CDPR_DESIGN_NZ(m)         (33 + (4 * (m))) ///< the tracker's states of m cables
+#define CDPR_DESIGN_NZ_MAX        CDPR_DESIGN_NZ(CDPR_MAX_CABLES)
 #define CDPR_DESIGN_NM_MAX        (12 + CDPR_MAX_CABLES)
 #define CDPR_DESIGN_GOAL_GM_DB    6.0  ///< goal: loop-at-a-time gain margin [dB]
 #define CDPR_DESIGN_GOAL_PM_DEG   30.0 ///< goal: loop-at-a-time phase margin [deg]
@@ -62,7 +64,7 @@ typedef struct {
 typedef struct {
     int n;           ///< plant states
     int nu;          ///< rate commands: the robot's cables m (1..CDPR_DESIGN_NU_MAX)
-    int nz;          ///< the tracker's states: 33 + 3 nu
+    int nz;          ///< the tracker's states: 33 + 4 nu
     int nm;          ///< outputs: 12 + nu
     double period_s; ///< control period T
     double *A;       ///< n x n    ∂f/∂y of cdpr_robot_rhs
