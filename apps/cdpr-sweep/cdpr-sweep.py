@@ -724,8 +724,9 @@ def results(sweep, out, ids):
         row["scenario_sha256"] = summ.get("scenario_sha256")
         for k in FIGURES:
             row[k] = summ.get(k)
-        for key, col in (("slack_periods", "slack_periods_%d"), ("cable_min_tension_N", "T%d_min_N"),
-                         ("cable_max_tension_N", "T%d_max_N")):
+        for key, col in (("slack_periods", "slack_periods_%d"),
+                         ("rate_limited_periods", "rate_limited_periods_%d"),
+                         ("cable_min_tension_N", "T%d_min_N"), ("cable_max_tension_N", "T%d_max_N")):
             per_cable = summ.get(key)
             if isinstance(per_cable, list):
                 for j, v in enumerate(per_cable, 1):

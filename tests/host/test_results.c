@@ -435,6 +435,49 @@ static void test_node_events_from_segment_counts(void)
     TEST_ASSERT_EQUAL_INT(22, sum.nodes_max);
 }
 
+/* One period of payout rates into the recorder (no CSV). */
+static void period_u(cdpr_record_t *rec, long k, double u1, double u2)
+{
+    cdpr_traj_sample_t des;
+    memset(&des, 0, sizeof des);
+    des.motion.q.w = 1.0;
+    cdpr_tracker_meas_t meas;
+    memset(&meas, 0, sizeof meas);
+    meas.cabin.q.w = 1.0;
+    const double ten[2] = {100.0, 100.0};
+    const double u[2] = {u1, u2};
+    const int segments[2] = {20, 20};
+    const cdpr_record_row_t row = {0.01 * (double)k, &des, &meas, ten, ten, ten, u, segments};
+    cdpr_record_period(rec, k, 0, &row);
+}
+
+/* Rate-limited periods from the applied payout rates against each winch's limits (the
+ * paper's: a_max 5 m/s^2, so 0.05 m/s per 10 ms period; u_max 4 m/s): cable 1 changes by
+ * exactly 0.05 (counted), 0.04 (not), 0.05 (counted), then after a gap of one unrecorded
+ * period by 0.16 (not counted: no period before it), then to u_max (counted, once, though it
+ * also changes by more than 0.05); cable 2 by 0.05 less 1e-7 (not) and -0.05 (counted). */
+static void test_rate_limited_periods(void)
+{
+    cdpr_scenario_t sc;
+    scenario(&sc);
+    TEST_ASSERT_EQUAL_DOUBLE(5.0, sc.rig.cable[0].winch.a_max_m_per_s2);
+    TEST_ASSERT_EQUAL_DOUBLE(4.0, sc.rig.cable[1].winch.u_max_m_per_s);
+    cdpr_summary_t sum;
+    memset(&sum, 0, sizeof sum);
+    cdpr_record_t rec;
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_open(&rec, &sc, NULL, NULL, 2, &sum, &err));
+    period_u(&rec, 0, 0.0, 0.0);
+    period_u(&rec, 1, 0.05, 0.05 - 1e-7);
+    period_u(&rec, 2, 0.09, 0.05 - 1e-7 - 0.05);
+    period_u(&rec, 3, 0.14, 0.0);
+    period_u(&rec, 5, 0.30, 0.0);
+    period_u(&rec, 6, 4.0, 0.0);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
+    TEST_ASSERT_EQUAL_UINT32(3, sum.rate_limited_periods[0]);
+    TEST_ASSERT_EQUAL_UINT32(1, sum.rate_limited_periods[1]);
+}
+
 /* A file-size limit of `bytes` for this process (EFBIG past it, SIGXFSZ ignored): a write
  * error on a regular file, without a full disk. Returns the old limit. */
 static struct rlimit limit_file_size(rlim_t bytes, void (**prev)(int))
@@ -669,6 +712,7 @@ int main(void)
     RUN_TEST(test_unknown_values_are_null_both_ways);
     RUN_TEST(test_summary_without_provenance_keys_reads);
     RUN_TEST(test_node_events_from_segment_counts);
+    RUN_TEST(test_rate_limited_periods);
     RUN_TEST(test_write_errors_are_io);
     RUN_TEST(test_outputs_refuse_a_fifo_without_blocking);
     RUN_TEST(test_read_errors);

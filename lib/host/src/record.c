@@ -145,6 +145,10 @@ cdpr_status_t cdpr_record_open(cdpr_record_t *rec, const cdpr_scenario_t *sc,
     sum->initial_error_m = (double)NAN;
     sum->nodes_min = CDPR_MAX_SEGMENTS;
     sum->nodes_max = 0;
+    for (int j = 0; j < n_cables && j < CDPR_MAX_CABLES; ++j) {
+        rec->du_limit[j] = sc->rig.cable[j].winch.a_max_m_per_s2 * sc->period_s;
+        rec->u_limit[j] = sc->rig.cable[j].winch.u_max_m_per_s;
+    }
     if (out_dir == NULL) {
         return CDPR_OK;
     }
@@ -248,6 +252,15 @@ cdpr_status_t cdpr_record_period(cdpr_record_t *rec, long k, int last, const cdp
             rec->missed += k - rec->prev_k - 1;
         }
         for (int j = 0; j < nc; ++j) {
+            /* The winch limited the rate (cdpr_winch_update): a change of a_max T from the
+             * period before, or the speed limit (to 1e-9 relative: the clamp's arithmetic). */
+            const double u = row->payout_m_per_s[j];
+            const int next = (rec->prev_k >= 0 && k == rec->prev_k + 1) ? 1 : 0;
+            if ((next != 0 && fabs(u - rec->prev_payout[j]) >= rec->du_limit[j] * (1.0 - 1e-9)) ||
+                fabs(u) >= rec->u_limit[j] * (1.0 - 1e-9)) {
+                sum->rate_limited_periods[j]++;
+            }
+            rec->prev_payout[j] = u;
             rec->prev_segments[j] = row->segments[j];
             /* A slack period: either end of cable j without tension. */
             if (!(row->tension_cabin_N[j] > 0.0) || !(row->tension_winch_N[j] > 0.0)) {

@@ -490,6 +490,7 @@ cdpr_status_t cdpr_summary_write(const char *path, const cdpr_scenario_t *sc,
         }
     }
     write_rt(f, &sum->rt);
+    write_counts(f, "rate_limited_periods", sum->n_cables, sum->rate_limited_periods);
     write_counts(f, "slack_periods", sum->n_cables, sum->slack_periods);
     write_counts(f, "slack_demand_periods", sum->n_cables, sum->slack_demand_periods);
     write_cable_reals(f, "cable_max_tension_N", sum->n_cables, sum->cable_max_tension_N);
@@ -727,15 +728,18 @@ static void print_slack(FILE *f, const cdpr_summary_t *s)
     if (s->n_cables <= 0 || s->n_cables > CDPR_MAX_CABLES) {
         return;
     }
-    const unsigned long *lists[2] = {s->slack_periods, s->slack_demand_periods};
-    static const char *const names[2] = {"  slack periods  ", "; feed-forward demands"};
-    for (int k = 0; k < 2; ++k) {
+    const unsigned long *lists[3] = {s->slack_periods, s->slack_demand_periods,
+                                     s->rate_limited_periods};
+    static const char *const names[3] = {"  slack periods  ", "; feed-forward demands",
+                                         "  rate-limited    "};
+    for (int k = 0; k < 3; ++k) {
         fputs(names[k], f);
         for (int j = 0; j < s->n_cables; ++j) {
             fprintf(f, "%s%lu", (j == 0) ? " " : "/", lists[k][j]);
         }
+        fputs((k == 1) ? " (cables 1..n)\n" : "", f);
     }
-    fputs(" (cables 1..n)\n", f);
+    fputs(" (periods the winch's acceleration or speed limit set the rate)\n", f);
     if (s->first_slack_demand_cable > 0) {
         fprintf(f, "  first slack demand: cable %d at t = %.4g s (%.4g N on the chords)\n",
                 s->first_slack_demand_cable, s->first_slack_demand_t_s, s->first_slack_demand_N);

@@ -54,6 +54,9 @@ typedef struct {
     cdpr_summary_t *sum;
     long prev_k; ///< period of the last recorded row (-1: none yet)
     int prev_segments[CDPR_MAX_CABLES];
+    double prev_payout[CDPR_MAX_CABLES]; ///< payout rates of period prev_k [m/s]
+    double du_limit[CDPR_MAX_CABLES];    ///< a_max T of each winch: its largest rate change [m/s]
+    double u_limit[CDPR_MAX_CABLES];     ///< u_max of each winch [m/s]
     unsigned long seg_insertions, seg_removals; ///< node events seen in the segment counts
     long missed;         ///< periods between the first and the last recorded that were not recorded
     long next_row_k;     ///< first period of the next CSV row (the next output instant)

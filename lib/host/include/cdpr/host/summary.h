@@ -117,6 +117,11 @@ typedef struct {
     double rms_error_after_transfer_m;   ///< RMS position error over t >= controller.transfer_s
                                          ///< (the whole run without a transfer) [m]
     int n_cables;                        ///< cables of the per-cable counts below (0: unknown)
+    unsigned long rate_limited_periods[CDPR_MAX_CABLES]; ///< recorded periods whose payout rate
+                                                         ///< of cable j the winch limited: it
+                                                         ///< changed by a_max T from the period
+                                                         ///< before (recorded too) or sat at
+                                                         ///< +-u_max
     unsigned long slack_periods[CDPR_MAX_CABLES];        ///< recorded periods with cable j's cabin-
                                                          ///< or winch-end tension <= 0 (the plant)
     unsigned long slack_demand_periods[CDPR_MAX_CABLES]; ///< periods whose feed-forward
