@@ -205,6 +205,30 @@ static void test_command_law(void)
     TEST_ASSERT_EQUAL_STRING("period_s", d.field);
 }
 
+/* The cabin held at `pose`: the IK there (the tracker's model) and a measurement at it. */
+static void hold_meas(const double pose[6], cdpr_statics_result_t *ik, cdpr_tracker_meas_t *meas)
+{
+    cdpr_statics_opts_t o;
+    cdpr_statics_opts_default(&o);
+    const cdpr_cabin_motion_t m0 = motion_at(pose);
+    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, ik));
+    memset(meas, 0, sizeof *meas);
+    meas->cabin = m0;
+}
+
+/* Period k of that hold: the IK's lengths, its winch tensions plus offset_N on every cable and
+ * step_N more on cable 2 from period 1. */
+static void hold_period(const cdpr_statics_result_t *ik, int k, double offset_N, double step_N,
+                        cdpr_tracker_meas_t *meas)
+{
+    meas->t_s = (double)k * PERIOD_S;
+    for (int j = 0; j < 6; ++j) {
+        meas->length_m[j] = ik->cable[j].length_m;
+        meas->tension_winch_N[j] =
+            ik->cable[j].tension_winch_N + offset_N + ((j == 2 && k > 0) ? step_N : 0.0);
+    }
+}
+
 /* Winch tension feedback against its closed form: at a hold (u_ff = 0, lengths exact) the
  * command is u_j = k_T e_T,j with e_T the first-order low-pass of T_j - T_ff,j, T_ff the winch
  * tension of the IK computed here; after priming with zero error, a held 10 N step on cable 2
@@ -221,22 +245,12 @@ static void test_tension_feedback_law(void)
                                     kt,  tau,  0.0, 0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
                                     0.0, NULL, 0.0};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
-    cdpr_statics_opts_t o;
-    cdpr_statics_opts_default(&o);
     cdpr_statics_result_t ik;
-    const cdpr_cabin_motion_t m0 = motion_at(pose);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &ik));
     cdpr_tracker_meas_t meas;
-    memset(&meas, 0, sizeof meas);
-    meas.cabin = m0;
+    hold_meas(pose, &ik, &meas);
     cdpr_tracker_cmd_t cmd;
     for (int k = 0; k <= 20; ++k) {
-        meas.t_s = (double)k * PERIOD_S;
-        for (int j = 0; j < 6; ++j) {
-            meas.length_m[j] = ik.cable[j].length_m;
-            meas.tension_winch_N[j] =
-                ik.cable[j].tension_winch_N + ((j == 2 && k > 0) ? 10.0 : 0.0);
-        }
+        hold_period(&ik, k, 0.0, 10.0, &meas);
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &meas, &cmd));
         const double e = 10.0 * (1.0 - exp(-(double)k * PERIOD_S / tau));
         for (int j = 0; j < 6; ++j) {
@@ -279,22 +293,12 @@ static void test_tension_washout_law(void)
                                     kt,  0.0,  0.0,   0.0, 0.0, 0.0, 0,   0.0, 0.0, 0.0,
                                     0.0, NULL, tau_wo};
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_init(&tracker, &p, &tr, &g, PERIOD_S, 0.0, NULL));
-    cdpr_statics_opts_t o;
-    cdpr_statics_opts_default(&o);
     cdpr_statics_result_t ik;
-    const cdpr_cabin_motion_t m0 = motion_at(pose);
-    TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_statics_ik(&model, &m0, &o, &ik));
     cdpr_tracker_meas_t meas;
-    memset(&meas, 0, sizeof meas);
-    meas.cabin = m0;
+    hold_meas(pose, &ik, &meas);
     cdpr_tracker_cmd_t cmd;
     for (int k = 0; k <= 30; ++k) {
-        meas.t_s = (double)k * PERIOD_S;
-        for (int j = 0; j < 6; ++j) {
-            meas.length_m[j] = ik.cable[j].length_m;
-            meas.tension_winch_N[j] =
-                ik.cable[j].tension_winch_N + 7.0 + ((j == 2 && k > 0) ? 10.0 : 0.0);
-        }
+        hold_period(&ik, k, 7.0, 10.0, &meas);
         TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_tracker_step(&tracker, &meas, &cmd));
         const double hp = (k > 0) ? 10.0 * exp(-(double)k * PERIOD_S / tau_wo) : 0.0;
         for (int j = 0; j < 6; ++j) {

@@ -390,8 +390,8 @@ static void test_summary_without_provenance_keys_reads(void)
     TEST_ASSERT_TRUE(isfinite(s.settle_wall_time_s));
 }
 
-/* One period of cable segment counts into the recorder (no CSV). */
-static void period(cdpr_record_t *rec, long k, int s1, int s2)
+/* One period of cable segment counts and payout rates into the recorder (no CSV). */
+static void period(cdpr_record_t *rec, long k, int s1, int s2, double u1, double u2)
 {
     cdpr_traj_sample_t des;
     memset(&des, 0, sizeof des);
@@ -400,8 +400,9 @@ static void period(cdpr_record_t *rec, long k, int s1, int s2)
     memset(&meas, 0, sizeof meas);
     meas.cabin.q.w = 1.0;
     const double zero[2] = {0.0, 0.0};
+    const double u[2] = {u1, u2};
     const int segments[2] = {s1, s2};
-    const cdpr_record_row_t row = {0.01 * (double)k, &des, &meas, zero, zero, zero, zero, segments};
+    const cdpr_record_row_t row = {0.01 * (double)k, &des, &meas, zero, zero, zero, u, segments};
     cdpr_record_period(rec, k, 0, &row);
 }
 
@@ -417,12 +418,12 @@ static void test_node_events_from_segment_counts(void)
     /* Cable 1: 20 -> 21 -> 21 -> 22 | gap of 2 periods | 20: 2 insertions, 2 removals (the
      * gap's net change). Cable 2: 18 throughout, then 19 and back to 18: 1 + 1. State 3 seen
      * again (a resent state) adds nothing. */
-    period(&rec, 0, 20, 18);
-    period(&rec, 1, 21, 18);
-    period(&rec, 2, 21, 19);
-    period(&rec, 3, 22, 18);
-    period(&rec, 3, 22, 18);
-    period(&rec, 6, 20, 18);
+    period(&rec, 0, 20, 18, 0.0, 0.0);
+    period(&rec, 1, 21, 18, 0.0, 0.0);
+    period(&rec, 2, 21, 19, 0.0, 0.0);
+    period(&rec, 3, 22, 18, 0.0, 0.0);
+    period(&rec, 3, 22, 18, 0.0, 0.0);
+    period(&rec, 6, 20, 18, 0.0, 0.0);
     unsigned long ins = 0;
     unsigned long rem = 0;
     long missed = 0;
@@ -433,22 +434,6 @@ static void test_node_events_from_segment_counts(void)
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     TEST_ASSERT_EQUAL_INT(18, sum.nodes_min);
     TEST_ASSERT_EQUAL_INT(22, sum.nodes_max);
-}
-
-/* One period of payout rates into the recorder (no CSV). */
-static void period_u(cdpr_record_t *rec, long k, double u1, double u2)
-{
-    cdpr_traj_sample_t des;
-    memset(&des, 0, sizeof des);
-    des.motion.q.w = 1.0;
-    cdpr_tracker_meas_t meas;
-    memset(&meas, 0, sizeof meas);
-    meas.cabin.q.w = 1.0;
-    const double ten[2] = {100.0, 100.0};
-    const double u[2] = {u1, u2};
-    const int segments[2] = {20, 20};
-    const cdpr_record_row_t row = {0.01 * (double)k, &des, &meas, ten, ten, ten, u, segments};
-    cdpr_record_period(rec, k, 0, &row);
 }
 
 /* Rate-limited periods from the applied payout rates against each winch's limits (the
@@ -467,12 +452,12 @@ static void test_rate_limited_periods(void)
     cdpr_record_t rec;
     cdpr_scenario_error_t err;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_open(&rec, &sc, NULL, NULL, 2, &sum, &err));
-    period_u(&rec, 0, 0.0, 0.0);
-    period_u(&rec, 1, 0.05, 0.05 - 1e-7);
-    period_u(&rec, 2, 0.09, 0.05 - 1e-7 - 0.05);
-    period_u(&rec, 3, 0.14, 0.0);
-    period_u(&rec, 5, 0.30, 0.0);
-    period_u(&rec, 6, 4.0, 0.0);
+    period(&rec, 0, 20, 20, 0.0, 0.0);
+    period(&rec, 1, 20, 20, 0.05, 0.05 - 1e-7);
+    period(&rec, 2, 20, 20, 0.09, 0.05 - 1e-7 - 0.05);
+    period(&rec, 3, 20, 20, 0.14, 0.0);
+    period(&rec, 5, 20, 20, 0.30, 0.0);
+    period(&rec, 6, 20, 20, 4.0, 0.0);
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
     TEST_ASSERT_EQUAL_UINT32(3, sum.rate_limited_periods[0]);
     TEST_ASSERT_EQUAL_UINT32(1, sum.rate_limited_periods[1]);
@@ -671,7 +656,7 @@ static void test_rows_at_output_instants_when_periods_are_skipped(void)
                           cdpr_record_open(&rec, &sc, NULL, CDPR_TEST_TMP "/skip", 2, &sum, &err));
     for (long k = 0; k <= 21; ++k) {
         if (k == 0 || k % 5 != 0) {
-            period(&rec, k, 20, 20);
+            period(&rec, k, 20, 20, 0.0, 0.0);
         }
     }
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_record_close(&rec));
