@@ -3,8 +3,9 @@
 # examples/python/{subscriber,controller}.py against cdpr-rt over udpm (inside the private
 # network namespace of run_in_netns.sh; ttl=0):
 #  1. lockstep: the Python controller answers every state, so the plant steps all 100 periods
-#     on its commands (0 lockstep timeouts, none on hold) and accepts them (>= 100 accepted,
-#     0 ignored; the answer to the final state 100 may come after the plant's end), while the
+#     on its commands (0 lockstep timeouts, none on hold) and accepts them (>= 100 accepted;
+#     the answer to the final state 100 may come after the plant's end; ignored only the second
+#     answers to states sent again, which a loaded machine causes), while the
 #     subscriber decodes all 101 states and tension messages and prints each shown state with
 #     its own period's tensions, equal (to the 0.1 N printed) to what lcm-logger recorded on the
 #     wire for that seq;
@@ -36,10 +37,25 @@ fail() {
     echo "FAIL: $*"
     exit 1
 }
-# accepted and ignored: the plant's "received N accepted, M ignored" line of the report $1.
+# accepted and ignored: the plant's "received N accepted, M ignored" line of the report $1;
+# replayed: how many of the ignored were second copies ("[replayed K]"), resent: the lockstep
+# line's "S states sent again".
 counts() {
     accepted=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\1/p' "$1")
     ignored=$(sed -n 's/^ *received *\([0-9]*\) accepted, \([0-9]*\) ignored.*/\2/p' "$1")
+    replayed=$(sed -n 's/^ *received .*replayed \([0-9]*\).*/\1/p' "$1")
+    replayed=${replayed:-0}
+    resent=$(sed -n 's/^ *lockstep .* \([0-9]*\) states sent again.*/\1/p' "$1")
+    resent=${resent:-0}
+}
+# lockstep_counts WHAT: every period's command accepted; the only commands ignored are second
+# answers to a state the plant sent again (a controller slower than 0.1 s on a loaded machine
+# gets state k twice and answers both; the plant ignores the second as replayed:
+# docs/realtime.md), so ignored = replayed <= resent.
+lockstep_counts() {
+    [ -n "$accepted" ] && [ "$accepted" -ge 100 ] && [ "$ignored" -eq "$replayed" ] &&
+        [ "$replayed" -le "$resent" ] ||
+        fail "$1: ${accepted:-?} commands accepted, ${ignored:-?} ignored ($replayed replayed, $resent states sent again)"
 }
 
 # 1. Lockstep.
@@ -67,8 +83,7 @@ grep -q "0 timeouts" "$w/rt.txt" || fail "lockstep timeouts"
 grep -q "100 periods with a new command, 0 on hold" "$w/rt.txt" ||
     fail "the plant did not step every period on a Python command"
 counts "$w/rt.txt"
-[ -n "$accepted" ] && [ "$accepted" -ge 100 ] && [ "$ignored" -eq 0 ] ||
-    fail "lockstep: ${accepted:-?} commands accepted, ${ignored:-?} ignored"
+lockstep_counts lockstep
 grep -q "answered 101 states (last state seq 100)" "$w/ctl.txt" || fail "controller count"
 grep -q "101 states and 101 tension messages decoded" "$w/sub.txt" || fail "subscriber count"
 # Every shown state carries its period's tensions, as the plant sent them (lcm-logger's record).
@@ -129,8 +144,7 @@ grep -q "0 timeouts" "$w/rt3.txt" || fail "eight cables: lockstep timeouts"
 grep -q "100 periods with a new command, 0 on hold" "$w/rt3.txt" ||
     fail "eight cables: the plant did not step every period on a Python command"
 counts "$w/rt3.txt"
-[ -n "$accepted" ] && [ "$accepted" -ge 100 ] && [ "$ignored" -eq 0 ] ||
-    fail "eight cables: ${accepted:-?} commands accepted, ${ignored:-?} ignored"
+lockstep_counts "eight cables"
 grep -q "answered 101 states (last state seq 100) of a 8-cable plant" "$w/ctl3.txt" ||
     fail "eight cables: controller count"
 echo "PASS: eight cables in lockstep, $accepted Python commands of eight values accepted"
