@@ -74,7 +74,7 @@ sleep 1
 status=0
 wait "$ctl" || status=$?
 wait "$sub" || status=$?
-sleep 0.5 # lcm-logger flushes every 100 ms
+sleep 1 # lcm-logger flushes every 100 ms; and reads what its socket still holds
 kill -INT "$logger" 2> /dev/null || true
 wait "$logger" || true
 cat "$w/rt.txt" "$w/ctl.txt" "$w/sub.txt"
