@@ -34,10 +34,13 @@ static void usage(FILE *f)
             "  --runs N        most model runs, the first without correction (default 8)\n"
             "  --poses N       poses along the motion where the loop is linearised (default 5)\n"
             "  --spacing S     knot spacing of the correction [s] (a whole number of control\n"
-            "                  periods; default 0.1)\n"
+            "                  periods; default 0.3)\n"
             "  --floor N       smallest cable-end tension an iterate may reach [N] (default 20)\n"
-            "  --lambda L      regularisation of the steps (default 1e-4)\n"
+            "  --lambda L      regularisation of the steps (default 1e-3)\n"
             "  --rot-weight W  weight of the attitude error [m/rad] (default 1)\n"
+            "  --robust-mass X the cost also over the plant's cabin mass (and inertia) times\n"
+            "                  1 + X and 1 - X, the controller's model kept (0 to 0.3; default 0)\n"
+            "  --robust-ea X   the same for every rope's EA (0 to 0.3; default 0)\n"
             "  --quiet         no line per run\n"
             "  --rate HZ  --duration S  --max-trials N  --max-attempts N  --integrator NAME\n"
             "                  the run settings of cdpr-sim (docs/scenarios.md), applied first\n"
@@ -48,7 +51,16 @@ static void usage(FILE *f)
 }
 
 /* Option codes beyond any char (the override options take letters). */
-enum { OPT_RUNS = 0x200, OPT_POSES, OPT_SPACING, OPT_FLOOR, OPT_LAMBDA, OPT_ROT_WEIGHT };
+enum {
+    OPT_RUNS = 0x200,
+    OPT_POSES,
+    OPT_SPACING,
+    OPT_FLOOR,
+    OPT_LAMBDA,
+    OPT_ROT_WEIGHT,
+    OPT_ROBUST_MASS,
+    OPT_ROBUST_EA
+};
 
 typedef struct {
     cdpr_precomp_opts_t po;
@@ -86,6 +98,14 @@ static int take(int c, const char *arg, void *ctx)
     case OPT_ROT_WEIGHT:
         bad = cdpr_cli_number("cdpr-precomp", "rot-weight", arg, 0.0, 1e3, &o->po.rot_weight_m);
         break;
+    case OPT_ROBUST_MASS:
+        bad = cdpr_cli_number("cdpr-precomp", "robust-mass", arg, 0.0, CDPR_PRECOMP_MAX_VARIATION,
+                              &o->po.robust_mass);
+        break;
+    case OPT_ROBUST_EA:
+        bad = cdpr_cli_number("cdpr-precomp", "robust-ea", arg, 0.0, CDPR_PRECOMP_MAX_VARIATION,
+                              &o->po.robust_ea);
+        break;
     default:
         return 1;
     }
@@ -105,6 +125,8 @@ int main(int argc, char **argv)
         {"floor", required_argument, NULL, OPT_FLOOR},
         {"lambda", required_argument, NULL, OPT_LAMBDA},
         {"rot-weight", required_argument, NULL, OPT_ROT_WEIGHT},
+        {"robust-mass", required_argument, NULL, OPT_ROBUST_MASS},
+        {"robust-ea", required_argument, NULL, OPT_ROBUST_EA},
         CDPR_APP_QUIET_OPTION,
         CDPR_APP_OVERRIDE_OPTIONS,
         CDPR_APP_STD_OPTIONS_END};
@@ -135,8 +157,18 @@ int main(int argc, char **argv)
         fprintf(stderr, "cdpr-precomp: %s: %s\n", path, err.msg);
         return (st == CDPR_E_OUT_OF_RANGE) ? 2 : 4;
     }
-    char note[1400];
-    snprintf(note, sizeof note, "made by cdpr-precomp from %.1000s", path);
+    /* the command line that made it (what the report does not say: options, overrides) */
+    char note[1400] = "made by: cdpr-precomp";
+    size_t used = strlen(note);
+    for (int i = 1; i < argc && used + 2U < sizeof note; ++i) {
+        const int w = snprintf(&note[used], sizeof note - used, " %s", argv[i]);
+        used = (w > 0 && (size_t)w < sizeof note - used) ? used + (size_t)w : sizeof note - 1U;
+    }
+    for (size_t i = 0; i < used; ++i) { /* one comment line in the file, whatever argv holds */
+        if ((unsigned char)note[i] < 0x20U || note[i] == 0x7f) {
+            note[i] = '?';
+        }
+    }
     cdpr_scenario_error_t werr;
     st = cdpr_correction_write(out, &hc, note, &werr);
     if (st != CDPR_OK) {
@@ -150,5 +182,11 @@ int main(int argc, char **argv)
            path, r->iterations, cdpr_clock_now_s() - t0, 1e3 * r->rms_before_m,
            1e3 * r->rms_after_m, 1e3 * r->max_after_m, 1e3 * r->max_after_rad, r->min_tension_N,
            hc.floor_N, hc.c.n_cables, hc.c.n_coef, (double)hc.c.spacing_s, out);
+    if (o.po.robust_mass > 0.0 || o.po.robust_ea > 0.0) {
+        printf("cdpr-precomp: the varied plants (cabin mass x (1 +- %g), EA x (1 +- %g)): worst "
+               "RMS after 2 s %.2f mm, max %.2f mm, %.2f mrad, min cable-end tension %.1f N\n",
+               r->robust_mass, r->robust_ea, 1e3 * r->varied_rms_after_m,
+               1e3 * r->varied_max_after_m, 1e3 * r->varied_max_after_rad, r->varied_min_tension_N);
+    }
     return 0;
 }

@@ -68,10 +68,38 @@ static void test_round_trip(void)
     TEST_ASSERT_EQUAL_INT(3, back.report.iterations);
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.0013, back.report.rms_after_m);
     TEST_ASSERT_TRUE(isnan(back.report.min_tension_N)); /* unknown: left out of the file */
+    /* made for the plant as written: no varied plants in the file, read back as none */
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, back.report.robust_mass);
+    TEST_ASSERT_TRUE(isnan(back.report.varied_rms_after_m));
     /* no PATH.tmp left behind */
     char tmp[620];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
     TEST_ASSERT_NOT_EQUAL(0, access(tmp, F_OK));
+}
+
+/* A robust correction's varied-plant report (cdpr-precomp --robust-mass) survives the file. */
+static void test_round_trip_robust_report(void)
+{
+    make_tmp();
+    load_line();
+    small_correction(1e-3);
+    hc.report.robust_mass = 0.1;
+    hc.report.varied_rms_after_m = 0.0028;
+    hc.report.varied_max_after_m = 0.006;
+    hc.report.varied_max_after_rad = 0.0054;
+    hc.report.varied_min_tension_N = 29.2;
+    char path[600];
+    snprintf(path, sizeof path, "%s/rt-robust.yaml", tmp_dir);
+    cdpr_scenario_error_t err;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_correction_write(path, &hc, "a test", &err),
+                                  err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(CDPR_OK, cdpr_correction_read(path, &back, &err), err.msg);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.1, back.report.robust_mass);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, back.report.robust_ea);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.0028, back.report.varied_rms_after_m);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.006, back.report.varied_max_after_m);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.0054, back.report.varied_max_after_rad);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 29.2, back.report.varied_min_tension_N);
 }
 
 static void expect_refused(const cdpr_scenario_t *s, cdpr_status_t st, const char *says)
@@ -232,6 +260,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_round_trip);
+    RUN_TEST(test_round_trip_robust_report);
     RUN_TEST(test_check_ties_it_to_its_scenario);
     RUN_TEST(test_slack_demand_is_refused);
     RUN_TEST(test_files_that_are_not_corrections);

@@ -37,6 +37,8 @@ void cdpr_precomp_opts_default(cdpr_precomp_opts_t *o)
     o->floor_N = 20.0;
     o->lambda = 1e-3;
     o->rot_weight_m = 1.0;
+    o->robust_mass = 0.0;
+    o->robust_ea = 0.0;
     o->log = NULL;
 }
 
@@ -144,13 +146,15 @@ static double basis_input(const cdpr_tracker_correction_t *b, long k, double dt,
     return ((c1 - c0) / dt) + (k_l * c0);
 }
 
-/* Pose responses R (K x 6 x nu: R[(k * 6 + c) * nu + j]) of the loop linearised at `at_s` to
- * basis function 0 on each cable j (one column each). */
-static cdpr_status_t responses(const cdpr_scenario_t *sc, double at_s, const run_t *shape,
-                               double spacing_s, double *R, cdpr_design_error_t *err)
+/* Pose responses R (K x 6 x nu: R[(k * 6 + c) * nu + j]) of the loop linearised at `at_s`, the
+ * plant varied by `plant` (the controller's model as sc has it), to basis function 0 on each
+ * cable j (one column each). */
+static cdpr_status_t responses(const cdpr_scenario_t *sc, const cdpr_rig_scale_t *plant,
+                               double at_s, const run_t *shape, double spacing_s, double *R,
+                               cdpr_design_error_t *err)
 {
     cdpr_design_point_t *pt = NULL;
-    cdpr_status_t st = cdpr_design_point_new(sc, at_s, NULL, &pt, err);
+    cdpr_status_t st = cdpr_design_point_new(sc, at_s, plant, &pt, err);
     cdpr_design_model_t m;
     memset(&m, 0, sizeof m);
     if (st == CDPR_OK) {
@@ -237,37 +241,45 @@ static cdpr_status_t responses(const cdpr_scenario_t *sc, double at_s, const run
 
 /* ---------------------------------------------------------------- the iteration */
 
+/* One model of the cost: the plant as the scenario has it or varied (robust_mass, robust_ea),
+ * the controller's model nominal in every one. */
+typedef struct {
+    cdpr_rig_scale_t plant; /* the plant's variation */
+    cdpr_scenario_t *sc;    /* the scenario with the plant varied, the controller's model kept */
+    double *G;              /* 6K x P: the lift of this model */
+    run_t best;             /* its run with the best iterate */
+    run_t tr;               /* its run with the trial */
+} pmodel_t;
+
 typedef struct {
     long K;     /* periods */
     int nc;     /* cables */
     int ncoef;  /* coefficients per cable */
     long shift; /* periods between two basis functions */
     int P;      /* nc ncoef */
-    double *N;  /* P x P: G^T G + λ' I, then its Cholesky factor */
-    double *G;  /* 6K x P */
+    double *N;  /* P x P: sum of G_v^T G_v + λ' I, then its Cholesky factor */
+    int nm;     /* models */
+    pmodel_t m[CDPR_PRECOMP_MAX_MODELS];
 } lift_t;
 
-static cdpr_status_t build_lift(const cdpr_scenario_t *sc, const cdpr_precomp_opts_t *o,
-                                const run_t *shape, lift_t *L, cdpr_design_error_t *err)
+/* G_v from the responses at the poses: each basis function takes the pose nearest its centre,
+ * delayed to its start. */
+static cdpr_status_t model_lift(const cdpr_scenario_t *sc, const cdpr_precomp_opts_t *o,
+                                const pmodel_t *pm, const double *at, double *R, lift_t *L,
+                                cdpr_design_error_t *err)
 {
-    const double t_end = fmin(cdpr_traj_end_time(&sc->traj), sc->duration_s);
     const int np = o->poses;
     const size_t rsize = (size_t)L->K * 6U * (size_t)L->nc;
-    double *R = calloc(rsize * (size_t)np, sizeof(double));
-    if (R == NULL) {
-        fail(err, "%sout of memory for the responses (%g poses)", "", (double)np);
-        return CDPR_E_CAPACITY;
-    }
     cdpr_status_t st = CDPR_OK;
-    double at[64] = {0.0};
     for (int p = 0; st == CDPR_OK && p < np; ++p) {
-        at[p] = (np == 1) ? 0.5 * t_end : t_end * (double)p / (double)(np - 1);
         if (o->log != NULL) {
-            fprintf(o->log, "cdpr-precomp: lift %d/%d: the loop linearised at t = %.4g s\n", p + 1,
-                    np, at[p]);
+            fprintf(o->log,
+                    "cdpr-precomp: lift %d/%d: the loop linearised at t = %.4g s (plant: EA x "
+                    "%.3g, cabin mass x %.3g)\n",
+                    p + 1, np, at[p], pm->plant.ea, pm->plant.cabin_mass);
             fflush(o->log);
         }
-        st = responses(sc, at[p], shape, o->spacing_s, &R[rsize * (size_t)p], err);
+        st = responses(sc, &pm->plant, at[p], &pm->best, o->spacing_s, &R[rsize * (size_t)p], err);
     }
     const size_t rows = 6U * (size_t)L->K;
     for (int i = 0; st == CDPR_OK && i < L->ncoef; ++i) {
@@ -282,7 +294,7 @@ static cdpr_status_t build_lift(const cdpr_scenario_t *sc, const cdpr_precomp_op
         const double *Rp = &R[rsize * (size_t)best];
         const long k0 = (long)i * L->shift;
         for (int j = 0; j < L->nc; ++j) {
-            double *col = &L->G[rows * ((size_t)j * (size_t)L->ncoef + (size_t)i)];
+            double *col = &pm->G[rows * ((size_t)j * (size_t)L->ncoef + (size_t)i)];
             for (long k = k0; k < L->K; ++k) {
                 for (int c = 0; c < 6; ++c) {
                     col[(size_t)k * 6U + (size_t)c] =
@@ -291,16 +303,41 @@ static cdpr_status_t build_lift(const cdpr_scenario_t *sc, const cdpr_precomp_op
             }
         }
     }
+    return st;
+}
+
+static cdpr_status_t build_lift(const cdpr_scenario_t *sc, const cdpr_precomp_opts_t *o, lift_t *L,
+                                cdpr_design_error_t *err)
+{
+    const double t_end = fmin(cdpr_traj_end_time(&sc->traj), sc->duration_s);
+    const int np = o->poses;
+    const size_t rsize = (size_t)L->K * 6U * (size_t)L->nc;
+    double *R = calloc(rsize * (size_t)np, sizeof(double));
+    if (R == NULL) {
+        fail(err, "%sout of memory for the responses (%g poses)", "", (double)np);
+        return CDPR_E_CAPACITY;
+    }
+    double at[64] = {0.0};
+    for (int p = 0; p < np; ++p) {
+        at[p] = (np == 1) ? 0.5 * t_end : t_end * (double)p / (double)(np - 1);
+    }
+    cdpr_status_t st = CDPR_OK;
+    for (int v = 0; st == CDPR_OK && v < L->nm; ++v) {
+        /* the nominal model's scenario: without the scenario's own correction file */
+        st = model_lift(L->m[0].sc, o, &L->m[v], at, R, L, err);
+    }
     free(R);
     if (st != CDPR_OK) {
         return st;
     }
-    /* N = G^T G + λ' I and its Cholesky factor */
+    /* N = sum_v G_v^T G_v + λ' I and its Cholesky factor */
     const int P = L->P;
-    const int nr = (int)rows;
+    const int nr = (int)(6 * L->K);
     const double one = 1.0;
-    const double zero = 0.0;
-    dsyrk_("U", "T", &P, &nr, &one, L->G, &nr, &zero, L->N, &P, 1, 1);
+    for (int v = 0; v < L->nm; ++v) {
+        const double beta = (v == 0) ? 0.0 : 1.0;
+        dsyrk_("U", "T", &P, &nr, &one, L->m[v].G, &nr, &beta, L->N, &P, 1, 1);
+    }
     double tr = 0.0;
     for (int i = 0; i < P; ++i) {
         tr += L->N[(size_t)i * (size_t)P + (size_t)i];
@@ -323,15 +360,17 @@ static cdpr_status_t build_lift(const cdpr_scenario_t *sc, const cdpr_precomp_op
     return CDPR_OK;
 }
 
-/* Δa = N^-1 G^T e */
-static void gn_step(const lift_t *L, const double *e, double *da)
+/* Δa = N^-1 sum_v G_v^T e_v (the best iterate's errors) */
+static void gn_step(const lift_t *L, double *da)
 {
     const int nr = (int)(6 * L->K);
     const int P = L->P;
     const int inc = 1;
     const double one = 1.0;
-    const double zero = 0.0;
-    dgemv_("T", &nr, &P, &one, L->G, &nr, e, &inc, &zero, da, &inc, 1);
+    for (int v = 0; v < L->nm; ++v) {
+        const double beta = (v == 0) ? 0.0 : 1.0;
+        dgemv_("T", &nr, &P, &one, L->m[v].G, &nr, L->m[v].best.e, &inc, &beta, da, &inc, 1);
+    }
     int info = 0;
     dpotrs_("U", &P, &inc, L->N, &P, da, &P, &info, 1);
 }
@@ -351,6 +390,10 @@ static cdpr_status_t check_opts(const cdpr_scenario_t *sc, const cdpr_precomp_op
     } else if (!isfinite(o->floor_N) || !(o->rot_weight_m >= 0.0) || !isfinite(o->rot_weight_m)) {
         fail(err, "%sa tension floor or attitude weight that is not a finite number (%g)", "",
              o->floor_N);
+    } else if (!(o->robust_mass >= 0.0 && o->robust_mass <= CDPR_PRECOMP_MAX_VARIATION)) {
+        fail(err, "%s--robust-mass %g: 0 to 0.3", "", o->robust_mass);
+    } else if (!(o->robust_ea >= 0.0 && o->robust_ea <= CDPR_PRECOMP_MAX_VARIATION)) {
+        fail(err, "%s--robust-ea %g: 0 to 0.3", "", o->robust_ea);
     } else if (!(cdpr_traj_end_time(&sc->traj) > 0.0)) {
         fail(err, "%sthe trajectory does not move (type %g): nothing to pre-compensate", "",
              (double)sc->traj.type);
@@ -360,20 +403,129 @@ static cdpr_status_t check_opts(const cdpr_scenario_t *sc, const cdpr_precomp_op
     return CDPR_E_OUT_OF_RANGE;
 }
 
-cdpr_status_t cdpr_design_precompensate(const cdpr_scenario_t *sc_in, const cdpr_precomp_opts_t *o,
+/* The models of the cost: the plant as written, then cabin mass and EA (1 ± x) when asked. */
+static int model_list(const cdpr_precomp_opts_t *o, cdpr_rig_scale_t plant[])
+{
+    int n = 0;
+    plant[n++] = cdpr_rig_scale_unit();
+    const double xs[2] = {o->robust_mass, o->robust_ea};
+    for (int k = 0; k < 2; ++k) {
+        for (int sign = 1; xs[k] > 0.0 && sign >= -1; sign -= 2) {
+            cdpr_rig_scale_t f = cdpr_rig_scale_unit();
+            *((k == 0) ? &f.cabin_mass : &f.ea) = 1.0 + (double)sign * xs[k];
+            plant[n++] = f;
+        }
+    }
+    return n;
+}
+
+/* The scenario of a model: the plant's rig varied, controller.model divided by the same factor
+ * so that the controller's model (the rig times controller.model) stays the scenario's. */
+static void vary(cdpr_scenario_t *sc, const cdpr_rig_scale_t *f)
+{
+    cdpr_rig_scale(&sc->rig, f);
+    sc->controller_model.ea /= f->ea;
+    sc->controller_model.cabin_mass /= f->cabin_mass;
+    sc->controller_model.rope_mass /= f->rope_mass;
+}
+
+/* Every model with coefficients `c`: into each model's `tr` (trial) or `best` (first run).
+ * Returns the first failed run's status; *cost the sum of squares, *min_T the smallest
+ * tension, *worst the largest RMS after 2 s over the models. */
+static cdpr_status_t run_all(lift_t *L, const cdpr_tracker_correction_t *c, int first, double *cost,
+                             double *min_T, double *worst, cdpr_design_error_t *err)
+{
+    *cost = 0.0;
+    *min_T = HUGE_VAL;
+    *worst = 0.0;
+    for (int v = 0; v < L->nm; ++v) {
+        run_t *r = (first != 0) ? &L->m[v].best : &L->m[v].tr;
+        const cdpr_status_t st = model_run(L->m[v].sc, c, r, err);
+        if (st != CDPR_OK) {
+            return st;
+        }
+        *cost += r->sum2;
+        *min_T = fmin(*min_T, r->min_T);
+        *worst = fmax(*worst, rms_after(r));
+    }
+    return CDPR_OK;
+}
+
+static void free_lift(lift_t *L)
+{
+    for (int v = 0; v < L->nm; ++v) {
+        free(L->m[v].sc);
+        free(L->m[v].G);
+        free(L->m[v].best.e);
+        free(L->m[v].tr.e);
+    }
+    free(L->N);
+}
+
+static cdpr_status_t alloc_lift(const cdpr_scenario_t *sc, const cdpr_precomp_opts_t *o, lift_t *L,
+                                cdpr_design_error_t *err)
+{
+    cdpr_rig_scale_t plant[CDPR_PRECOMP_MAX_MODELS];
+    L->nm = model_list(o, plant);
+    const size_t P = (size_t)L->P;
+    int bad = 0;
+    for (int v = 0; v < L->nm; ++v) {
+        pmodel_t *pm = &L->m[v];
+        const run_t r0 = {L->K, L->nc, o->rot_weight_m, NULL, 0.0, 0.0, 0.0, 0, 0.0, 0.0};
+        pm->plant = plant[v];
+        pm->best = r0;
+        pm->tr = r0;
+        pm->sc = malloc(sizeof *pm->sc);
+        pm->G = calloc(6U * (size_t)L->K * P, sizeof(double));
+        pm->best.e = malloc(sizeof(double) * 6U * (size_t)L->K);
+        pm->tr.e = malloc(sizeof(double) * 6U * (size_t)L->K);
+        if (pm->sc == NULL || pm->G == NULL || pm->best.e == NULL || pm->tr.e == NULL) {
+            bad = 1;
+        } else {
+            *pm->sc = *sc;
+            pm->sc->precompensation[0] = '\0'; /* the iterates, not the scenario's file */
+            vary(pm->sc, &pm->plant);
+        }
+    }
+    L->N = malloc(sizeof(double) * P * P);
+    if (bad != 0 || L->N == NULL) {
+        fail(err, "%sout of memory for the lift (%g coefficients)", "", (double)P);
+        return CDPR_E_CAPACITY;
+    }
+    return CDPR_OK;
+}
+
+static void log_run(const cdpr_precomp_opts_t *o, const lift_t *L, int runs, double alpha,
+                    const char *what, int first, double worst)
+{
+    if (o->log == NULL) {
+        return;
+    }
+    const run_t *r = (first != 0) ? &L->m[0].best : &L->m[0].tr;
+    fprintf(o->log,
+            "cdpr-precomp: run %d (%s): RMS %.3f mm after %g s, max %.3f mm, %.3f mrad, min "
+            "tension %.1f N",
+            runs, what, 1e3 * rms_after(r), RMS_AFTER_S, 1e3 * r->max_pos, 1e3 * r->max_rot,
+            r->min_T);
+    if (L->nm > 1) {
+        double tmin = HUGE_VAL;
+        for (int v = 1; v < L->nm; ++v) {
+            tmin = fmin(tmin, ((first != 0) ? &L->m[v].best : &L->m[v].tr)->min_T);
+        }
+        fprintf(o->log, "; the %d varied plants: worst RMS %.3f mm, min tension %.1f N", L->nm - 1,
+                1e3 * worst, tmin);
+    }
+    fprintf(o->log, " (step %.3g)\n", alpha);
+    fflush(o->log);
+}
+
+cdpr_status_t cdpr_design_precompensate(const cdpr_scenario_t *sc, const cdpr_precomp_opts_t *o,
                                         cdpr_host_correction_t *hc, cdpr_design_error_t *err)
 {
-    cdpr_status_t st = check_opts(sc_in, o, err);
+    cdpr_status_t st = check_opts(sc, o, err);
     if (st != CDPR_OK) {
         return st;
     }
-    cdpr_scenario_t *sc = malloc(sizeof *sc);
-    if (sc == NULL) {
-        fail(err, "%sout of memory (%g)", "", 0.0);
-        return CDPR_E_CAPACITY;
-    }
-    *sc = *sc_in;
-    sc->precompensation[0] = '\0'; /* the iterates, not the scenario's file */
     lift_t L;
     memset(&L, 0, sizeof L);
     L.K = cdpr_scenario_count(sc->duration_s / sc->period_s);
@@ -381,73 +533,73 @@ cdpr_status_t cdpr_design_precompensate(const cdpr_scenario_t *sc_in, const cdpr
     L.shift = (long)nearbyint(o->spacing_s / sc->period_s);
     L.ncoef = (int)(L.K / L.shift) - 1;
     L.P = L.nc * L.ncoef;
-    const double bytes = 8.0 * 6.0 * (double)L.K * (double)L.P;
+    cdpr_rig_scale_t plant[CDPR_PRECOMP_MAX_MODELS];
+    const double bytes = 8.0 * 6.0 * (double)L.K * (double)L.P * (double)model_list(o, plant);
     if (L.ncoef < 1 || L.ncoef > CDPR_CORRECTION_MAX_COEF || bytes > CDPR_PRECOMP_MAX_LIFT_BYTES) {
         fail(err,
              "%sthe run needs %g coefficients per cable or a lift too large (a longer spacing, "
-             "a shorter run.duration_s)",
+             "a shorter run.duration_s, fewer varied plants)",
              "", (double)L.ncoef);
-        free(sc);
         return CDPR_E_OUT_OF_RANGE;
     }
     st = cdpr_correction_init(hc, sc, L.ncoef, 0.0, (double)L.shift * sc->period_s);
-    run_t best = {L.K, L.nc, o->rot_weight_m, NULL, 0.0, 0.0, 0.0, 0, 0.0, 0.0};
-    run_t tr = best;
+    if (st == CDPR_OK) {
+        st = alloc_lift(sc, o, &L, err);
+    }
     const size_t P = (size_t)L.P;
-    best.e = malloc(sizeof(double) * 6U * (size_t)L.K);
-    tr.e = malloc(sizeof(double) * 6U * (size_t)L.K);
-    L.G = calloc(6U * (size_t)L.K * P, sizeof(double));
-    L.N = malloc(sizeof(double) * P * P);
     double *a_best = calloc(P, sizeof(double));
     double *da = malloc(sizeof(double) * P);
-    if (best.e == NULL || tr.e == NULL || L.G == NULL || L.N == NULL || a_best == NULL ||
-        da == NULL) {
+    if (st == CDPR_OK && (a_best == NULL || da == NULL)) {
         fail(err, "%sout of memory for the lift (%g coefficients)", "", (double)P);
         st = CDPR_E_CAPACITY;
     }
     int runs = 0;
+    double cost_best = 0.0;
+    double tmin = 0.0;
+    double worst = 0.0;
+    double tmin_best = 0.0;
     if (st == CDPR_OK) { /* run 0: no correction (all coefficients 0) */
-        st = model_run(sc, &hc->c, &best, err);
+        st = run_all(&L, &hc->c, 1, &cost_best, &tmin_best, &worst, err);
         runs = 1;
     }
-    const double rms0 = rms_after(&best);
-    if (o->log != NULL && st == CDPR_OK) {
-        fprintf(o->log,
-                "cdpr-precomp: run 1 (no correction): RMS %.3f mm after %g s, max %.3f mm, "
-                "%.3f mrad, min tension %.1f N\n",
-                1e3 * rms0, RMS_AFTER_S, 1e3 * best.max_pos, 1e3 * best.max_rot, best.min_T);
+    const double rms0 = (st == CDPR_OK) ? rms_after(&L.m[0].best) : (double)NAN;
+    if (st == CDPR_OK) {
+        log_run(o, &L, runs, 0.0, "no correction", 1, worst);
     }
     if (st == CDPR_OK && o->max_runs > 1) {
-        st = build_lift(sc, o, &best, &L, err);
+        st = build_lift(sc, o, &L, err);
     }
     double alpha = 1.0;
     int halvings = 0;
     while (st == CDPR_OK && runs < o->max_runs) {
         if (halvings == 0) {
-            gn_step(&L, best.e, da);
+            gn_step(&L, da);
         }
         for (size_t i = 0; i < P; ++i) {
             hc->coef_m[i] = (cdpr_real_t)(a_best[i] + alpha * da[i]);
         }
-        const cdpr_status_t rs = model_run(sc, &hc->c, &tr, NULL);
+        double cost = 0.0;
+        const cdpr_status_t rs = run_all(&L, &hc->c, 0, &cost, &tmin, &worst, NULL);
         runs++;
-        const int ok = (rs == CDPR_OK && tr.sum2 < best.sum2 && tr.min_T >= o->floor_N) ? 1 : 0;
-        if (o->log != NULL) {
-            fprintf(o->log,
-                    "cdpr-precomp: run %d (step %.3g): %s%s RMS %.3f mm after %g s, max %.3f mm, "
-                    "%.3f mrad, min tension %.1f N\n",
-                    runs, alpha, (ok != 0) ? "kept" : "refused",
-                    (rs != CDPR_OK) ? " (the model run failed)" : ":", 1e3 * rms_after(&tr),
-                    RMS_AFTER_S, 1e3 * tr.max_pos, 1e3 * tr.max_rot, tr.min_T);
-            fflush(o->log);
-        }
+        /* the floor, or where the best iterate already is when a plant starts below it */
+        const int ok =
+            (rs == CDPR_OK && cost < cost_best && tmin >= fmin(o->floor_N, tmin_best)) ? 1 : 0;
+        log_run(o, &L, runs, alpha,
+                (rs != CDPR_OK) ? "refused, a model run failed"
+                : (ok != 0)     ? "kept"
+                                : "refused",
+                0, worst);
         if (ok != 0) {
             for (size_t i = 0; i < P; ++i) {
                 a_best[i] = (double)hc->coef_m[i];
             }
-            double *t = best.e;
-            best = tr;
-            tr.e = t;
+            for (int v = 0; v < L.nm; ++v) {
+                const run_t t = L.m[v].best;
+                L.m[v].best = L.m[v].tr;
+                L.m[v].tr = t;
+            }
+            cost_best = cost;
+            tmin_best = tmin;
             alpha = 1.0;
             halvings = 0;
         } else if (halvings < 2) {
@@ -458,23 +610,33 @@ cdpr_status_t cdpr_design_precompensate(const cdpr_scenario_t *sc_in, const cdpr
         }
     }
     if (st == CDPR_OK) {
+        const run_t *b = &L.m[0].best;
         for (size_t i = 0; i < P; ++i) {
             hc->coef_m[i] = (cdpr_real_t)a_best[i];
         }
         hc->report.iterations = runs;
         hc->report.rms_before_m = rms0;
-        hc->report.rms_after_m = rms_after(&best);
-        hc->report.max_after_m = best.max_pos;
-        hc->report.max_after_rad = best.max_rot;
-        hc->report.min_tension_N = best.min_T;
+        hc->report.rms_after_m = rms_after(b);
+        hc->report.max_after_m = b->max_pos;
+        hc->report.max_after_rad = b->max_rot;
+        hc->report.min_tension_N = b->min_T;
+        hc->report.robust_mass = o->robust_mass;
+        hc->report.robust_ea = o->robust_ea;
+        for (int v = 1; v < L.nm; ++v) {
+            const run_t *r = &L.m[v].best;
+            hc->report.varied_rms_after_m =
+                (v == 1) ? rms_after(r) : fmax(hc->report.varied_rms_after_m, rms_after(r));
+            hc->report.varied_max_after_m =
+                (v == 1) ? r->max_pos : fmax(hc->report.varied_max_after_m, r->max_pos);
+            hc->report.varied_max_after_rad =
+                (v == 1) ? r->max_rot : fmax(hc->report.varied_max_after_rad, r->max_rot);
+            hc->report.varied_min_tension_N =
+                (v == 1) ? r->min_T : fmin(hc->report.varied_min_tension_N, r->min_T);
+        }
         hc->floor_N = o->floor_N;
     }
-    free(best.e);
-    free(tr.e);
-    free(L.G);
-    free(L.N);
+    free_lift(&L);
     free(a_best);
     free(da);
-    free(sc);
     return st;
 }

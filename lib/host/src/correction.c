@@ -179,6 +179,12 @@ cdpr_status_t cdpr_correction_init(cdpr_host_correction_t *hc, const cdpr_scenar
     hc->report.max_after_m = (double)NAN;
     hc->report.max_after_rad = (double)NAN;
     hc->report.min_tension_N = (double)NAN;
+    hc->report.robust_mass = 0.0;
+    hc->report.robust_ea = 0.0;
+    hc->report.varied_rms_after_m = (double)NAN;
+    hc->report.varied_max_after_m = (double)NAN;
+    hc->report.varied_max_after_rad = (double)NAN;
+    hc->report.varied_min_tension_N = (double)NAN;
     hc->floor_N = CDPR_CORRECTION_FLOOR_N;
     return CDPR_OK;
 }
@@ -213,10 +219,23 @@ static void write_body(FILE *f, const cdpr_host_correction_t *hc, const char *no
     fprintf(f, "floor_N: %.17g\n", hc->floor_N);
     fprintf(f, "report:                # how it was made (unknown values left out)\n");
     fprintf(f, "  iterations: %d\n", r->iterations);
-    const double rv[] = {r->rms_before_m, r->rms_after_m, r->max_after_m, r->max_after_rad,
-                         r->min_tension_N};
-    static const char *const rn[] = {"rms_before_m", "rms_after_m", "max_after_m", "max_after_rad",
-                                     "min_tension_N"};
+    /* the varied plants' entries only for a robust correction */
+    const double robust = (r->robust_mass > 0.0 || r->robust_ea > 0.0) ? 1.0 : (double)NAN;
+    const double rv[] = {r->rms_before_m,
+                         r->rms_after_m,
+                         r->max_after_m,
+                         r->max_after_rad,
+                         r->min_tension_N,
+                         robust * r->robust_mass,
+                         robust * r->robust_ea,
+                         robust * r->varied_rms_after_m,
+                         robust * r->varied_max_after_m,
+                         robust * r->varied_max_after_rad,
+                         robust * r->varied_min_tension_N};
+    static const char *const rn[] = {
+        "rms_before_m",       "rms_after_m",          "max_after_m",         "max_after_rad",
+        "min_tension_N",      "robust_mass",          "robust_ea",           "varied_rms_after_m",
+        "varied_max_after_m", "varied_max_after_rad", "varied_min_tension_N"};
     for (size_t i = 0; i < sizeof rv / sizeof rv[0]; ++i) {
         if (isfinite(rv[i])) {
             fprintf(f, "  %s: %.6g\n", rn[i], rv[i]);
@@ -281,6 +300,12 @@ typedef struct {
     double *max_after_m;
     double *max_after_rad;
     double *min_tension_N;
+    double *robust_mass;
+    double *robust_ea;
+    double *varied_rms_after_m;
+    double *varied_max_after_m;
+    double *varied_max_after_rad;
+    double *varied_min_tension_N;
 } raw_report_t;
 
 typedef struct {
@@ -309,6 +334,12 @@ static const cyaml_schema_field_t report_fields[] = {
     OPT_NUMP("max_after_m", max_after_m),
     OPT_NUMP("max_after_rad", max_after_rad),
     OPT_NUMP("min_tension_N", min_tension_N),
+    OPT_NUMP("robust_mass", robust_mass),
+    OPT_NUMP("robust_ea", robust_ea),
+    OPT_NUMP("varied_rms_after_m", varied_rms_after_m),
+    OPT_NUMP("varied_max_after_m", varied_max_after_m),
+    OPT_NUMP("varied_max_after_rad", varied_max_after_rad),
+    OPT_NUMP("varied_min_tension_N", varied_min_tension_N),
     CYAML_FIELD_END,
 };
 static const cyaml_schema_field_t cable_fields[] = {
@@ -415,12 +446,26 @@ static cdpr_status_t take_raw(const raw_corr_t *r, const char *path, cdpr_host_c
         hc->report.max_after_m = opt(rp->max_after_m);
         hc->report.max_after_rad = opt(rp->max_after_rad);
         hc->report.min_tension_N = opt(rp->min_tension_N);
+        /* absent: the correction was made for the plant as written (as every file before the
+         * keys existed) */
+        hc->report.robust_mass = (rp->robust_mass != NULL) ? *rp->robust_mass : 0.0;
+        hc->report.robust_ea = (rp->robust_ea != NULL) ? *rp->robust_ea : 0.0;
+        hc->report.varied_rms_after_m = opt(rp->varied_rms_after_m);
+        hc->report.varied_max_after_m = opt(rp->varied_max_after_m);
+        hc->report.varied_max_after_rad = opt(rp->varied_max_after_rad);
+        hc->report.varied_min_tension_N = opt(rp->varied_min_tension_N);
     } else {
         hc->report.rms_before_m = (double)NAN;
         hc->report.rms_after_m = (double)NAN;
         hc->report.max_after_m = (double)NAN;
         hc->report.max_after_rad = (double)NAN;
         hc->report.min_tension_N = (double)NAN;
+        hc->report.robust_mass = 0.0;
+        hc->report.robust_ea = 0.0;
+        hc->report.varied_rms_after_m = (double)NAN;
+        hc->report.varied_max_after_m = (double)NAN;
+        hc->report.varied_max_after_rad = (double)NAN;
+        hc->report.varied_min_tension_N = (double)NAN;
     }
     return CDPR_OK;
 }

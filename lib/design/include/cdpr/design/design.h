@@ -232,21 +232,33 @@ cdpr_status_t cdpr_design_check_scenario(const cdpr_scenario_t *sc, const char *
 ///     is below the best's and its smallest cable-end tension (either end, every period) is at
 ///     least floor_N, else α halved (at most twice) and run again; the iteration stops at
 ///     max_runs model runs or when no step is kept, with the best iterate.
-/// Deterministic (same binary, scenario and options: the same coefficients). Work: `poses`
-/// linearisations (a design check's case each), `poses` m closed-loop simulations of the run's
-/// periods at the linearised size, one Cholesky factorisation of an m n square matrix, up to
-/// max_runs nonlinear runs of the scenario. Memory: G, 6 K m n doubles (K periods); refused
-/// above CDPR_PRECOMP_MAX_LIFT_BYTES.
+/// Robust (robust_mass, robust_ea > 0): the cost is the sum over V models, the plant as written
+/// and with its cabin mass (and inertia) or every rope's EA times 1 ± x, the controller's model
+/// nominal in each (a controller that does not know the variation); each model v has its own
+/// lift G_v (step 1 with the plant varied) and error e_v, the step becomes
+///       Δa = (Σ_v G_v^T G_v + λ' I)^-1 Σ_v G_v^T e_v,  λ' = lambda · tr(Σ_v G_v^T G_v) / (m n),
+/// and a step is kept when the summed cost falls and every model keeps floor_N. A correction
+/// that cancels the nominal plant's sway exactly excites a plant of another mass; the sum
+/// trades a little nominal error for much less on the others (docs/validation.md §8).
+/// Deterministic (same binary, scenario and options: the same coefficients). Work per model:
+/// `poses` linearisations (a design check's case each), `poses` m closed-loop simulations of
+/// the run's periods at the linearised size, up to max_runs nonlinear runs of the scenario; one
+/// Cholesky factorisation of an m n square matrix. Memory: the G_v, 6 K m n V doubles (K
+/// periods); refused above CDPR_PRECOMP_MAX_LIFT_BYTES.
 typedef struct {
     int poses;           ///< linearisation poses along the motion (>= 1; default 5)
-    double spacing_s;    ///< knot spacing h [s] (a whole number of control periods; default 0.1)
+    double spacing_s;    ///< knot spacing h [s] (a whole number of control periods; default 0.3)
     int max_runs;        ///< most model runs, the first without correction (>= 1; default 8)
     double floor_N;      ///< smallest cable-end tension an iterate may reach [N] (default 20)
-    double lambda;       ///< regularisation, relative to G^T G's mean diagonal (> 0; 1e-4)
+    double lambda;       ///< regularisation, relative to G^T G's mean diagonal (> 0; 1e-3)
     double rot_weight_m; ///< weight of the attitude error in the pose error [m/rad] (default 1)
+    double robust_mass;  ///< cost over the plant's cabin mass x (1 ± this) too (0: off; <= 0.3)
+    double robust_ea;    ///< cost over the plant's EA x (1 ± this) too (0: off; <= 0.3)
     FILE *log;           ///< a line per model run (NULL: none)
 } cdpr_precomp_opts_t;
 
+#define CDPR_PRECOMP_MAX_MODELS     5   ///< the plant as written and four variations
+#define CDPR_PRECOMP_MAX_VARIATION  0.3 ///< largest robust_mass / robust_ea
 #define CDPR_PRECOMP_MAX_LIFT_BYTES (768.0 * 1024.0 * 1024.0) ///< largest G [bytes]
 
 /// The defaults above.

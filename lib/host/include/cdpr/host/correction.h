@@ -50,6 +50,14 @@ typedef struct {
     double max_after_m;   ///< largest position error with it, after 2 s [m]
     double max_after_rad; ///< largest attitude error with it, after 2 s [rad]
     double min_tension_N; ///< smallest cable-end tension of the run with it [N]
+    /// The cost's varied plants (cdpr-precomp --robust-mass / --robust-ea): the plant's cabin
+    /// mass and EA times 1 ± these, the controller's model nominal (0: none)
+    double robust_mass;
+    double robust_ea;
+    double varied_rms_after_m;   ///< worst RMS position error over those plants, after 2 s [m]
+    double varied_max_after_m;   ///< worst largest position error, after 2 s [m]
+    double varied_max_after_rad; ///< worst largest attitude error, after 2 s [rad]
+    double varied_min_tension_N; ///< smallest cable-end tension over their runs [N]
 } cdpr_correction_report_t;
 
 /// The tension floor of a new correction (cdpr_correction_init) [N]: 20 N, the issue's.
