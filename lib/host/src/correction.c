@@ -159,6 +159,23 @@ void cdpr_correction_hashes(const cdpr_scenario_t *sc, char traj[CDPR_SHA256_HEX
     hash_controller(&sc->gains, controller);
 }
 
+/* A report that knows nothing: NaN figures, no model runs, made for the plant as written. */
+static void report_unknown(cdpr_correction_report_t *r)
+{
+    r->iterations = 0;
+    r->rms_before_m = (double)NAN;
+    r->rms_after_m = (double)NAN;
+    r->max_after_m = (double)NAN;
+    r->max_after_rad = (double)NAN;
+    r->min_tension_N = (double)NAN;
+    r->robust_mass = 0.0;
+    r->robust_ea = 0.0;
+    r->varied_rms_after_m = (double)NAN;
+    r->varied_max_after_m = (double)NAN;
+    r->varied_max_after_rad = (double)NAN;
+    r->varied_min_tension_N = (double)NAN;
+}
+
 cdpr_status_t cdpr_correction_init(cdpr_host_correction_t *hc, const cdpr_scenario_t *sc,
                                    int n_coef, double start_s, double spacing_s)
 {
@@ -174,17 +191,7 @@ cdpr_status_t cdpr_correction_init(cdpr_host_correction_t *hc, const cdpr_scenar
     hc->c.spacing_s = spacing_s;
     hc->c.period_s = sc->period_s;
     hc->c.coef_m = hc->coef_m;
-    hc->report.rms_before_m = (double)NAN;
-    hc->report.rms_after_m = (double)NAN;
-    hc->report.max_after_m = (double)NAN;
-    hc->report.max_after_rad = (double)NAN;
-    hc->report.min_tension_N = (double)NAN;
-    hc->report.robust_mass = 0.0;
-    hc->report.robust_ea = 0.0;
-    hc->report.varied_rms_after_m = (double)NAN;
-    hc->report.varied_max_after_m = (double)NAN;
-    hc->report.varied_max_after_rad = (double)NAN;
-    hc->report.varied_min_tension_N = (double)NAN;
+    report_unknown(&hc->report);
     hc->floor_N = CDPR_CORRECTION_FLOOR_N;
     return CDPR_OK;
 }
@@ -438,6 +445,7 @@ static cdpr_status_t take_raw(const raw_corr_t *r, const char *path, cdpr_host_c
     snprintf(hc->robot_sha256, sizeof hc->robot_sha256, "%s", r->robot_sha256);
     snprintf(hc->controller_sha256, sizeof hc->controller_sha256, "%s", r->controller_sha256);
     const raw_report_t *rp = r->report;
+    report_unknown(&hc->report);
     if (rp != NULL) {
         const double it = opt(rp->iterations);
         hc->report.iterations = (isfinite(it) && it >= 0.0 && it < 1e6) ? (int)it : 0;
@@ -454,18 +462,6 @@ static cdpr_status_t take_raw(const raw_corr_t *r, const char *path, cdpr_host_c
         hc->report.varied_max_after_m = opt(rp->varied_max_after_m);
         hc->report.varied_max_after_rad = opt(rp->varied_max_after_rad);
         hc->report.varied_min_tension_N = opt(rp->varied_min_tension_N);
-    } else {
-        hc->report.rms_before_m = (double)NAN;
-        hc->report.rms_after_m = (double)NAN;
-        hc->report.max_after_m = (double)NAN;
-        hc->report.max_after_rad = (double)NAN;
-        hc->report.min_tension_N = (double)NAN;
-        hc->report.robust_mass = 0.0;
-        hc->report.robust_ea = 0.0;
-        hc->report.varied_rms_after_m = (double)NAN;
-        hc->report.varied_max_after_m = (double)NAN;
-        hc->report.varied_max_after_rad = (double)NAN;
-        hc->report.varied_min_tension_N = (double)NAN;
     }
     return CDPR_OK;
 }
