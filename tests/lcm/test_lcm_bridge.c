@@ -745,6 +745,9 @@ static void test_open_poll_close_without_a_thread(void)
     p.url = "memq://";
     p.on_open = controller_open;
     p.on_open_ctx = &ctl;
+    // Not the watchdog's test: with the default 0.1 s, a thread descheduled for ~80 ms after
+    // the 20 polls below would find the answer expired (a hold), whatever the code does.
+    p.watchdog_timeout_s = 3600.0;
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_bridge_init(&bridge, &p, &d));
     TEST_ASSERT_EQUAL_INT(-1, cdpr_lcm_bridge_poll(&bridge, 0)); // not open
     TEST_ASSERT_EQUAL_INT(CDPR_OK, cdpr_lcm_bridge_open(&bridge, &d));
