@@ -182,6 +182,18 @@ int main(int argc, char **argv)
            path, r->iterations, cdpr_clock_now_s() - t0, 1e3 * r->rms_before_m,
            1e3 * r->rms_after_m, 1e3 * r->max_after_m, 1e3 * r->max_after_rad, r->min_tension_N,
            hc.floor_N, hc.c.n_cables, hc.c.n_coef, (double)hc.c.spacing_s, out);
+    /* a model that started below the floor: its iterates were kept when they did not fall
+     * further (cdpr_design_precompensate), so the file can be below it: say so */
+    const double t_low =
+        fmin(r->min_tension_N,
+             (o.po.robust_mass > 0.0 || o.po.robust_ea > 0.0) ? r->varied_min_tension_N : HUGE_VAL);
+    if (t_low < hc.floor_N) {
+        fprintf(stderr,
+                "cdpr-precomp: warning: a model run with this correction reaches %.1f N, below "
+                "the floor of %.0f N (the run without correction was already below it); check "
+                "the scenario's gains and the controller's model\n",
+                t_low, hc.floor_N);
+    }
     if (o.po.robust_mass > 0.0 || o.po.robust_ea > 0.0) {
         printf("cdpr-precomp: the varied plants (cabin mass x (1 +- %g), EA x (1 +- %g)): worst "
                "RMS after 2 s %.2f mm, max %.2f mm, %.2f mrad, min cable-end tension %.1f N\n",

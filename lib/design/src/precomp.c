@@ -442,6 +442,12 @@ static cdpr_status_t run_all(lift_t *L, const cdpr_tracker_correction_t *c, int 
         run_t *r = (first != 0) ? &L->m[v].best : &L->m[v].tr;
         const cdpr_status_t st = model_run(L->m[v].sc, c, r, err);
         if (st != CDPR_OK) {
+            if (err != NULL && v > 0) { /* which of the varied plants */
+                const size_t n = strlen(err->msg);
+                (void)snprintf(&err->msg[n], sizeof err->msg - n,
+                               " (the plant varied: cabin mass x %.3g, EA x %.3g)",
+                               L->m[v].plant.cabin_mass, L->m[v].plant.ea);
+            }
             return st;
         }
         *cost += r->sum2;
